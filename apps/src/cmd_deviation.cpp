@@ -1,0 +1,9 @@
+#include "commands.h"
+
+namespace morphmill {
+
+void register_deviation_commands(CLI::App& /*app*/) {
+  // Placeholder until this command group is implemented.
+}
+
+}  // namespace morphmill

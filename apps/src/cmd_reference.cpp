@@ -1,0 +1,9 @@
+#include "commands.h"
+
+namespace morphmill {
+
+void register_reference_command(CLI::App& /*app*/) {
+  // Placeholder until this command group is implemented.
+}
+
+}  // namespace morphmill

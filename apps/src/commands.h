@@ -1,0 +1,22 @@
+#pragma once
+// Each command group registers its subcommands on the root app; main() dispatches and maps
+// exceptions to exit codes (see exit_codes below).
+#include <CLI/CLI.hpp>
+
+namespace morphmill {
+
+/// Exit codes of every morphmill command.
+enum ExitCode : int {
+  kExitOk = 0,          ///< success (verify: the verdict holds)
+  kExitVerdictFails = 1,///< verify/stress: the computation ran but the verdict does not hold
+  kExitBadInput = 2,    ///< the input is wrong (job, G-code, mesh, options)
+  kExitInternal = 3,    ///< an unexpected internal error
+};
+
+void register_info_commands(CLI::App& app);       // info, mesh-info
+void register_erode_command(CLI::App& app);       // erode
+void register_reference_command(CLI::App& app);   // reference
+void register_deviation_commands(CLI::App& app);  // deviation, render
+void register_verify_command(CLI::App& app);      // verify
+
+}  // namespace morphmill

@@ -1,0 +1,38 @@
+#include <morph/exceptions.h>
+
+#include <iostream>
+
+#include "commands.h"
+
+int main(int argc, char** argv) {
+  CLI::App app{
+      "morphmill: compute what a milling tool leaves of a part, exactly, and measure how exact it is.\n"
+      "Every command takes a job file (JSON, see docs/job-format.md) or meshes (PLY, STL, OBJ).\n"
+      "Run 'morphmill COMMAND --help' for the options of each command."};
+  app.set_version_flag("--version", std::string("morphmill ") + MORPHMILL_VERSION);
+  app.require_subcommand(1);
+  morphmill::register_info_commands(app);
+  morphmill::register_erode_command(app);
+  morphmill::register_reference_command(app);
+  morphmill::register_deviation_commands(app);
+  morphmill::register_verify_command(app);
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::ParseError& e) {
+    const int code = app.exit(e);
+    return code == 0 ? morphmill::kExitOk : morphmill::kExitBadInput;
+  } catch (const morph::InputError& e) {
+    std::cerr << "morphmill: error: " << e.what() << '\n';
+    return morphmill::kExitBadInput;
+  } catch (const morph::IoError& e) {
+    std::cerr << "morphmill: error: " << e.what() << '\n';
+    return morphmill::kExitBadInput;
+  } catch (const morph::LimitError& e) {
+    std::cerr << "morphmill: error: " << e.what() << '\n';
+    return morphmill::kExitBadInput;
+  } catch (const std::exception& e) {
+    std::cerr << "morphmill: internal error: " << e.what() << '\n';
+    return morphmill::kExitInternal;
+  }
+  return morphmill::kExitOk;
+}

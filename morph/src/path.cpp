@@ -1,0 +1,99 @@
+#include <morph/path.h>
+
+#include <algorithm>
+#include <cmath>
+
+namespace morph {
+
+const char* to_string(MoveKind kind) {
+  switch (kind) {
+    case MoveKind::Rapid: return "rapid";
+    case MoveKind::Linear: return "linear";
+    case MoveKind::Arc: return "arc";
+  }
+  return "unknown";
+}
+
+namespace {
+
+struct ArcFrame {
+  Eigen::Vector3d u, v;  // in-plane unit vectors, v = axis x u
+  double r0, r1, rise;   // start radius, end radius, axial travel
+  Eigen::Vector3d closure;  // end - unclosed point at t=1, spread linearly so point_at(1)==end
+};
+
+ArcFrame arc_frame(const Move& m) {
+  ArcFrame f;
+  const Eigen::Vector3d s = m.start - m.center;
+  const Eigen::Vector3d s_radial = s - s.dot(m.axis) * m.axis;
+  f.r0 = s_radial.norm();
+  f.u = f.r0 > 0.0 ? Eigen::Vector3d(s_radial / f.r0) : m.axis.unitOrthogonal();
+  f.v = m.axis.cross(f.u);
+  const Eigen::Vector3d e = m.end - m.center;
+  f.rise = (m.end - m.start).dot(m.axis);
+  f.r1 = (e - e.dot(m.axis) * m.axis).norm();
+  const Eigen::Vector3d unclosed = m.center + s.dot(m.axis) * m.axis +
+                                   f.r1 * (std::cos(m.sweep) * f.u + std::sin(m.sweep) * f.v) +
+                                   f.rise * m.axis;
+  f.closure = m.end - unclosed;
+  return f;
+}
+
+}  // namespace
+
+Eigen::Vector3d point_at(const Move& m, double t) {
+  if (!m.is_arc()) return m.start + t * (m.end - m.start);
+  if (t <= 0.0) return m.start;
+  if (t >= 1.0) return m.end;
+  const ArcFrame f = arc_frame(m);
+  const double phi = t * m.sweep;
+  const double r = f.r0 + t * (f.r1 - f.r0);
+  const Eigen::Vector3d base = m.center + (m.start - m.center).dot(m.axis) * m.axis;
+  return base + r * (std::cos(phi) * f.u + std::sin(phi) * f.v) + t * f.rise * m.axis + t * f.closure;
+}
+
+Eigen::Vector3d derivative_at(const Move& m, double t) {
+  if (!m.is_arc()) return m.end - m.start;
+  const ArcFrame f = arc_frame(m);
+  const double phi = t * m.sweep;
+  const double r = f.r0 + t * (f.r1 - f.r0);
+  const Eigen::Vector3d radial = std::cos(phi) * f.u + std::sin(phi) * f.v;
+  const Eigen::Vector3d tangential = -std::sin(phi) * f.u + std::cos(phi) * f.v;
+  return (f.r1 - f.r0) * radial + r * m.sweep * tangential + f.rise * m.axis + f.closure;
+}
+
+double length(const Move& m) {
+  if (!m.is_arc()) return (m.end - m.start).norm();
+  const ArcFrame f = arc_frame(m);
+  if (std::abs(f.r1 - f.r0) < 1e-12 * std::max(1.0, f.r0) && f.closure.norm() < 1e-12) {
+    return std::hypot(f.r0 * m.sweep, f.rise);
+  }
+  // Composite Simpson on |derivative|: smooth integrand, 256 intervals is far below 1e-9 relative.
+  const int n = 256;
+  double sum = 0.0;
+  for (int i = 0; i <= n; ++i) {
+    const double w = (i == 0 || i == n) ? 1.0 : (i % 2 ? 4.0 : 2.0);
+    sum += w * derivative_at(m, static_cast<double>(i) / n).norm();
+  }
+  return sum / (3.0 * n);
+}
+
+std::vector<double> chord_parameters(const Move& m, double chord_tolerance) {
+  if (!m.is_arc()) return {0.0, 1.0};
+  const ArcFrame f = arc_frame(m);
+  const double r = std::max(f.r0, f.r1);
+  int n = 1;
+  if (r > chord_tolerance && chord_tolerance > 0.0) {
+    // Sagitta r(1 - cos(step/2)) <= tolerance.
+    const double step = 2.0 * std::acos(1.0 - chord_tolerance / r);
+    n = static_cast<int>(std::ceil(std::abs(m.sweep) / step));
+  } else {
+    n = static_cast<int>(std::ceil(std::abs(m.sweep) / (M_PI / 2.0)));
+  }
+  n = std::max(n, 1);
+  std::vector<double> ts(static_cast<std::size_t>(n) + 1);
+  for (int i = 0; i <= n; ++i) ts[i] = static_cast<double>(i) / n;
+  return ts;
+}
+
+}  // namespace morph

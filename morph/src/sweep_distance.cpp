@@ -1,0 +1,196 @@
+#include <morph/exceptions.h>
+#include <morph/mesh_distance.h>
+#include <morph/sweep_distance.h>
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <optional>
+
+namespace morph {
+
+namespace {
+
+constexpr double kInvPhi = 0.6180339887498949;
+
+// Minimum of a convex (or, on small pieces, unimodal) function over [lo, hi] by golden section.
+template <class F>
+std::pair<double, double> golden_minimum(F&& f, double lo, double hi) {
+  double x1 = hi - kInvPhi * (hi - lo), x2 = lo + kInvPhi * (hi - lo);
+  double f1 = f(x1), f2 = f(x2);
+  for (int i = 0; i < 64 && hi - lo > 1e-14; ++i) {
+    if (f1 < f2) {
+      hi = x2; x2 = x1; f2 = f1;
+      x1 = hi - kInvPhi * (hi - lo); f1 = f(x1);
+    } else {
+      lo = x1; x1 = x2; f1 = f2;
+      x2 = lo + kInvPhi * (hi - lo); f2 = f(x2);
+    }
+  }
+  std::pair<double, double> best{f1 < f2 ? x1 : x2, std::min(f1, f2)};
+  for (double t : {lo, hi}) {
+    const double v = f(t);
+    if (v < best.second) best = {t, v};
+  }
+  return best;
+}
+
+double segment_parameter(const Eigen::Vector3d& a, const Eigen::Vector3d& b, const Eigen::Vector3d& p) {
+  const Eigen::Vector3d d = b - a;
+  const double dd = d.squaredNorm();
+  return dd > 0.0 ? std::clamp((p - a).dot(d) / dd, 0.0, 1.0) : 0.0;
+}
+
+double capped_cylinder_distance(const Eigen::Vector3d& q, double r, double z0, double z1) {
+  const double dr = std::hypot(q.x(), q.y()) - r;
+  const double dz = std::max(z0 - q.z(), q.z() - z1);
+  return std::hypot(std::max(dr, 0.0), std::max(dz, 0.0)) + std::min(std::max(dr, dz), 0.0);
+}
+
+// (parameter, distance) of the nearest tool position along a straight segment.
+std::pair<double, double> segment_sweep(const Tool& tool, const Eigen::Vector3d& a, const Eigen::Vector3d& b,
+                                        const Eigen::Vector3d& p) {
+  switch (tool.type) {
+    case ToolType::Sphere: {
+      const double t = segment_parameter(a, b, p);
+      return {t, (p - (a + t * (b - a))).norm() - tool.radius};
+    }
+    case ToolType::BallEnd: {
+      // The tip ball sweeps a capsule (closed form); the body cylinder's distance is convex in t.
+      const Eigen::Vector3d lift(0, 0, tool.radius);
+      const double tb = segment_parameter(a + lift, b + lift, p);
+      const double ball = (p - (a + lift + tb * (b - a))).norm() - tool.radius;
+      const auto body = golden_minimum(
+          [&](double t) { return capped_cylinder_distance(p - (a + lift + t * (b - a)), tool.radius, 0.0, tool.length); },
+          0.0, 1.0);
+      return ball <= body.second ? std::make_pair(tb, ball) : body;
+    }
+    default: {
+      return golden_minimum([&](double t) { return tool_signed_distance(tool, a + t * (b - a), p); }, 0.0, 1.0);
+    }
+  }
+}
+
+// Branch and bound along an arc: the tool distance is 1-Lipschitz in the tool point, so a piece
+// of path length L around a sample with value f cannot go below f - L/2.
+std::pair<double, double> arc_sweep(const Tool& tool, const Move& move, const Eigen::Vector3d& p) {
+  const double total = length(move);
+  auto f = [&](double t) { return tool_signed_distance(tool, point_at(move, t), p); };
+  struct Piece { double t0, t1, value, bound; };
+  const int initial = std::max(8, static_cast<int>(std::ceil(std::abs(move.sweep) / (M_PI / 16))));
+  std::vector<Piece> pieces;
+  std::pair<double, double> best{0.0, std::numeric_limits<double>::infinity()};
+  for (int i = 0; i < initial; ++i) {
+    const double t0 = static_cast<double>(i) / initial, t1 = static_cast<double>(i + 1) / initial;
+    const double v = f(0.5 * (t0 + t1));
+    if (v < best.second) best = {0.5 * (t0 + t1), v};
+    pieces.push_back({t0, t1, v, v - 0.5 * (t1 - t0) * total});
+  }
+  const double stop_length = std::max(1e-9, std::min(0.02 * total, 0.25 * std::max(tool.radius, 1e-6)));
+  std::vector<Piece> leaves;
+  while (!pieces.empty()) {
+    const Piece piece = pieces.back();
+    pieces.pop_back();
+    if (piece.bound >= best.second) continue;
+    if ((piece.t1 - piece.t0) * total <= stop_length) {
+      leaves.push_back(piece);
+      continue;
+    }
+    const double tm = 0.5 * (piece.t0 + piece.t1);
+    for (const auto& [a, b] : {std::make_pair(piece.t0, tm), std::make_pair(tm, piece.t1)}) {
+      const double v = f(0.5 * (a + b));
+      if (v < best.second) best = {0.5 * (a + b), v};
+      pieces.push_back({a, b, v, v - 0.5 * (b - a) * total});
+    }
+  }
+  for (const Piece& leaf : leaves) {
+    if (leaf.bound >= best.second) continue;
+    const auto local = golden_minimum(f, leaf.t0, leaf.t1);
+    if (local.second < best.second) best = local;
+  }
+  return best;
+}
+
+}  // namespace
+
+double swept_signed_distance(const Tool& tool, const Eigen::Vector3d& a, const Eigen::Vector3d& b,
+                             const Eigen::Vector3d& p) {
+  return segment_sweep(tool, a, b, p).second;
+}
+
+double swept_signed_distance(const Tool& tool, const Move& move, const Eigen::Vector3d& p) {
+  if (!move.is_arc()) return segment_sweep(tool, move.start, move.end, p).second;
+  return arc_sweep(tool, move, p).second;
+}
+
+double closest_sweep_parameter(const Tool& tool, const Eigen::Vector3d& a, const Eigen::Vector3d& b,
+                               const Eigen::Vector3d& p) {
+  return segment_sweep(tool, a, b, p).first;
+}
+
+Eigen::AlignedBox3d swept_bounds(const Tool& tool, const Move& move) {
+  Eigen::AlignedBox3d path_box;
+  double pad = 0.0;
+  if (move.is_arc()) {
+    const double radius = (move.start - move.center).norm();
+    const double chord = std::max(1e-9, 1e-3 * radius);
+    for (double t : chord_parameters(move, chord)) path_box.extend(point_at(move, t));
+    pad = chord;
+  } else {
+    path_box.extend(move.start);
+    path_box.extend(move.end);
+  }
+  const ToolExtent e = tool_extent(tool);
+  Eigen::Vector3d lo = path_box.min() - Eigen::Vector3d(e.radius + pad, e.radius + pad, e.below + pad);
+  Eigen::Vector3d hi = path_box.max() + Eigen::Vector3d(e.radius + pad, e.radius + pad, e.above + pad);
+  return Eigen::AlignedBox3d(lo, hi);
+}
+
+struct ErosionField::Impl {
+  const Job* job = nullptr;
+  std::vector<const Move*> moves;
+  std::vector<const Tool*> tools;
+  AabbTree tree;
+  double max_depth = 0.0;  // no sweep is deeper than its tool's radius
+  std::optional<MeshDistance> stock_mesh;
+};
+
+ErosionField::ErosionField(const Job& job) : impl_(std::make_unique<Impl>()) {
+  impl_->job = &job;
+  impl_->moves = job.moves();
+  std::vector<Eigen::AlignedBox3d> boxes;
+  boxes.reserve(impl_->moves.size());
+  for (const Move* m : impl_->moves) {
+    impl_->tools.push_back(&job.tool_of(*m));
+    impl_->max_depth = std::max(impl_->max_depth, impl_->tools.back()->radius);
+    boxes.push_back(swept_bounds(*impl_->tools.back(), *m));
+  }
+  impl_->tree = AabbTree(std::move(boxes));
+  if (job.stock.type == StockType::Mesh) impl_->stock_mesh.emplace(job.stock.mesh);
+}
+
+ErosionField::~ErosionField() = default;
+ErosionField::ErosionField(ErosionField&&) noexcept = default;
+ErosionField& ErosionField::operator=(ErosionField&&) noexcept = default;
+
+const Job& ErosionField::job() const { return *impl_->job; }
+
+double ErosionField::stock_distance(const Eigen::Vector3d& p) const {
+  if (impl_->stock_mesh) return impl_->stock_mesh->signed_distance(p);
+  return analytic_signed_distance(impl_->job->stock, p);
+}
+
+double ErosionField::sweep_distance(const Eigen::Vector3d& p, int* nearest_move) const {
+  double best = std::numeric_limits<double>::infinity();
+  const std::int64_t item = impl_->tree.nearest(
+      p, [&](std::size_t i) { return swept_signed_distance(*impl_->tools[i], *impl_->moves[i], p); }, &best,
+      impl_->max_depth);
+  if (nearest_move) *nearest_move = static_cast<int>(item);
+  return best;
+}
+
+double ErosionField::value(const Eigen::Vector3d& p) const {
+  return std::max(stock_distance(p), -sweep_distance(p));
+}
+
+}  // namespace morph
