@@ -1,0 +1,22 @@
+#pragma once
+/// \file job_io.h
+/// Jobs as JSON files (docs/job-format.md): parsing with messages that name the file and the
+/// JSON path, and the job as understood, for `morphmill info --json`.
+#include <morph/job.h>
+
+#include <nlohmann/json.hpp>
+#include <string>
+
+namespace morphmill {
+
+/// Reads and validates a job file; G-code and stock mesh paths are relative to the job file.
+/// Throws morph::InputError ("slots.json: paths[2].polyline[5]: expected 3 numbers") or
+/// morph::IoError.
+morph::Job load_job(const std::string& path);
+/// Same from JSON text already in memory; `file` is used in messages and to resolve paths.
+morph::Job parse_job(const nlohmann::json& json, const std::string& file);
+
+/// Summary of the job as understood: stock, tools, moves by kind, path length, bounds.
+nlohmann::json describe_job(const morph::Job& job);
+
+}  // namespace morphmill

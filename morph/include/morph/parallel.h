@@ -1,0 +1,22 @@
+#pragma once
+/// \file parallel.h
+/// Sequential or parallel execution, chosen by the caller (results are identical either way).
+#include <tbb/parallel_for.h>
+
+#include <cstddef>
+
+namespace morph {
+
+enum class ExecutionPolicy { Sequential, Parallel };
+
+/// Calls f(i) for i in [begin, end). f must write only to slots owned by i.
+template <class F>
+void for_each_index(ExecutionPolicy policy, std::size_t begin, std::size_t end, F&& f) {
+  if (policy == ExecutionPolicy::Sequential || end - begin < 2) {
+    for (std::size_t i = begin; i < end; ++i) f(i);
+    return;
+  }
+  tbb::parallel_for(begin, end, [&](std::size_t i) { f(i); });
+}
+
+}  // namespace morph
