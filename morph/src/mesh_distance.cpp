@@ -46,7 +46,8 @@ MeshDistance::MeshDistance(TriangleMesh mesh) : mesh_(std::move(mesh)) {
       const double angle = std::acos(std::clamp(e1.dot(e2), -1.0, 1.0));
       if (std::isfinite(angle)) vertex_normals_[tri[k]] += angle * face_normals_[t];
       auto key = std::minmax(tri[k], tri[(k + 1) % 3]);
-      edge_sum[{key.first, key.second}] += face_normals_[t];
+      // try_emplace with an explicit zero: Eigen vectors are not zeroed by default construction.
+      edge_sum.try_emplace({key.first, key.second}, Eigen::Vector3d::Zero()).first->second += face_normals_[t];
     }
   }
   edge_normals_.resize(nt);
@@ -54,7 +55,7 @@ MeshDistance::MeshDistance(TriangleMesh mesh) : mesh_(std::move(mesh)) {
     const Triangle& tri = mesh_.triangles[t];
     for (int k = 0; k < 3; ++k) {
       auto key = std::minmax(tri[k], tri[(k + 1) % 3]);
-      edge_normals_[t][k] = edge_sum[{key.first, key.second}];
+      edge_normals_[t][k] = edge_sum.at({key.first, key.second});
     }
   }
   tree_ = AabbTree(std::move(boxes));

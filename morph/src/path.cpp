@@ -1,5 +1,7 @@
 #include <morph/path.h>
 
+#include <Eigen/Geometry>
+
 #include <algorithm>
 #include <cmath>
 

@@ -1,0 +1,195 @@
+#include <gtest/gtest.h>
+#include <morph/aabb_tree.h>
+#include <morph/sweep_distance.h>
+
+#include <cmath>
+#include <random>
+
+using Eigen::Vector3d;
+using morph::Move;
+using morph::MoveKind;
+using morph::Tool;
+using morph::ToolType;
+
+namespace {
+
+Tool sphere(double r) {
+  Tool t;
+  t.number = 1;
+  t.type = ToolType::Sphere;
+  t.radius = r;
+  return t;
+}
+
+Tool ballend(double r, double length) {
+  Tool t;
+  t.number = 1;
+  t.type = ToolType::BallEnd;
+  t.radius = r;
+  t.length = length;
+  return t;
+}
+
+Move line(const Vector3d& a, const Vector3d& b) {
+  Move m;
+  m.kind = MoveKind::Linear;
+  m.start = a;
+  m.end = b;
+  m.tool = 1;
+  return m;
+}
+
+// Quarter turn about +z (counter-clockwise) of radius 10 around the origin, rising by `rise`.
+Move arc(double sweep, double rise) {
+  Move m;
+  m.kind = MoveKind::Arc;
+  m.center = Vector3d::Zero();
+  m.axis = Vector3d::UnitZ();
+  m.start = Vector3d(10, 0, 0);
+  m.sweep = sweep;
+  m.end = Vector3d(10 * std::cos(sweep), 10 * std::sin(sweep), rise);
+  m.tool = 1;
+  return m;
+}
+
+// Dense sampling of the move parameter: an upper bound on the true minimum that converges to it.
+double brute_force(const Tool& tool, const Move& m, const Vector3d& p, int samples = 200000) {
+  double best = std::numeric_limits<double>::infinity();
+  for (int i = 0; i <= samples; ++i)
+    best = std::min(best, morph::tool_signed_distance(tool, morph::point_at(m, double(i) / samples), p));
+  return best;
+}
+
+}  // namespace
+
+TEST(SweepDistance, SphereAlongSegmentIsACapsule) {
+  const Tool tool = sphere(2.0);
+  const Vector3d a(0, 0, 0), b(10, 0, 0);
+  // Beside the middle: distance to the axis minus r.
+  EXPECT_NEAR(morph::swept_signed_distance(tool, a, b, Vector3d(5, 3, 4)), 5.0 - 2.0, 1e-12);
+  // Beyond the end: distance to the end point minus r.
+  EXPECT_NEAR(morph::swept_signed_distance(tool, a, b, Vector3d(13, 4, 0)), 5.0 - 2.0, 1e-12);
+  // On the axis inside: -r.
+  EXPECT_NEAR(morph::swept_signed_distance(tool, a, b, Vector3d(7, 0, 0)), -2.0, 1e-12);
+  // A degenerate segment is a ball.
+  EXPECT_NEAR(morph::swept_signed_distance(tool, a, a, Vector3d(0, 0, 5)), 3.0, 1e-12);
+}
+
+TEST(SweepDistance, BallEndClosedCasesHorizontalSlot) {
+  const Tool tool = ballend(3.0, 40.0);
+  const Vector3d a(0, 0, 0), b(100, 0, 0);
+  // Straight below the tip line: r below the ball centre line minus r.
+  EXPECT_NEAR(morph::swept_signed_distance(tool, a, b, Vector3d(50, 0, -2)), 2.0, 1e-9);
+  // Beside the body: horizontal distance minus r.
+  EXPECT_NEAR(morph::swept_signed_distance(tool, a, b, Vector3d(50, 7, 20)), 4.0, 1e-9);
+  // Above the flat top (ball centre at z=3, top at z=43).
+  EXPECT_NEAR(morph::swept_signed_distance(tool, a, b, Vector3d(50, 0, 45)), 2.0, 1e-9);
+  // Inside the body, nearest the side wall.
+  EXPECT_NEAR(morph::swept_signed_distance(tool, a, b, Vector3d(50, 2, 20)), -1.0, 1e-9);
+}
+
+TEST(SweepDistance, BallEndMatchesDenseSamplingOnRampsAndPlunges) {
+  const Tool tool = ballend(1.5, 10.0);
+  std::mt19937_64 rng(7);
+  std::uniform_real_distribution<double> u(-6.0, 6.0);
+  const Move moves[] = {line({0, 0, 0}, {5, 3, -2}), line({1, 1, 4}, {1, 1, -3}), line({-2, 0, 1}, {4, 0, 1})};
+  for (const Move& m : moves) {
+    for (int k = 0; k < 60; ++k) {
+      const Vector3d p(u(rng), u(rng), u(rng));
+      const double exact = morph::swept_signed_distance(tool, m, p);
+      const double sampled = brute_force(tool, m, p, 20000);
+      // The sampled value is an upper bound within the sampling step of the minimum.
+      EXPECT_LE(exact, sampled + 1e-12);
+      EXPECT_GE(exact, sampled - morph::length(m) / 20000 - 1e-12);
+    }
+  }
+}
+
+TEST(SweepDistance, ArcAndHelixMatchDenseSampling) {
+  std::mt19937_64 rng(11);
+  std::uniform_real_distribution<double> u(-14.0, 14.0);
+  for (const Tool& tool : {sphere(1.0), ballend(2.0, 8.0)}) {
+    for (const Move& m : {arc(M_PI / 2, 0.0), arc(-1.5 * M_PI, 3.0), arc(4 * M_PI, -6.0)}) {
+      for (int k = 0; k < 40; ++k) {
+        const Vector3d p(u(rng), u(rng), 0.5 * u(rng));
+        const double exact = morph::swept_signed_distance(tool, m, p);
+        const double sampled = brute_force(tool, m, p, 100000);
+        EXPECT_LE(exact, sampled + 1e-9);
+        EXPECT_GE(exact, sampled - morph::length(m) / 100000 - 1e-9);
+      }
+    }
+  }
+}
+
+TEST(SweepDistance, SweptBoundsContainTheSweep) {
+  const Tool tool = ballend(2.0, 8.0);
+  const Move m = arc(-1.5 * M_PI, 3.0);
+  const Eigen::AlignedBox3d box = morph::swept_bounds(tool, m);
+  for (int i = 0; i <= 1000; ++i) {
+    const Vector3d c = morph::point_at(m, i / 1000.0);
+    for (const Vector3d& offset : {Vector3d(2, 0, 0), Vector3d(-2, 0, 0), Vector3d(0, 2, 0), Vector3d(0, -2, 0),
+                                   Vector3d(0, 0, 0), Vector3d(0, 0, 10)})
+      EXPECT_TRUE(box.contains(c + offset));
+  }
+}
+
+TEST(ErosionField, MatchesBruteForceOverManyMoves) {
+  morph::Job job;
+  job.tools[1] = sphere(1.5);
+  job.stock.type = morph::StockType::Box;
+  job.stock.box = Eigen::AlignedBox3d(Vector3d(0, 0, 0), Vector3d(40, 30, 10));
+  morph::Path path;
+  std::mt19937_64 rng(3);
+  std::uniform_real_distribution<double> ux(-5, 45), uy(-5, 35), uz(5, 12);
+  Vector3d prev(ux(rng), uy(rng), uz(rng));
+  for (int i = 0; i < 300; ++i) {
+    const Vector3d next(ux(rng), uy(rng), uz(rng));
+    path.moves.push_back(line(prev, next));
+    prev = next;
+  }
+  job.paths.push_back(path);
+  const morph::ErosionField field(job);
+  std::uniform_real_distribution<double> px(-8, 48), py(-8, 38), pz(-3, 14);
+  for (int k = 0; k < 500; ++k) {
+    const Vector3d p(px(rng), py(rng), pz(rng));
+    double brute = std::numeric_limits<double>::infinity();
+    int brute_move = -1;
+    for (std::size_t i = 0; i < job.paths[0].moves.size(); ++i) {
+      const double d = morph::swept_signed_distance(job.tools[1], job.paths[0].moves[i], p);
+      if (d < brute) {
+        brute = d;
+        brute_move = static_cast<int>(i);
+      }
+    }
+    int nearest = -2;
+    EXPECT_DOUBLE_EQ(field.sweep_distance(p, &nearest), brute);
+    // Consecutive moves tie at their shared end point, so compare the distance of the move
+    // reported, not its index.
+    ASSERT_GE(nearest, 0);
+    EXPECT_DOUBLE_EQ(morph::swept_signed_distance(job.tools[1], job.paths[0].moves[nearest], p),
+                     morph::swept_signed_distance(job.tools[1], job.paths[0].moves[brute_move], p));
+    EXPECT_DOUBLE_EQ(field.value(p), std::max(morph::analytic_signed_distance(job.stock, p), -brute));
+  }
+}
+
+TEST(AabbTree, OverlapQueryFindsExactlyTheOverlappingBoxes) {
+  std::mt19937_64 rng(5);
+  std::uniform_real_distribution<double> u(0, 100), s(0.1, 8);
+  std::vector<Eigen::AlignedBox3d> boxes;
+  for (int i = 0; i < 2000; ++i) {
+    const Vector3d lo(u(rng), u(rng), u(rng));
+    boxes.emplace_back(lo, lo + Vector3d(s(rng), s(rng), s(rng)));
+  }
+  const morph::AabbTree tree(boxes);
+  for (int k = 0; k < 200; ++k) {
+    const Vector3d lo(u(rng), u(rng), u(rng));
+    const Eigen::AlignedBox3d query(lo, lo + Vector3d(s(rng), s(rng), s(rng)));
+    std::vector<std::uint32_t> found;
+    tree.for_each_overlapping(query, [&](std::uint32_t i) { found.push_back(i); });
+    std::sort(found.begin(), found.end());
+    std::vector<std::uint32_t> expected;
+    for (std::uint32_t i = 0; i < boxes.size(); ++i)
+      if (boxes[i].intersects(query)) expected.push_back(i);
+    EXPECT_EQ(found, expected);
+  }
+}
