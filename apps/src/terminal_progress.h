@@ -1,0 +1,34 @@
+#pragma once
+// Progress on a terminal for long stages; silent when stderr is not a terminal (logs, CI, pipes).
+#include <morph/progress.h>
+
+#include <atomic>
+#include <chrono>
+#include <mutex>
+#include <string>
+
+namespace morphmill {
+
+class TerminalProgress : public morph::Progress {
+ public:
+  /// `enabled` defaults to whether stderr is a terminal.
+  TerminalProgress();
+  explicit TerminalProgress(bool enabled);
+  ~TerminalProgress() override;
+
+  void begin(const std::string& stage, std::size_t total) override;
+  void advance(std::size_t done) override;
+  void end() override;
+
+ private:
+  void draw(bool final_line);
+
+  bool enabled_;
+  std::mutex mutex_;
+  std::string stage_;
+  std::size_t total_ = 0;
+  std::atomic<std::size_t> done_{0};
+  std::chrono::steady_clock::time_point started_, last_draw_;
+};
+
+}  // namespace morphmill
