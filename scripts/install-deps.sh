@@ -11,6 +11,7 @@ packages=(
   libopenmesh-dev
   nlohmann-json3-dev libcli11-dev libfmt-dev libstb-dev
   libgtest-dev libgmock-dev libbenchmark-dev
+  chromium
 )
 # Optional extras for reports and browser checks are added by callers via MORPHMILL_EXTRA_PACKAGES.
 if [[ -n "${MORPHMILL_EXTRA_PACKAGES:-}" ]]; then
