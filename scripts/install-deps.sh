@@ -12,6 +12,7 @@ packages=(
   nlohmann-json3-dev libcli11-dev libfmt-dev libstb-dev
   libgtest-dev libgmock-dev libbenchmark-dev
   chromium
+  libplplot-dev plplot-driver-cairo
 )
 # Optional extras for reports and browser checks are added by callers via MORPHMILL_EXTRA_PACKAGES.
 if [[ -n "${MORPHMILL_EXTRA_PACKAGES:-}" ]]; then

@@ -1,9 +1,53 @@
+#include <iostream>
+
 #include "commands.h"
+#include "terminal_progress.h"
+#include "verify.h"
 
 namespace morphmill {
 
-void register_verify_command(CLI::App& /*app*/) {
-  // Placeholder until this command group is implemented.
+void register_verify_command(CLI::App& app) {
+  auto options = std::make_shared<VerifyOptions>();
+  CLI::App* verify = app.add_subcommand(
+      "verify",
+      "Run the generator, the OpenVDB reference and the Embree deviation measurement on one job and write\n"
+      "a report. Checks that the generator stays within the job's tolerance of the exact surface (both\n"
+      "ways) and that generator and reference agree within tolerance + sqrt(3) * voxel, piece by piece.\n"
+      "Exit code 0 when the verdict holds, 1 when it does not, 2 for bad input.\n"
+      "Example: morphmill verify data/jobs/through_slots.json --out out/slots");
+  verify->add_option("job", options->job_path, "Job file (JSON, see docs/job-format.md)")
+      ->required()
+      ->check(CLI::ExistingFile);
+  verify
+      ->add_option("--out,-o", options->out_dir,
+                   "Directory for morph.ply, reference.ply/.vdb, heatmaps, report.html")
+      ->required();
+  verify
+      ->add_option("--voxel", options->voxel_size,
+                   "Reference voxel size in job units (default: smallest tool radius / 6)")
+      ->check(CLI::PositiveNumber);
+  verify
+      ->add_option("--tolerance", options->tolerance, "Generator tolerance in job units (default: the job's)")
+      ->check(CLI::PositiveNumber);
+  verify
+      ->add_option("--samples", options->face_samples,
+                   "Area-uniform samples per surface, on top of every vertex")
+      ->capture_default_str();
+  verify->add_option("--seed", options->seed, "Seed of the surface sampling")->capture_default_str();
+  verify->callback([options] {
+    TerminalProgress progress;
+    VerifyOptions run = *options;
+    run.progress = &progress;
+    const VerifyOutcome outcome = run_verify(run);
+    std::cout << "verify " << outcome.job.name << ": verdict "
+              << (outcome.verdict() ? "HOLDS" : "DOES NOT HOLD")
+              << "\n  generator within tolerance: " << (outcome.generator_within_tolerance ? "yes" : "no")
+              << "\n  generator and reference agree: " << (outcome.sides_agree ? "yes" : "no")
+              << "\n  pieces: generator " << outcome.morph_pieces.size() << ", reference "
+              << outcome.reference_pieces.size() << (outcome.pieces_match ? " (match)" : " (MISMATCH)")
+              << "\n  report: " << run.out_dir << "/report.html\n";
+    if (!outcome.verdict()) throw VerdictFailed();
+  });
 }
 
 }  // namespace morphmill

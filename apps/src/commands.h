@@ -13,10 +13,15 @@ enum ExitCode : int {
   kExitInternal = 3,    ///< an unexpected internal error
 };
 
+/// Thrown by a command whose computation ran but whose verdict does not hold (exit code 1).
+struct VerdictFailed {};
+
 void register_info_commands(CLI::App& app);       // info, mesh-info
 void register_erode_command(CLI::App& app);       // erode
 void register_reference_command(CLI::App& app);   // reference
 void register_deviation_commands(CLI::App& app);  // deviation, render
 void register_verify_command(CLI::App& app);      // verify
+void register_stress_command(CLI::App& app);      // stress
+void register_study_command(CLI::App& app);       // study
 
 }  // namespace morphmill

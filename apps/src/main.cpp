@@ -16,11 +16,15 @@ int main(int argc, char** argv) {
   morphmill::register_reference_command(app);
   morphmill::register_deviation_commands(app);
   morphmill::register_verify_command(app);
+  morphmill::register_stress_command(app);
+  morphmill::register_study_command(app);
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
     const int code = app.exit(e);
     return code == 0 ? morphmill::kExitOk : morphmill::kExitBadInput;
+  } catch (const morphmill::VerdictFailed&) {
+    return morphmill::kExitVerdictFails;
   } catch (const morph::InputError& e) {
     std::cerr << "morphmill: error: " << e.what() << '\n';
     return morphmill::kExitBadInput;

@@ -43,7 +43,8 @@ void TerminalProgress::draw(bool final_line) {
   constexpr int kWidth = 30;
   const int filled = static_cast<int>(share * kWidth + 0.5);
   std::fprintf(stderr, "\r%-28.28s [%.*s%*s] %3d%% %7.1f s", stage_.c_str(), filled,
-               "##############################", kWidth - filled, "", static_cast<int>(share * 100 + 0.5), seconds);
+               "##############################", kWidth - filled, "", static_cast<int>(share * 100 + 0.5),
+               seconds);
   if (final_line) std::fputc('\n', stderr);
   std::fflush(stderr);
 }

@@ -60,6 +60,9 @@ std::pair<double, double> segment_sweep(const Tool& tool, const Eigen::Vector3d&
       const Eigen::Vector3d lift(0, 0, tool.radius);
       const double tb = segment_parameter(a + lift, b + lift, p);
       const double ball = (p - (a + lift + tb * (b - a))).norm() - tool.radius;
+      // Below every ball centre of the move, the body's nearest part is its bottom disc, which lies
+      // inside the ball: the ball alone decides (the common case under a cutting path).
+      if (p.z() <= std::min(a.z(), b.z()) + tool.radius) return {tb, ball};
       const auto body = golden_minimum(
           [&](double t) { return capped_cylinder_distance(p - (a + lift + t * (b - a)), tool.radius, 0.0, tool.length); },
           0.0, 1.0);

@@ -193,3 +193,18 @@ TEST(AabbTree, OverlapQueryFindsExactlyTheOverlappingBoxes) {
     EXPECT_EQ(found, expected);
   }
 }
+
+TEST(SweepDistance, BallEndBelowTheBallCentresIsTheCapsule) {
+  // Below the lowest ball centre the shortcut applies; the full minimisation must agree.
+  const Tool tool = ballend(2.5, 12.0);
+  std::mt19937_64 rng(19);
+  std::uniform_real_distribution<double> u(-8.0, 8.0);
+  const Move m = line({-3, 1, 0.5}, {4, -2, -1.5});
+  for (int k = 0; k < 400; ++k) {
+    const Vector3d p(u(rng), u(rng), -1.5 + 2.5 - std::abs(u(rng)));
+    const double sampled = brute_force(tool, m, p, 20000);
+    const double exact = morph::swept_signed_distance(tool, m, p);
+    EXPECT_LE(exact, sampled + 1e-12);
+    EXPECT_GE(exact, sampled - morph::length(m) / 20000 - 1e-12);
+  }
+}

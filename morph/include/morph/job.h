@@ -32,6 +32,7 @@ struct Job {
   std::vector<Path> paths;
   double tolerance = 0.01;  ///< largest allowed distance from the exact surface, job units
   std::vector<Warning> warnings;
+  std::string description;  ///< optional free text from the job file ("description")
 
   /// All moves of all paths in order; the index into this is the "global move index" of FaceTag.
   std::vector<const Move*> moves() const;

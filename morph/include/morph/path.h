@@ -54,6 +54,7 @@ std::vector<double> chord_parameters(const Move& move, double chord_tolerance);
 struct Path {
   std::string source;  ///< G-code file path, or "paths[i].polyline"
   std::vector<Move> moves;
+  std::string name;  ///< optional label from the job file ("paths[i].name"), "" if none
 };
 
 }  // namespace morph

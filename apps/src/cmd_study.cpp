@@ -1,0 +1,39 @@
+#include <iostream>
+
+#include "commands.h"
+#include "study.h"
+#include "terminal_progress.h"
+
+namespace morphmill {
+
+void register_study_command(CLI::App& app) {
+  auto options = std::make_shared<study::StudyOptions>();
+  CLI::App* command = app.add_subcommand(
+      "study",
+      "Sweep parameters over jobs, one at a time (reference voxel size, generator tolerance, tool radius,\n"
+      "step-over of generated zigzag jobs), and write a convergence table (study.csv, study.json), plots\n"
+      "(error vs voxel size with the fitted order, time and memory vs accuracy), heatmaps of every\n"
+      "setting and a self-contained report.html. Study file format: docs/study.md.\n"
+      "Example: morphmill study data/studies/convergence.json --out out/convergence");
+  command->add_option("study", options->study_path, "Study file (JSON)")
+      ->required()
+      ->check(CLI::ExistingFile);
+  command->add_option("--out,-o", options->out_dir, "Output directory")->required();
+  command->callback([options] {
+    TerminalProgress progress;
+    study::StudyOptions run = *options;
+    run.progress = &progress;
+    const study::StudyResult result = study::run_study(run);
+    std::cout << "study " << result.spec.name << ": " << result.rows.size() << " setting(s)\n";
+    for (const auto& c : result.convergence)
+      std::cout << "  " << c.job << ": " << c.measure << " error order " << c.fit.order << " (R^2 "
+                << c.fit.r_squared << ", " << c.fit.points << " points)\n";
+    for (const auto& row : result.rows)
+      if (!row.error.empty())
+        std::cout << "  " << row.job << " " << study::to_string(row.parameter) << " = " << row.value
+                  << ": not evaluated: " << row.error << "\n";
+    std::cout << "  report: " << run.out_dir << "/report.html\n";
+  });
+}
+
+}  // namespace morphmill

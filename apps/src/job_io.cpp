@@ -1,0 +1,540 @@
+// Job files (docs/job-format.md). Every error names the job file and the JSON path of the value
+// at fault; unknown keys are warnings so that a misspelt optional key is never silently ignored.
+#include <fmt/format.h>
+#include <morph/exceptions.h>
+#include <morph/gcode.h>
+#include <morph/topology.h>
+#include <morphmill/job_io.h>
+#include <morphmill/mesh_io.h>
+
+#include <algorithm>
+#include <cerrno>
+#include <cmath>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <initializer_list>
+#include <iterator>
+#include <set>
+#include <sstream>
+
+namespace morphmill {
+
+namespace {
+
+namespace fs = std::filesystem;
+using morph::InputError;
+using nlohmann::json;
+
+/// Default tolerance: 0.01 mm, expressed in the job's units.
+constexpr double kDefaultToleranceMillimetres = 0.01;
+
+std::size_t edit_distance(const std::string& a, const std::string& b) {
+  std::vector<std::size_t> row(b.size() + 1);
+  for (std::size_t j = 0; j <= b.size(); ++j) row[j] = j;
+  for (std::size_t i = 1; i <= a.size(); ++i) {
+    std::size_t diagonal = row[0];
+    row[0] = i;
+    for (std::size_t j = 1; j <= b.size(); ++j) {
+      const std::size_t up = row[j];
+      row[j] = std::min({row[j] + 1, row[j - 1] + 1, diagonal + (a[i - 1] == b[j - 1] ? 0 : 1)});
+      diagonal = up;
+    }
+  }
+  return row[b.size()];
+}
+
+std::string join_path(const std::string& at, const std::string& key) {
+  return at.empty() ? key : at + "." + key;
+}
+std::string index_path(const std::string& at, std::size_t i) {
+  return at + "[" + std::to_string(i) + "]";
+}
+
+/// Shortest decimal text that reads back as `x` (5 rather than 5.0).
+std::string text(double x) {
+  return fmt::format("{}", x);
+}
+
+std::string describe_value(const json& v) {
+  std::string text = v.dump();
+  if (text.size() > 40) text = text.substr(0, 37) + "...";
+  return std::string(v.type_name()) + " " + text;
+}
+
+/// Parsing context: the job file for messages and relative paths, and the warnings so far.
+class JobParser {
+ public:
+  JobParser(std::string file, std::vector<morph::Warning>& warnings)
+      : file_(std::move(file)), warnings_(warnings) {
+    const fs::path parent = fs::path(file_).parent_path();
+    base_dir_ = parent.empty() ? fs::path(".") : parent;
+  }
+
+  [[noreturn]] void fail(const std::string& at, const std::string& what) const {
+    throw InputError(file_ + ": " + (at.empty() ? "" : at + ": ") + what);
+  }
+
+  void warn(const std::string& at, const std::string& what) const {
+    warnings_.push_back({file_, 0, (at.empty() ? "" : at + ": ") + what});
+  }
+
+  const std::string& file() const { return file_; }
+
+  /// Warns about keys of `object` not in `known`. Keys starting with '_' are comments.
+  void check_keys(const json& object, const std::string& at, std::initializer_list<const char*> known) const {
+    for (auto it = object.begin(); it != object.end(); ++it) {
+      const std::string& key = it.key();
+      if (!key.empty() && key[0] == '_') continue;
+      if (std::any_of(known.begin(), known.end(), [&](const char* k) { return key == k; })) continue;
+      std::string suggestion;
+      std::size_t best = 3;  // suggest only close matches
+      for (const char* k : known) {
+        const std::size_t d = edit_distance(key, k);
+        if (d < best) best = d, suggestion = k;
+      }
+      warn(join_path(at, key),
+           "unknown key, ignored" + (suggestion.empty() ? "" : " (did you mean '" + suggestion + "'?)"));
+    }
+  }
+
+  const json& object(const json& v, const std::string& at) const {
+    if (!v.is_object()) fail(at, "expected an object, got " + describe_value(v));
+    return v;
+  }
+
+  const json* find(const json& object, const char* key) const {
+    auto it = object.find(key);
+    return it == object.end() ? nullptr : &*it;
+  }
+
+  const json& require(const json& object, const std::string& at, const char* key) const {
+    if (const json* v = find(object, key)) return *v;
+    fail(at, std::string("missing required key '") + key + "'");
+  }
+
+  double number(const json& v, const std::string& at) const {
+    if (!v.is_number()) fail(at, "expected a number, got " + describe_value(v));
+    const double x = v.get<double>();
+    if (!std::isfinite(x)) fail(at, "expected a finite number");
+    return x;
+  }
+
+  double positive(const json& v, const std::string& at) const {
+    const double x = number(v, at);
+    if (!(x > 0)) fail(at, "must be greater than 0, got " + v.dump());
+    return x;
+  }
+
+  std::string string(const json& v, const std::string& at) const {
+    if (!v.is_string()) fail(at, "expected a string, got " + describe_value(v));
+    return v.get<std::string>();
+  }
+
+  Eigen::Vector3d point(const json& v, const std::string& at) const {
+    if (!v.is_array() || v.size() != 3 ||
+        !std::all_of(v.begin(), v.end(), [](const json& x) { return x.is_number(); }))
+      fail(at, "expected 3 numbers, got " + describe_value(v));
+    Eigen::Vector3d p;
+    for (int k = 0; k < 3; ++k) p[k] = number(v[k], index_path(at, k));
+    return p;
+  }
+
+  /// A tool number: an integer >= 0, as a JSON number or a string of digits.
+  int tool_number(const json& v, const std::string& at) const {
+    if (v.is_number_integer() || (v.is_number_float() && v.get<double>() == std::floor(v.get<double>()))) {
+      const double x = v.get<double>();
+      if (x >= 0 && x <= 2147483647.0) return int(x);
+    } else if (v.is_string()) {
+      const std::string s = v.get<std::string>();
+      if (!s.empty() && s.size() <= 9 &&
+          std::all_of(s.begin(), s.end(), [](char c) { return c >= '0' && c <= '9'; }))
+        return std::stoi(s);
+    }
+    fail(at, "expected a tool number (an integer >= 0), got " + describe_value(v));
+  }
+
+  /// A file named in the job, relative to the job file's directory; must exist.
+  std::string referenced_file(const json& v, const std::string& at, const char* what) const {
+    const std::string name = string(v, at);
+    if (name.empty()) fail(at, std::string("empty ") + what + " file name");
+    const fs::path resolved = fs::path(name).is_absolute() ? fs::path(name) : base_dir_ / name;
+    std::error_code ec;
+    if (!fs::exists(resolved, ec))
+      fail(at, std::string(what) + " file '" + name + "' not found (looked for '" + resolved.string() + "')");
+    if (fs::is_directory(resolved, ec)) fail(at, std::string(what) + " file '" + name + "' is a directory");
+    return resolved.lexically_normal().string();
+  }
+
+  morph::Stock stock(const json& v, const std::string& at) const {
+    object(v, at);
+    morph::Stock stock;
+    const std::string type = string(require(v, at, "type"), join_path(at, "type"));
+    if (type == "box") {
+      check_keys(v, at, {"type", "min", "max", "description"});
+      const Eigen::Vector3d lo = point(require(v, at, "min"), join_path(at, "min"));
+      const Eigen::Vector3d hi = point(require(v, at, "max"), join_path(at, "max"));
+      for (int k = 0; k < 3; ++k)
+        if (!(lo[k] < hi[k]))
+          fail(join_path(at, "max"), std::string("must exceed min in every axis, but ") + "xyz"[k] + " max " +
+                                         text(hi[k]) + " <= min " + text(lo[k]));
+      stock.type = morph::StockType::Box;
+      stock.box = Eigen::AlignedBox3d(lo, hi);
+    } else if (type == "cylinder") {
+      check_keys(v, at, {"type", "base", "axis", "radius", "height", "description"});
+      stock.type = morph::StockType::Cylinder;
+      stock.base = point(require(v, at, "base"), join_path(at, "base"));
+      if (const json* axis = find(v, "axis")) {
+        const Eigen::Vector3d a = point(*axis, join_path(at, "axis"));
+        if (!(a.norm() > 0)) fail(join_path(at, "axis"), "must not be the zero vector");
+        stock.axis = a.normalized();
+      }
+      stock.radius = positive(require(v, at, "radius"), join_path(at, "radius"));
+      stock.height = positive(require(v, at, "height"), join_path(at, "height"));
+    } else if (type == "mesh") {
+      check_keys(v, at, {"type", "path", "description"});
+      const std::string path_at = join_path(at, "path");
+      const std::string path = referenced_file(require(v, at, "path"), path_at, "mesh");
+      stock.type = morph::StockType::Mesh;
+      stock.mesh_path = path;
+      try {
+        stock.mesh = read_mesh(path);
+      } catch (const morph::InputError& e) {
+        fail(path_at, e.what());
+      } catch (const morph::IoError& e) {
+        fail(path_at, e.what());
+      }
+      const morph::TopologyReport report = morph::topology_report(stock.mesh);
+      if (!report.closed_manifold()) {
+        std::ostringstream problems;
+        problems << report.boundary_edges << " boundary edges, " << report.non_manifold_edges
+                 << " non-manifold edges, " << report.inconsistent_edges << " inconsistently oriented edges, "
+                 << report.non_manifold_vertices << " non-manifold vertices";
+        fail(path_at, "stock mesh '" + path + "' is not a closed oriented manifold (" + problems.str() +
+                          "); run 'morphmill mesh-info' on it");
+      }
+      if (!(report.volume > 0))
+        fail(path_at, "stock mesh '" + path + "' is wound inward (enclosed volume " + text(report.volume) +
+                          " <= 0); its faces must wind counter-clockwise seen from outside");
+    } else {
+      fail(join_path(at, "type"), "unknown stock type '" + type + "' (expected box, cylinder or mesh)");
+    }
+    return stock;
+  }
+
+  morph::Tool tool(const json& v, const std::string& at, int tool_number) const {
+    object(v, at);
+    morph::Tool tool;
+    tool.number = tool_number;
+    const std::string type_at = join_path(at, "type");
+    tool.type = morph::tool_type_from_string(string(require(v, at, "type"), type_at), file_ + ": " + type_at);
+    tool.radius = positive(require(v, at, "radius"), join_path(at, "radius"));
+    switch (tool.type) {
+      case morph::ToolType::Sphere:
+        check_keys(v, at, {"type", "radius", "description"});
+        break;
+      case morph::ToolType::BallEnd:
+      case morph::ToolType::Flat:
+        check_keys(v, at, {"type", "radius", "length", "description"});
+        tool.length = positive(require(v, at, "length"), join_path(at, "length"));
+        break;
+      case morph::ToolType::Bullnose:
+        check_keys(v, at, {"type", "radius", "length", "corner_radius", "description"});
+        tool.length = positive(require(v, at, "length"), join_path(at, "length"));
+        tool.corner_radius = positive(require(v, at, "corner_radius"), join_path(at, "corner_radius"));
+        if (tool.corner_radius > tool.radius)
+          fail(join_path(at, "corner_radius"), "must not exceed the radius " + text(tool.radius));
+        break;
+      case morph::ToolType::Conical: {
+        check_keys(v, at, {"type", "radius", "length", "angle", "tip_radius", "description"});
+        tool.length = positive(require(v, at, "length"), join_path(at, "length"));
+        tool.angle = number(require(v, at, "angle"), join_path(at, "angle"));
+        if (!(tool.angle > 0 && tool.angle < 180))
+          fail(join_path(at, "angle"),
+               "must be between 0 and 180 degrees (exclusive), got " + text(tool.angle));
+        if (const json* tip = find(v, "tip_radius")) {
+          tool.tip_radius = number(*tip, join_path(at, "tip_radius"));
+          if (!(tool.tip_radius >= 0 && tool.tip_radius < tool.radius))
+            fail(join_path(at, "tip_radius"),
+                 "must be at least 0 and less than the radius " + text(tool.radius));
+        }
+        break;
+      }
+    }
+    if (const json* d = find(v, "description")) string(*d, join_path(at, "description"));
+    return tool;
+  }
+
+  morph::Path path(const json& v, std::size_t index, const std::map<int, morph::Tool>& tools,
+                   morph::Units units) const {
+    const std::string at = index_path("paths", index);
+    object(v, at);
+    check_keys(v, at, {"tool", "polyline", "gcode", "name", "description", "feed", "start"});
+    morph::Path path;
+    if (const json* name = find(v, "name")) path.name = string(*name, join_path(at, "name"));
+    if (const json* d = find(v, "description")) string(*d, join_path(at, "description"));
+
+    int tool = 0;
+    if (const json* t = find(v, "tool")) {
+      tool = tool_number(*t, join_path(at, "tool"));
+    } else if (tools.size() == 1) {
+      tool = tools.begin()->first;  // one tool: it is the tool of every path
+    } else {
+      fail(at, "missing required key 'tool' (it may be left out only when the job defines exactly one tool)");
+    }
+    if (!tools.count(tool))
+      fail(join_path(at, "tool"),
+           "tool " + std::to_string(tool) + " is not defined in 'tools'" + defined_tools(tools));
+
+    const json* polyline = find(v, "polyline");
+    const json* gcode = find(v, "gcode");
+    if (polyline && gcode) fail(at, "has both 'polyline' and 'gcode'; a path is one or the other");
+    if (!polyline && !gcode) fail(at, "needs a 'polyline' or a 'gcode' key");
+
+    if (polyline) {
+      const std::string pat = join_path(at, "polyline");
+      if (find(v, "start")) warn(join_path(at, "start"), "only used with 'gcode', ignored");
+      double feed = 0.0;
+      if (const json* f = find(v, "feed")) feed = positive(*f, join_path(at, "feed"));
+      if (!polyline->is_array()) fail(pat, "expected an array of points, got " + describe_value(*polyline));
+      if (polyline->empty()) fail(pat, "is empty; a polyline needs at least 2 points");
+      if (polyline->size() < 2) fail(pat, "has 1 point; a polyline needs at least 2 points");
+      path.source = pat;
+      Eigen::Vector3d previous = point((*polyline)[0], index_path(pat, 0));
+      for (std::size_t i = 1; i < polyline->size(); ++i) {
+        const Eigen::Vector3d p = point((*polyline)[i], index_path(pat, i));
+        if (p == previous) {
+          warn(index_path(pat, i), "repeats the previous point; no move");
+          continue;
+        }
+        morph::Move move;
+        move.kind = morph::MoveKind::Linear;
+        move.start = previous;
+        move.end = p;
+        move.tool = tool;
+        move.line = int(i + 1);
+        move.feed = feed;
+        path.moves.push_back(move);
+        previous = p;
+      }
+    } else {
+      const std::string gat = join_path(at, "gcode");
+      if (find(v, "feed"))
+        warn(join_path(at, "feed"), "only used with 'polyline' (G-code has its own F words), ignored");
+      const std::string file = referenced_file(*gcode, gat, "G-code");
+      morph::GcodeOptions options;
+      options.job_units = units;
+      options.initial_tool = tool;
+      if (const json* s = find(v, "start")) options.start = point(*s, join_path(at, "start"));
+      morph::GcodeResult result;
+      try {
+        result = morph::read_gcode(file, options);
+      } catch (const morph::InputError& e) {
+        fail(gat, e.what());
+      } catch (const morph::IoError& e) {
+        fail(gat, e.what());
+      }
+      for (int used : result.tools_used)
+        if (!tools.count(used))
+          fail(gat, "'" + gcode->get<std::string>() + "' selects tool " + std::to_string(used) + " (T" +
+                        std::to_string(used) + " M6), which is not defined in 'tools'" +
+                        defined_tools(tools));
+      for (const morph::Move& m : result.path.moves)
+        if (!tools.count(m.tool))
+          fail(gat, "'" + gcode->get<std::string>() + "' line " + std::to_string(m.line) +
+                        " moves with tool " + std::to_string(m.tool) + ", which is not defined in 'tools'" +
+                        defined_tools(tools));
+      warnings_.insert(warnings_.end(), result.warnings.begin(), result.warnings.end());
+      path.source = result.path.source.empty() ? file : result.path.source;
+      path.moves = std::move(result.path.moves);
+      if (path.moves.empty()) warn(gat, "'" + gcode->get<std::string>() + "' has no moves");
+    }
+    return path;
+  }
+
+ private:
+  static std::string defined_tools(const std::map<int, morph::Tool>& tools) {
+    if (tools.empty()) return " (no tools are defined)";
+    std::string list;
+    for (const auto& [number, tool] : tools) list += (list.empty() ? "" : ", ") + std::to_string(number);
+    return " (defined: " + list + ")";
+  }
+
+  std::string file_;
+  fs::path base_dir_;
+  std::vector<morph::Warning>& warnings_;
+};
+
+json vector_json(const Eigen::Vector3d& v) {
+  return json::array({v.x(), v.y(), v.z()});
+}
+
+json box_json(const Eigen::AlignedBox3d& box) {
+  if (box.isEmpty()) return nullptr;
+  return {{"min", vector_json(box.min())}, {"max", vector_json(box.max())}};
+}
+
+}  // namespace
+
+morph::Job parse_job(const nlohmann::json& root, const std::string& file) {
+  morph::Job job;
+  job.file = file;
+  JobParser parser(file, job.warnings);
+  parser.object(root, "");
+  if (!root.is_object()) parser.fail("", "a job file must hold one JSON object");
+  parser.check_keys(root, "", {"name", "description", "units", "stock", "tools", "paths", "tolerance"});
+
+  job.name = fs::path(file).stem().string();
+  if (const json* name = parser.find(root, "name")) job.name = parser.string(*name, "name");
+  if (const json* d = parser.find(root, "description")) job.description = parser.string(*d, "description");
+
+  if (const json* units = parser.find(root, "units")) {
+    const std::string u = parser.string(*units, "units");
+    if (u == "mm")
+      job.units = morph::Units::Millimetre;
+    else if (u == "inch")
+      job.units = morph::Units::Inch;
+    else
+      parser.fail("units", "expected \"mm\" or \"inch\", got \"" + u + "\"");
+  }
+
+  job.tolerance = kDefaultToleranceMillimetres / morph::millimetres_per_unit(job.units);
+  if (const json* t = parser.find(root, "tolerance")) job.tolerance = parser.positive(*t, "tolerance");
+
+  job.stock = parser.stock(parser.require(root, "", "stock"), "stock");
+
+  const json& tools = parser.object(parser.require(root, "", "tools"), "tools");
+  if (tools.empty()) parser.fail("tools", "defines no tools; a job needs at least one");
+  for (auto it = tools.begin(); it != tools.end(); ++it) {
+    const std::string at = "tools." + it.key();
+    const int number = parser.tool_number(json(it.key()), at);
+    if (job.tools.count(number)) parser.fail(at, "tool " + std::to_string(number) + " is defined twice");
+    job.tools[number] = parser.tool(it.value(), at, number);
+  }
+
+  const json& paths = parser.require(root, "", "paths");
+  if (!paths.is_array()) parser.fail("paths", "expected an array of paths, got " + describe_value(paths));
+  if (paths.empty()) parser.fail("paths", "is empty; a job needs at least one path");
+  for (std::size_t i = 0; i < paths.size(); ++i)
+    job.paths.push_back(parser.path(paths[i], i, job.tools, job.units));
+  return job;
+}
+
+morph::Job load_job(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw morph::IoError("cannot open job file '" + path + "': " + std::strerror(errno));
+  const std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  if (in.bad()) throw morph::IoError("cannot read job file '" + path + "'");
+  json root;
+  try {
+    root = json::parse(text);
+  } catch (const json::parse_error& e) {
+    // Report the position as line and column: nlohmann gives the byte just past the problem.
+    const std::size_t byte = std::min<std::size_t>(e.byte == 0 ? 0 : e.byte - 1, text.size());
+    const std::size_t line = 1 + std::size_t(std::count(text.begin(), text.begin() + byte, '\n'));
+    const std::size_t line_start = text.rfind('\n', byte == 0 ? 0 : byte - 1);
+    const std::size_t column = byte - (line_start == std::string::npos ? 0 : line_start + 1) + 1;
+    std::string what = e.what();
+    const std::size_t colon = what.find("parse error");
+    if (colon != std::string::npos) what = what.substr(colon);
+    throw InputError(path + ":" + std::to_string(line) + ":" + std::to_string(column) + ": invalid JSON (" +
+                     what + ")");
+  }
+  return parse_job(root, path);
+}
+
+nlohmann::json describe_job(const morph::Job& job) {
+  json out;
+  out["name"] = job.name;
+  if (!job.description.empty()) out["description"] = job.description;
+  out["file"] = job.file;
+  out["units"] = morph::to_string(job.units);
+  out["tolerance"] = job.tolerance;
+
+  const morph::Stock& s = job.stock;
+  json stock{{"type", morph::to_string(s.type)}};
+  switch (s.type) {
+    case morph::StockType::Box:
+      stock["min"] = vector_json(s.box.min());
+      stock["max"] = vector_json(s.box.max());
+      break;
+    case morph::StockType::Cylinder:
+      stock["base"] = vector_json(s.base);
+      stock["axis"] = vector_json(s.axis);
+      stock["radius"] = s.radius;
+      stock["height"] = s.height;
+      break;
+    case morph::StockType::Mesh:
+      stock["path"] = s.mesh_path;
+      stock["vertices"] = s.mesh.vertices.size();
+      stock["triangles"] = s.mesh.triangles.size();
+      break;
+  }
+  stock["bounds"] = box_json(morph::bounds(s));
+  stock["volume"] = morph::volume(s);
+  out["stock"] = stock;
+
+  json tools = json::array();
+  for (const auto& [number, t] : job.tools) {
+    json tool{{"number", number}, {"type", morph::to_string(t.type)}, {"radius", t.radius}};
+    if (t.type != morph::ToolType::Sphere) tool["length"] = t.length;
+    if (t.type == morph::ToolType::Bullnose) tool["corner_radius"] = t.corner_radius;
+    if (t.type == morph::ToolType::Conical) {
+      tool["angle"] = t.angle;
+      tool["tip_radius"] = t.tip_radius;
+    }
+    tool["supported"] = t.supported();
+    tools.push_back(tool);
+  }
+  out["tools"] = tools;
+
+  // Moves by kind, lengths and the bounding box of the tool point along the path (arcs sampled
+  // with chords within the job tolerance, so the box is exact to that tolerance).
+  std::map<std::string, std::size_t> total_by_kind{{"rapid", 0}, {"linear", 0}, {"arc", 0}};
+  std::map<std::string, double> length_by_kind{{"rapid", 0.0}, {"linear", 0.0}, {"arc", 0.0}};
+  Eigen::AlignedBox3d all_bounds;
+  json paths = json::array();
+  for (std::size_t i = 0; i < job.paths.size(); ++i) {
+    const morph::Path& path = job.paths[i];
+    std::map<std::string, std::size_t> by_kind{{"rapid", 0}, {"linear", 0}, {"arc", 0}};
+    std::set<int> tools_used;
+    double path_length = 0.0;
+    Eigen::AlignedBox3d path_bounds;
+    for (const morph::Move& m : path.moves) {
+      const std::string kind = morph::to_string(m.kind);
+      ++by_kind[kind];
+      ++total_by_kind[kind];
+      const double l = morph::length(m);
+      path_length += l;
+      length_by_kind[kind] += l;
+      tools_used.insert(m.tool);
+      path_bounds.extend(m.start);
+      path_bounds.extend(m.end);
+      if (m.is_arc())
+        for (double t : morph::chord_parameters(m, job.tolerance)) path_bounds.extend(morph::point_at(m, t));
+    }
+    all_bounds.extend(path_bounds);
+    json p{{"index", i},
+           {"source", path.source},
+           {"moves", path.moves.size()},
+           {"moves_by_kind", by_kind},
+           {"length", path_length},
+           {"tools", tools_used},
+           {"bounds", box_json(path_bounds)}};
+    if (!path.name.empty()) p["name"] = path.name;
+    paths.push_back(p);
+  }
+  out["paths"] = paths;
+  out["moves"] = {{"total", job.move_count()}, {"by_kind", total_by_kind}};
+  double total_length = 0.0;
+  for (const auto& [kind, l] : length_by_kind) total_length += l;
+  out["path_length"] = {{"total", total_length}, {"by_kind", length_by_kind}};
+  out["bounds"] = box_json(all_bounds);
+  json warnings = json::array();
+  for (const morph::Warning& w : job.warnings)
+    warnings.push_back({{"file", w.file}, {"line", w.line}, {"message", w.message}});
+  out["warnings"] = warnings;
+  return out;
+}
+
+}  // namespace morphmill

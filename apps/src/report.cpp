@@ -1,0 +1,280 @@
+// verify's outputs for people: report.md and a self-contained report.html, plus the JSON.
+#include <fmt/format.h>
+#include <morph/exceptions.h>
+#include <boost/archive/iterators/base64_from_binary.hpp>
+#include <boost/archive/iterators/transform_width.hpp>
+
+#include <filesystem>
+#include <fstream>
+#include <iterator>
+#include <sstream>
+
+#include "verify.h"
+
+namespace morphmill {
+
+namespace fs = std::filesystem;
+
+namespace {
+
+std::string read_file(const fs::path& path) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw morph::IoError(path.string() + ": cannot read");
+  return std::string(std::istreambuf_iterator<char>(in), {});
+}
+
+std::string base64(const std::string& bytes) {
+  using namespace boost::archive::iterators;
+  using Encoder = base64_from_binary<transform_width<std::string::const_iterator, 6, 8>>;
+  std::string encoded(Encoder(bytes.begin()), Encoder(bytes.end()));
+  encoded.append((3 - bytes.size() % 3) % 3, '=');
+  return encoded;
+}
+
+std::string html_escape(const std::string& text) {
+  std::string out;
+  for (char c : text) {
+    switch (c) {
+      case '&':
+        out += "&amp;";
+        break;
+      case '<':
+        out += "&lt;";
+        break;
+      case '>':
+        out += "&gt;";
+        break;
+      case '"':
+        out += "&quot;";
+        break;
+      default:
+        out += c;
+    }
+  }
+  return out;
+}
+
+std::string tag_text(const morph::FaceTag& tag) {
+  if (tag.kind == morph::PatchKind::Unknown) return "-";
+  if (tag.kind == morph::PatchKind::StockFace || tag.kind == morph::PatchKind::CutSurface)
+    return fmt::format("{} {}", morph::to_string(tag.kind), tag.source);
+  if (tag.source < 0) return fmt::format("{} (stock)", morph::to_string(tag.kind));
+  return fmt::format("{} move {} (line {})", morph::to_string(tag.kind), tag.source, tag.line);
+}
+
+// A simple table model rendered both as Markdown and as HTML.
+struct Table {
+  std::string title;
+  std::vector<std::string> header;
+  std::vector<std::vector<std::string>> rows;
+};
+
+std::string markdown(const Table& table) {
+  std::ostringstream out;
+  out << "### " << table.title << "\n\n|";
+  for (const auto& h : table.header) out << ' ' << h << " |";
+  out << "\n|";
+  for (std::size_t i = 0; i < table.header.size(); ++i) out << "---|";
+  out << '\n';
+  for (const auto& row : table.rows) {
+    out << '|';
+    for (const auto& cell : row) out << ' ' << cell << " |";
+    out << '\n';
+  }
+  out << '\n';
+  return out.str();
+}
+
+std::string html(const Table& table) {
+  std::ostringstream out;
+  out << "<h3>" << html_escape(table.title) << "</h3>\n<table>\n<tr>";
+  for (const auto& h : table.header) out << "<th>" << html_escape(h) << "</th>";
+  out << "</tr>\n";
+  for (const auto& row : table.rows) {
+    out << "<tr>";
+    for (const auto& cell : row) out << "<td>" << html_escape(cell) << "</td>";
+    out << "</tr>\n";
+  }
+  out << "</table>\n";
+  return out.str();
+}
+
+std::string number(double value) {
+  return fmt::format("{:.6g}", value);
+}
+std::string yes_no(bool value) {
+  return value ? "yes" : "NO";
+}
+
+std::vector<Table> tables(const VerifyOutcome& o) {
+  const std::string u = morph::to_string(o.job.units);
+  std::vector<Table> result;
+  result.push_back({"Job",
+                    {"item", "value"},
+                    {{"name", o.job.name},
+                     {"file", o.job.file},
+                     {"stock", morph::to_string(o.job.stock.type)},
+                     {"moves", std::to_string(o.job.move_count())},
+                     {"tolerance", number(o.tolerance) + " " + u},
+                     {"reference voxel", number(o.voxel_size) + " " + u}}});
+  Table stages{"Stages", {"stage", "seconds", "peak memory (MiB)"}, {}};
+  for (const auto& s : o.stages)
+    stages.rows.push_back({s.name, fmt::format("{:.2f}", s.seconds), fmt::format("{:.0f}", s.peak_rss_mib)});
+  result.push_back(stages);
+  result.push_back(
+      {"Surfaces",
+       {"", "generator (morph)", "reference (OpenVDB)"},
+       {{"triangles", std::to_string(o.morph_triangles), std::to_string(o.reference_triangles)},
+        {"active voxels", "-", std::to_string(o.reference_active_voxels)},
+        {"closed manifold", yes_no(o.morph_topology.closed_manifold()),
+         yes_no(o.reference_topology.closed_manifold())},
+        {"boundary edges", std::to_string(o.morph_topology.boundary_edges),
+         std::to_string(o.reference_topology.boundary_edges)},
+        {"volume (" + u + "^3)", number(o.morph_topology.volume), number(o.reference_topology.volume)},
+        {"area (" + u + "^2)", number(o.morph_topology.area), number(o.reference_topology.area)}}});
+  Table pieces{"Pieces (largest first)", {"piece", "generator volume", "reference volume", "difference"}, {}};
+  const std::size_t n = std::max(o.morph_pieces.size(), o.reference_pieces.size());
+  for (std::size_t i = 0; i < n; ++i) {
+    const bool m = i < o.morph_pieces.size(), r = i < o.reference_pieces.size();
+    pieces.rows.push_back({std::to_string(i + 1), m ? number(o.morph_pieces[i].volume) : "-",
+                           r ? number(o.reference_pieces[i].volume) : "-",
+                           m && r ? number(o.morph_pieces[i].volume - o.reference_pieces[i].volume) : "-"});
+  }
+  result.push_back(pieces);
+  Table deviation{"Deviation (" + u + ")",
+                  {"from -> to", "samples", "max", "mean", "RMS", "p50", "p99", "p99.9", "within tolerance"},
+                  {}};
+  auto row = [&](const std::string& name, const raytest::DeviationStats& s) {
+    deviation.rows.push_back({name, std::to_string(s.count), number(s.max_abs), number(s.mean_abs),
+                              number(s.rms), number(s.p50), number(s.p99), number(s.p999),
+                              fmt::format("{:.3f}%", 100.0 * s.share_within_tolerance)});
+  };
+  row("generator -> exact", o.morph_to_exact.stats);
+  row("exact -> generator", o.exact_to_morph);
+  row("reference -> exact", o.reference_to_exact.stats);
+  row("generator -> reference", o.morph_to_reference.stats);
+  row("reference -> generator", o.reference_to_morph.stats);
+  result.push_back(deviation);
+  Table worst{"Worst places", {"against", "deviation", "x", "y", "z", "made by"}, {}};
+  for (const auto& w : o.worst)
+    worst.rows.push_back({w.against, number(w.deviation), number(w.position.x()), number(w.position.y()),
+                          number(w.position.z()), tag_text(w.tag)});
+  result.push_back(worst);
+  result.push_back(
+      {"Verdict",
+       {"check", "holds", "measured", "bound"},
+       {{"generator within tolerance of the exact surface (both ways)", yes_no(o.generator_within_tolerance),
+         number(std::max(o.morph_to_exact.stats.max_abs, o.exact_to_morph.max_abs)), number(o.tolerance)},
+        {fmt::format("generator and reference agree: two-sided Hausdorff over the {} samples where the surface "
+                     "is resolvable at this voxel size ({} near acute wedges, thin walls or narrow gaps left out; "
+                     "over all samples: {})",
+                     o.agreement_samples, o.unresolvable_samples,
+                     number(std::max(o.morph_to_reference.stats.max_abs, o.reference_to_morph.stats.max_abs))),
+         yes_no(o.sides_agree), number(o.resolvable_hausdorff), number(o.agreement_bound)},
+        {"same pieces, volumes within half a voxel times area", yes_no(o.pieces_match),
+         fmt::format("{} vs {}", o.morph_pieces.size(), o.reference_pieces.size()), "-"}}});
+  return result;
+}
+
+}  // namespace
+
+nlohmann::json stats_to_json(const raytest::DeviationStats& s) {
+  return {{"count", s.count},
+          {"misses", s.misses},
+          {"min", s.min},
+          {"max", s.max},
+          {"max_abs", s.max_abs},
+          {"mean", s.mean},
+          {"mean_abs", s.mean_abs},
+          {"rms", s.rms},
+          {"p50", s.p50},
+          {"p90", s.p90},
+          {"p99", s.p99},
+          {"p99_9", s.p999},
+          {"tolerance", s.tolerance},
+          {"share_within_tolerance", s.share_within_tolerance},
+          {"histogram", {{"edges", s.histogram.edges}, {"counts", s.histogram.counts}}}};
+}
+
+nlohmann::json outcome_to_json(const VerifyOutcome& o) {
+  nlohmann::json j;
+  j["job"] = {{"name", o.job.name},
+              {"file", o.job.file},
+              {"units", morph::to_string(o.job.units)},
+              {"moves", o.job.move_count()}};
+  j["tolerance"] = o.tolerance;
+  j["voxel_size"] = o.voxel_size;
+  for (const auto& s : o.stages)
+    j["stages"].push_back({{"name", s.name}, {"seconds", s.seconds}, {"peak_rss_mib", s.peak_rss_mib}});
+  j["triangles"] = {{"generator", o.morph_triangles}, {"reference", o.reference_triangles}};
+  j["reference_active_voxels"] = o.reference_active_voxels;
+  auto pieces = [](const std::vector<PieceRecord>& list) {
+    nlohmann::json a = nlohmann::json::array();
+    for (const auto& p : list) a.push_back({{"volume", p.volume}, {"area", p.area}});
+    return a;
+  };
+  j["pieces"] = {{"generator", pieces(o.morph_pieces)}, {"reference", pieces(o.reference_pieces)}};
+  j["closed_manifold"] = {{"generator", o.morph_topology.closed_manifold()},
+                          {"reference", o.reference_topology.closed_manifold()}};
+  j["deviation"] = {{"generator_to_exact", stats_to_json(o.morph_to_exact.stats)},
+                    {"exact_to_generator", stats_to_json(o.exact_to_morph)},
+                    {"reference_to_exact", stats_to_json(o.reference_to_exact.stats)},
+                    {"generator_to_reference", stats_to_json(o.morph_to_reference.stats)},
+                    {"reference_to_generator", stats_to_json(o.reference_to_morph.stats)}};
+  for (const auto& w : o.worst)
+    j["worst_places"].push_back({{"against", w.against},
+                                 {"deviation", w.deviation},
+                                 {"position", {w.position.x(), w.position.y(), w.position.z()}},
+                                 {"patch_kind", morph::to_string(w.tag.kind)},
+                                 {"source", w.tag.source},
+                                 {"line", w.tag.line}});
+  j["verdict"] = {{"holds", o.verdict()},
+                  {"generator_within_tolerance", o.generator_within_tolerance},
+                  {"sides_agree", o.sides_agree},
+                  {"agreement_bound", o.agreement_bound},
+                  {"resolvable_hausdorff", o.resolvable_hausdorff},
+                  {"agreement_samples", o.agreement_samples},
+                  {"unresolvable_samples", o.unresolvable_samples},
+                  {"pieces_match", o.pieces_match}};
+  return j;
+}
+
+void write_reports(const VerifyOutcome& o, const std::string& out_dir,
+                   const std::vector<std::pair<std::string, std::string>>& pictures) {
+  const fs::path dir(out_dir);
+  const std::vector<Table> all = tables(o);
+  const std::string verdict = o.verdict() ? "HOLDS" : "DOES NOT HOLD";
+  {
+    std::ofstream md(dir / "report.md");
+    md << "# MorphMill verification: " << o.job.name << "\n\n**Verdict: " << verdict << "**\n\n";
+    for (const auto& t : all) md << markdown(t);
+    md << "### Pictures\n\n";
+    for (const auto& [title, file] : pictures) md << "![" << title << "](" << file << ")\n\n";
+    if (!md) throw morph::IoError((dir / "report.md").string() + ": cannot write");
+  }
+  std::ofstream page(dir / "report.html");
+  page << "<!DOCTYPE html>\n<html lang=\"en\"><head><meta charset=\"utf-8\">\n<title>MorphMill verification: "
+       << html_escape(o.job.name) << "</title>\n<style>\n"
+       << "body{font-family:sans-serif;margin:2em;max-width:1100px;color:#222}\n"
+       << "table{border-collapse:collapse;margin-bottom:1em}td,th{border:1px solid #bbb;padding:3px 8px;"
+          "text-align:right}th{background:#eee}td:first-child{text-align:left}\n"
+       << ".verdict{font-size:1.4em;padding:.4em;border-radius:4px}.holds{background:#d4f4d4}"
+          ".fails{background:#f8d0d0}\nfigure{display:inline-block;margin:0 1em 1em 0}"
+          "figcaption{text-align:center}\n</style></head>\n<body>\n<h1>MorphMill verification: "
+       << html_escape(o.job.name) << "</h1>\n<p class=\"verdict " << (o.verdict() ? "holds" : "fails")
+       << "\">Verdict: " << verdict << "</p>\n";
+  for (const auto& t : all) page << html(t);
+  page << "<h3>Pictures</h3>\n";
+  for (const auto& [title, file] : pictures) {
+    page << "<figure><img alt=\"" << html_escape(title) << "\" src=\"data:image/png;base64,"
+         << base64(read_file(dir / file)) << "\"><figcaption>" << html_escape(title)
+         << "</figcaption></figure>\n";
+  }
+  // Lets a browser test read back how many pictures the browser decoded.
+  page << "<script>window.addEventListener('load',function(){var i=document.images,n=0;"
+          "for(var k=0;k<i.length;k++){if(i[k].complete&&i[k].naturalWidth>0)n++;}"
+          "document.body.setAttribute('data-images-loaded',n+'/'+i.length);});</script>\n</body></html>\n";
+  if (!page) throw morph::IoError((dir / "report.html").string() + ": cannot write");
+}
+
+}  // namespace morphmill

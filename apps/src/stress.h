@@ -1,0 +1,95 @@
+#pragma once
+// `morphmill stress`: runs the generator, the reference and the deviation measurement on many
+// random cases (stress_cases.h), checks invariants on each, writes every failing case as a job
+// that reproduces it, and summarises. Shards of one campaign can run apart and be merged.
+#include <morph/progress.h>
+
+#include <cstdint>
+#include <nlohmann/json.hpp>
+#include <optional>
+#include <string>
+#include <vector>
+
+namespace morphmill::stress {
+
+struct StressOptions {
+  std::size_t cases = 100;  ///< cases of the whole campaign (indices 0 .. cases-1)
+  std::uint64_t seed = 1;
+  std::string out_dir;
+  std::size_t shard_index = 0;  ///< this run does the cases k with k % shard_count == shard_index
+  std::size_t shard_count = 1;
+  int threads = 0;                         ///< worker threads; 0 = all cores
+  std::size_t face_samples = 2000;         ///< area-uniform deviation samples per surface (plus every vertex)
+  double reference_memory_cap_mib = 1024;  ///< per case: the reference refuses to need more
+  double max_peak_rss_mib = 4096;          ///< the process's peak resident memory must stay below
+  morph::Progress* progress = nullptr;     ///< stage "stress: cases"
+};
+
+/// The invariants checked on every case, in report order.
+const std::vector<std::string>& invariant_names();
+
+/// What one case measured and which invariants failed.
+struct CaseResult {
+  std::size_t index = 0;
+  std::string family, variant;
+  int expected_pieces = -1;
+  std::optional<double> expected_volume;
+  double tolerance = 0, voxel_size = 0, agreement_bound = 0;
+  std::size_t generator_pieces = 0, reference_pieces = 0, generator_triangles = 0;
+  double generator_volume = 0, reference_volume = 0;
+  /// Largest |deviation| (job units) of each kind; NaN when not measured.
+  double generator_to_exact = 0, exact_to_generator = 0, reference_to_exact = 0;
+  double generator_to_reference = 0, reference_to_generator = 0;
+  double seconds = 0, generator_seconds = 0, reference_seconds = 0, deviation_seconds = 0;
+  double reference_memory_mib = 0;    ///< the reference's own grids and buffers
+  double peak_rss_mib = 0;            ///< the process's peak resident memory after the case
+  std::vector<std::string> failures;  ///< names from invariant_names()
+  std::string error;                  ///< exception message, if one was thrown
+};
+
+nlohmann::json case_to_json(const CaseResult& result);
+/// Throws morph::InputError naming `where` if the JSON lacks a field.
+CaseResult case_from_json(const nlohmann::json& json, const std::string& where);
+
+/// Runs one case (no files). Never throws for a failure of the case itself: it is recorded.
+CaseResult run_case(std::uint64_t seed, std::size_t index, const StressOptions& options);
+
+/// Summary of a campaign (or of merged shards): counts, failures by invariant and by family, the
+/// worst deviation of each kind, and every case's result sorted by index.
+struct Summary {
+  std::uint64_t seed = 0;
+  std::size_t cases = 0;                                    ///< of the whole campaign
+  std::vector<std::pair<std::size_t, std::size_t>> shards;  ///< (index, count) of the runs combined
+  double wall_seconds = 0;                                  ///< sum over the runs combined
+  double peak_rss_mib = 0;                                  ///< largest over the runs combined
+  int threads = 0;
+  std::vector<CaseResult> results;
+
+  std::size_t failed_cases() const;
+};
+
+nlohmann::json summary_to_json(const Summary& summary);
+Summary summary_from_json(const nlohmann::json& json, const std::string& where);
+/// summary.md: the tables a person reads.
+std::string summary_markdown(const Summary& summary);
+
+/// Runs the campaign's shard and writes into options.out_dir: summary.json, summary.md and
+/// failures/case_NNNNNN.json (+ its stock mesh) for every failing case. Throws morph::InputError
+/// for bad options (shard out of range, no cases), morph::IoError if the output cannot be written.
+Summary run_stress(const StressOptions& options);
+
+/// Combines the summaries (and failure jobs) of shard directories of one campaign into out_dir.
+/// Throws morph::InputError if they belong to different campaigns or overlap.
+Summary merge_stress(const std::vector<std::string>& shard_dirs, const std::string& out_dir);
+
+/// Writes summary.json and summary.md into dir.
+void write_summary(const Summary& summary, const std::string& dir);
+
+/// The case indices of shard `shard_index` of `shard_count`: k in [0, cases) with k % shard_count ==
+/// shard_index, increasing.
+std::vector<std::size_t> shard_cases(std::size_t cases, std::size_t shard_index, std::size_t shard_count);
+
+/// Parses "i/n" (0 <= i < n); throws morph::InputError otherwise.
+std::pair<std::size_t, std::size_t> parse_shard(const std::string& text);
+
+}  // namespace morphmill::stress

@@ -1,0 +1,120 @@
+#pragma once
+// `morphmill verify`: the generator, the reference and the deviation measurement on one job,
+// with a verdict and a report a person reads.
+#include <morph/job.h>
+#include <morph/progress.h>
+#include <morph/topology.h>
+#include <raytest/deviation.h>
+#include <vdb_ref/reference.h>
+
+#include <nlohmann/json.hpp>
+#include <string>
+#include <vector>
+
+namespace morphmill {
+
+struct VerifyOptions {
+  std::string job_path;
+  std::string out_dir;
+  double voxel_size = 0.0;  ///< reference voxel, job units; 0 picks one from the tools (see auto_voxel_size)
+  double tolerance = 0.0;   ///< generator tolerance, job units; 0 uses the job's
+  std::size_t face_samples = 100000;  ///< area-uniform samples per surface, on top of every vertex
+  std::uint64_t seed = 1;
+  int image_width = 640, image_height = 480;
+  morph::Progress* progress = nullptr;
+};
+
+/// Timing and memory of one stage.
+struct StageRecord {
+  std::string name;
+  double seconds = 0.0;
+  double peak_rss_mib = 0.0;  ///< process peak resident memory after the stage
+};
+
+/// One solid piece as a side sees it.
+struct PieceRecord {
+  double volume = 0.0;
+  double area = 0.0;
+  Eigen::AlignedBox3d bounds;
+};
+
+/// A sample with one of the largest deviations, and where it came from.
+struct WorstPlace {
+  Eigen::Vector3d position;
+  double deviation = 0.0;
+  morph::FaceTag tag;
+  std::string against;  ///< "exact surface" or "reference"
+};
+
+struct VerifyOutcome {
+  morph::Job job;
+  double tolerance = 0.0;
+  double voxel_size = 0.0;
+  std::vector<StageRecord> stages;
+  std::size_t morph_triangles = 0, reference_triangles = 0, reference_active_voxels = 0;
+  morph::TopologyReport morph_topology, reference_topology;
+  std::vector<PieceRecord> morph_pieces, reference_pieces;
+  raytest::OneSidedDeviation morph_to_reference, reference_to_morph;
+  raytest::OneSidedDeviation morph_to_exact, reference_to_exact;
+  raytest::DeviationStats exact_to_morph;  ///< points of the exact surface to the generator's mesh
+  std::vector<WorstPlace> worst;
+  /// The verdict and its parts.
+  bool generator_within_tolerance = false;
+  bool sides_agree = false;
+  bool pieces_match = false;
+  double agreement_bound = 0.0;  ///< tolerance + sqrt(3) * voxel
+  /// Largest generator<->reference deviation over the samples where the surface is resolvable at
+  /// the voxel size (no surface within two voxels faces against the sample: no acute wedge, thin
+  /// wall or narrow gap there), and how many samples were left out as unresolvable.
+  double resolvable_hausdorff = 0.0;
+  std::size_t unresolvable_samples = 0, agreement_samples = 0;
+  bool verdict() const { return generator_within_tolerance && sides_agree && pieces_match; }
+  std::vector<std::string> files;  ///< written into out_dir, relative names
+};
+
+/// What evaluate_job needs: the verify pipeline without any file output.
+struct EvaluateOptions {
+  double voxel_size = 0.0;  ///< reference voxel, job units; 0 picks one with auto_voxel_size
+  double tolerance = 0.0;   ///< generator tolerance, job units; 0 uses the job's
+  std::size_t face_samples = 100000;  ///< area-uniform samples per surface, on top of every vertex
+  std::uint64_t seed = 1;
+  morph::Progress* progress = nullptr;
+  std::string vdb_output_path;  ///< if not empty, the reference level set is also written there
+  std::size_t reference_memory_cap_bytes = std::size_t(8) << 30;  ///< vdb_ref::ReferenceOptions::memory_cap_bytes
+  /// When true, each stage's peak_rss_mib is the peak resident memory during that stage alone
+  /// (Linux: the high-water mark is reset through /proc/self/clear_refs before the stage);
+  /// otherwise it is the process's peak so far. Only meaningful when nothing else runs in the process.
+  bool per_stage_peak_memory = false;
+};
+
+/// The outcome and the two surfaces it was measured on.
+struct Evaluation {
+  VerifyOutcome outcome;  ///< stages "generator (morph)", "reference (OpenVDB)", "deviation (Embree)"; files empty
+  morph::TriangleMesh morph_mesh;
+  morph::TriangleMesh reference_mesh;
+  vdb_ref::ReferenceStats reference_stats;
+};
+
+/// Runs the generator, the reference and the deviation measurement on `job` and computes the
+/// verdict exactly as run_verify does, writing nothing (except options.vdb_output_path).
+/// Throws what erode / compute_reference throw (InputError for bad options, LimitError when the
+/// reference would exceed its memory cap).
+Evaluation evaluate_job(const morph::Job& job, const EvaluateOptions& options);
+
+/// Voxel size for a job when none is given: a sixth of the smallest tool radius, bounded below
+/// so the reference stays within memory on large stock.
+double auto_voxel_size(const morph::Job& job);
+
+/// Runs everything and writes morph.ply, reference.ply, reference.vdb, deviation.json, heatmap
+/// PLYs and PNGs, report.md and report.html into out_dir.
+VerifyOutcome run_verify(const VerifyOptions& options);
+
+/// The outcome as JSON (what deviation.json holds, plus the verdict).
+nlohmann::json outcome_to_json(const VerifyOutcome& outcome);
+nlohmann::json stats_to_json(const raytest::DeviationStats& stats);
+
+/// report.md and report.html (self-contained: pictures embedded as data URIs).
+void write_reports(const VerifyOutcome& outcome, const std::string& out_dir,
+                   const std::vector<std::pair<std::string, std::string>>& pictures);
+
+}  // namespace morphmill

@@ -1,0 +1,62 @@
+#pragma once
+/// \file erode.h
+/// The paper's secondary three-dimensional model: the boundary of the regularized partial erosion
+/// X \ (T (+) B) built directly from the ordered tool positions, as a sum of surfaces (no solid
+/// booleans, no voxels):
+///   - side sweeps: the tool's contour generator perpendicular to each straight (sub-)move,
+///     swept along it (the paper's arches);
+///   - front sweeps: the tool's own surface at path ends and where the direction turns;
+///   - cut surfaces: the stock's faces.
+/// Every patch has an exact parametrisation. A point of a patch survives iff it is inside the stock
+/// and outside every other move's swept volume (found through a bounding-volume hierarchy); each
+/// patch is trimmed by marching squares in its parameter domain, with every trimming vertex placed
+/// on the exact trimming curve by root finding on the exact swept-volume distances.
+#include <morph/job.h>
+#include <morph/mesh.h>
+#include <morph/parallel.h>
+#include <morph/progress.h>
+
+#include <cstddef>
+
+namespace morph {
+
+struct ErodeOptions {
+  /// Largest allowed distance between the output and the exact boundary, job units; 0 uses
+  /// Job::tolerance. Half of it goes to the tessellation of curved patches (chord error), half
+  /// to the trimming curves and the chords of arcs.
+  double tolerance = 0.0;
+  /// Patches are independent and processed in parallel; the output bytes do not depend on it.
+  ExecutionPolicy policy = ExecutionPolicy::Parallel;
+  /// Optional progress / interruption (stages "erode: patches", "erode: assemble").
+  Progress* progress = nullptr;
+};
+
+struct ErodeStats {
+  std::size_t moves = 0;                 ///< moves of the job
+  std::size_t moves_touching_stock = 0;  ///< moves whose swept bounds meet the stock bounds
+  std::size_t segments = 0;              ///< straight pieces after splitting arcs by chord tolerance
+  std::size_t patches = 0;               ///< parametric patches considered
+  std::size_t patches_kept = 0;          ///< patches that left at least one triangle
+  std::size_t triangles = 0;             ///< output triangles
+  std::size_t vertices = 0;              ///< output vertices
+  std::size_t seam_splits = 0;           ///< boundary edges split at the other side's vertices
+  std::size_t corner_holes = 0;          ///< holes closed where three patches meet
+  std::size_t open_edges = 0;            ///< boundary edges left (0 for a closed surface)
+  double seconds_setup = 0.0;            ///< segments, patches, spatial index
+  double seconds_trim = 0.0;             ///< evaluating and contouring the patches
+  double seconds_assemble = 0.0;         ///< concatenation and welding
+  double seconds_total = 0.0;
+};
+
+struct ErodeResult {
+  TriangleMesh mesh;  ///< tagged with FaceTag provenance, wound outward
+  ErodeStats stats;
+};
+
+/// Computes the boundary of the regularized partial erosion of `job`. Supports sphere and ballend
+/// tools, straight moves, arcs and helices (split into chords within half the tolerance), and box
+/// and cylinder stock. Throws InputError for an unsupported tool or stock type or a non-positive
+/// tolerance, Interrupted if options.progress asks to stop.
+ErodeResult erode(const Job& job, const ErodeOptions& options = {});
+
+}  // namespace morph

@@ -1,0 +1,1010 @@
+// The paper's secondary 3D model: trimmed parametric patches built from the ordered tool
+// positions (side sweeps, front sweeps, stock faces), see morph/erode.h and docs/generator.md.
+#include <morph/aabb_tree.h>
+#include <morph/erode.h>
+#include <morph/exceptions.h>
+#include <morph/mesh_distance.h>
+#include <morph/sweep_distance.h>
+
+#include <algorithm>
+#include <array>
+#include <chrono>
+#include <cmath>
+#include <cstring>
+#include <limits>
+#include <optional>
+#include <unordered_map>
+
+#include "erode_seams.h"
+
+namespace morph {
+
+namespace {
+
+using Eigen::Vector3d;
+using Clock = std::chrono::steady_clock;
+
+double seconds_since(Clock::time_point start) {
+  return std::chrono::duration<double>(Clock::now() - start).count();
+}
+
+/// A straight piece of a move (arcs are split by chord tolerance); the unit of sweeping.
+struct Segment {
+  Vector3d a, b;
+  const Tool* tool = nullptr;
+  int move = -1;  // global move index
+  int line = 0;
+  int prev = -1;  // adjacent segment in the same chain (shares a), -1 if none
+  int next = -1;  // adjacent segment in the same chain (shares b)
+  Eigen::AlignedBox3d box;
+};
+
+/// The shapes every patch is an instance of; all map [0,1]^2 onto the surface.
+enum class Form : std::uint8_t {
+  Plane,    // o + u U + v V
+  Tube,     // o + u A + R (cos t e1 + sin t e2), t = t0 + v (t1 - t0)
+  Sphere,   // o + R (sin p (cos f e1 + sin f e2) + cos p w), f = f0 + u (f1 - f0), p = p0 + v (p1 - p0)
+  Disc,     // o + (u R) (cos f e1 + sin f e2), f = 2 pi v
+  Triangle  // o + u (U + v V)   (mesh stock triangle: o, o+U, o+U+V)
+};
+
+/// A rule a front-sweep patch applies for a move adjacent to its tool position: the point is kept
+/// only where it is not interior to that move's sweep. Normal rule: sign * n(x).dir > 0, where n
+/// is the tool's outward normal. Position rule (flat top, horizontal move): sign * (x - centre).dir > 0.
+struct OwnRule {
+  Vector3d dir = Vector3d::Zero();
+  bool position = false;
+};
+
+struct Patch {
+  Form form = Form::Plane;
+  Vector3d o = Vector3d::Zero(), U = Vector3d::Zero(), V = Vector3d::Zero();
+  Vector3d e1 = Vector3d::UnitX(), e2 = Vector3d::UnitY(), w = Vector3d::UnitZ();
+  double R = 0.0, t0 = 0.0, t1 = 0.0, f0 = 0.0, f1 = 0.0;
+  bool periodic_u = false, periodic_v = false;
+  bool pole_v0 = false, pole_v1 = false;      // Sphere: v=0 / v=1 is a pole (exact point)
+  Vector3d plane_normal = Vector3d::UnitZ();  // Plane/Disc/Triangle: outward normal of the bounded solid
+  bool has_interior = false;                  // orientation from a point strictly inside the convex solid
+  Vector3d interior = Vector3d::Zero();
+
+  bool sweep = false;          // surface of a sweep (result normal = -tool normal) or of the stock
+  double owner = 0.0;          // sweeps: segment index (side) or index +- 0.5 (front)
+  int exclude[2] = {-1, -1};   // segments not tested by distance (own segment / adjacent ones)
+  int adjacent[2] = {-1, -1};  // adjacent segments (tie-break leans to keeping)
+  OwnRule rules[2];
+  int rule_count = 0;
+  Vector3d rule_centre = Vector3d::Zero();  // centre for position rules
+  double rule_radius = 1.0;
+
+  FaceTag tag;
+  int segment = -1;        // sweeps: the segment whose sweep surface this is
+  bool at_vertex = false;  // front sweeps: the tool surface at `tool_point`
+  Vector3d tool_point = Vector3d::Zero();
+  int nu = 1, nv = 1;  // grid cells
+  bool flip = false;
+  Eigen::AlignedBox3d box;  // conservative bounds
+};
+
+Vector3d evaluate(const Patch& p, double u, double v) {
+  switch (p.form) {
+    case Form::Plane:
+      return p.o + u * p.U + v * p.V;
+    case Form::Tube: {
+      const double t = p.t0 + v * (p.t1 - p.t0);
+      return p.o + u * p.U + p.R * (std::cos(t) * p.e1 + std::sin(t) * p.e2);
+    }
+    case Form::Sphere: {
+      if ((p.pole_v0 && v <= 0.0)) return p.o + p.R * std::cos(p.t0) * p.w;
+      if ((p.pole_v1 && v >= 1.0)) return p.o + p.R * std::cos(p.t1) * p.w;
+      const double f = p.f0 + u * (p.f1 - p.f0);
+      const double t = p.t0 + v * (p.t1 - p.t0);
+      return p.o + p.R * (std::sin(t) * (std::cos(f) * p.e1 + std::sin(f) * p.e2) + std::cos(t) * p.w);
+    }
+    case Form::Disc: {
+      if (u <= 0.0) return p.o;
+      const double f = 2.0 * M_PI * v;
+      return p.o + (u * p.R) * (std::cos(f) * p.e1 + std::sin(f) * p.e2);
+    }
+    case Form::Triangle: {
+      if (u <= 0.0) return p.o;
+      return p.o + u * (p.U + v * p.V);
+    }
+  }
+  return p.o;
+}
+
+/// Outward normal of the solid whose surface the patch is (tool or stock) at parameter (u, v).
+Vector3d solid_normal(const Patch& p, double u, double v) {
+  switch (p.form) {
+    case Form::Tube: {
+      const double t = p.t0 + v * (p.t1 - p.t0);
+      return std::cos(t) * p.e1 + std::sin(t) * p.e2;
+    }
+    case Form::Sphere:
+      return (evaluate(p, u, v) - p.o) / p.R;
+    default:
+      return p.plane_normal;
+  }
+}
+
+// The exact swept-volume distance of morph/sweep_distance.h, evaluated faster where possible:
+// the body's golden-section search only runs when a lower bound of the body's distance could
+// beat the tip's capsule (closed form). Same value as swept_signed_distance.
+double capped_cylinder(const Vector3d& q, double r, double height) {
+  const double dr = std::sqrt(q.x() * q.x() + q.y() * q.y()) - r;
+  const double dz = std::max(-q.z(), q.z() - height);
+  const double a = std::max(dr, 0.0), b = std::max(dz, 0.0);
+  return std::sqrt(a * a + b * b) + std::min(std::max(dr, dz), 0.0);
+}
+
+double sweep_distance(const Tool& tool, const Vector3d& a, const Vector3d& b, const Vector3d& p) {
+  const Vector3d d = b - a;
+  const double dd = d.squaredNorm();
+  if (tool.type == ToolType::Sphere) {
+    const double t = dd > 0.0 ? std::clamp((p - a).dot(d) / dd, 0.0, 1.0) : 0.0;
+    return (p - (a + t * d)).norm() - tool.radius;
+  }
+  if (tool.type != ToolType::BallEnd) return swept_signed_distance(tool, a, b, p);
+  const double r = tool.radius;
+  const Vector3d c0 = a + Vector3d(0, 0, r);
+  const double tb = dd > 0.0 ? std::clamp((p - c0).dot(d) / dd, 0.0, 1.0) : 0.0;
+  const double ball = (p - (c0 + tb * d)).norm() - r;
+  // Lower bounds of the body sweep's distance: it lies above the lowest centre, and within r
+  // (horizontally) of the centres' horizontal track.
+  const double lowest = std::min(c0.z(), c0.z() + d.z());
+  double bound = lowest - p.z();
+  {
+    const Eigen::Vector2d ph(p.x() - c0.x(), p.y() - c0.y()), dh(d.x(), d.y());
+    const double hh = dh.squaredNorm();
+    const double th = hh > 0.0 ? std::clamp(ph.dot(dh) / hh, 0.0, 1.0) : 0.0;
+    bound = std::max(bound, (ph - th * dh).norm() - r);
+  }
+  if (bound >= ball) return ball;
+  auto body = [&](double t) { return capped_cylinder(p - (c0 + t * d), r, tool.length); };
+  // The body distance is convex in t. Beside the body it is the horizontal distance to the
+  // centre at the parameter nearest horizontally, within the parameters whose body spans p's
+  // height: try that parameter and accept it if it is a local (hence global) minimum.
+  {
+    double t_lo = 0.0, t_hi = 1.0;
+    const double rise = d.z(), below = p.z() - c0.z();  // need below - t*rise in [0, length]
+    if (std::abs(rise) > 1e-15) {
+      const double ta = below / rise, tb = (below - tool.length) / rise;
+      t_lo = std::max(0.0, std::min(ta, tb));
+      t_hi = std::min(1.0, std::max(ta, tb));
+    }
+    if (t_lo <= t_hi) {
+      const Eigen::Vector2d ph(p.x() - c0.x(), p.y() - c0.y()), dh(d.x(), d.y());
+      const double hh = dh.squaredNorm();
+      const double t = std::clamp(hh > 0.0 ? ph.dot(dh) / hh : 0.5 * (t_lo + t_hi), t_lo, t_hi);
+      const double f = body(t), h = 1e-9;
+      if ((t - h < 0.0 || body(t - h) >= f) && (t + h > 1.0 || body(t + h) >= f)) return std::min(ball, f);
+    }
+  }
+  // Otherwise golden section on the convex body distance along the move.
+  constexpr double kInvPhi = 0.6180339887498949;
+  double lo = 0.0, hi = 1.0;
+  double x1 = hi - kInvPhi * (hi - lo), x2 = lo + kInvPhi * (hi - lo);
+  double f1 = body(x1), f2 = body(x2);
+  for (int i = 0; i < 64 && hi - lo > 1e-14; ++i) {
+    if (f1 < f2) {
+      hi = x2;
+      x2 = x1;
+      f2 = f1;
+      x1 = hi - kInvPhi * (hi - lo);
+      f1 = body(x1);
+    } else {
+      lo = x1;
+      x1 = x2;
+      f1 = f2;
+      x2 = lo + kInvPhi * (hi - lo);
+      f2 = body(x2);
+    }
+  }
+  double best = std::min({f1, f2, body(lo), body(hi)});
+  return std::min(ball, best);
+}
+
+/// Everything a patch's trimming function needs, shared read-only by all threads.
+struct Context {
+  const Job* job = nullptr;
+  std::vector<Segment> segments;
+  AabbTree tree;
+  std::optional<MeshDistance> stock_mesh;
+  Eigen::AlignedBox3d stock_box;
+  double tie = 1e-9;       // coincident-surface tie-break distance
+  double max_depth = 0.0;  // deepest possible sweep distance (largest radius + tie)
+
+  double stock_distance(const Vector3d& x) const {
+    if (stock_mesh) return stock_mesh->signed_distance(x);
+    return analytic_signed_distance(job->stock, x);
+  }
+};
+
+/// Per-patch evaluator of the keep function g: g > 0 where the patch bounds the result.
+class Trimmer {
+ public:
+  Trimmer(const Context& ctx, const Patch& patch) : ctx_(ctx), patch_(patch) {
+    std::size_t count = 0;
+    ctx.tree.for_each_overlapping(patch.box, [&](std::size_t j) {
+      const int js = static_cast<int>(j);
+      if (js == patch.exclude[0] || js == patch.exclude[1]) return;
+      if (++count <= kListLimit) candidates_.push_back(js);
+    });
+    // Few candidates: test them in a list; many (stock faces): best-first search of the BVH.
+    use_tree_ = count > kListLimit;
+    if (use_tree_) candidates_.clear();
+    std::sort(candidates_.begin(), candidates_.end());
+  }
+
+  double operator()(double u, double v) const {
+    const Vector3d x = evaluate(patch_, u, v);
+    double g = std::numeric_limits<double>::infinity();
+    if (patch_.sweep) {
+      g = -ctx_.stock_distance(x) - ctx_.tie;
+      for (int r = 0; r < patch_.rule_count; ++r) {
+        const OwnRule& rule = patch_.rules[r];
+        const double value = rule.position ? (x - patch_.rule_centre).dot(rule.dir) / patch_.rule_radius
+                                           : solid_normal(patch_, u, v).dot(rule.dir);
+        g = std::min(g, value);
+      }
+      if (g <= 0.0) return g;
+    }
+    if (use_tree_) {
+      double best = std::numeric_limits<double>::infinity();
+      ctx_.tree.nearest(
+          x,
+          [&](std::size_t j) {
+            const int js = static_cast<int>(j);
+            if (js == patch_.exclude[0] || js == patch_.exclude[1])
+              return std::numeric_limits<double>::infinity();
+            return distance(js, x);
+          },
+          &best, ctx_.max_depth);
+      return std::min(g, best);
+    }
+    for (int j : candidates_) {
+      if (ctx_.segments[j].box.exteriorDistance(x) >= g) continue;
+      g = std::min(g, distance(j, x));
+    }
+    return g;
+  }
+
+ private:
+  static constexpr std::size_t kListLimit = 64;
+  // Distance to segment j's sweep, shifted by the tie-break: where two patches coincide, the
+  // one of the lower segment is kept (adjacent segments never coincide over an area).
+  double distance(int j, const Vector3d& x) const {
+    const Segment& s = ctx_.segments[j];
+    const bool lean_keep =
+        !patch_.sweep || j > patch_.owner || j == patch_.adjacent[0] || j == patch_.adjacent[1];
+    return sweep_distance(*s.tool, s.a, s.b, x) + (lean_keep ? ctx_.tie : -ctx_.tie);
+  }
+  const Context& ctx_;
+  const Patch& patch_;
+  std::vector<int> candidates_;
+  bool use_tree_ = false;
+};
+
+struct PatchMesh {
+  std::vector<Vector3d> vertices;
+  std::vector<Triangle> triangles;
+  std::vector<std::uint8_t> border;  // per triangle: bit k set if edge k -> k+1 is on the patch's border
+};
+
+void mark_border(PatchMesh& mesh) {
+  std::vector<std::uint64_t> keys;
+  keys.reserve(mesh.triangles.size() * 3);
+  auto key = [](std::uint32_t a, std::uint32_t b) { return (static_cast<std::uint64_t>(a) << 32) | b; };
+  for (const Triangle& t : mesh.triangles)
+    for (int k = 0; k < 3; ++k) keys.push_back(key(t[k], t[(k + 1) % 3]));
+  std::sort(keys.begin(), keys.end());
+  mesh.border.assign(mesh.triangles.size(), 0);
+  for (std::size_t i = 0; i < mesh.triangles.size(); ++i) {
+    const Triangle& t = mesh.triangles[i];
+    for (int k = 0; k < 3; ++k)
+      if (!std::binary_search(keys.begin(), keys.end(), key(t[(k + 1) % 3], t[k]))) mesh.border[i] |= 1u << k;
+  }
+}
+
+/// Parameter in [0, 1] of the root of g along an edge whose ends have values g0, g1 of opposite
+/// signs; `at(s)` gives the (u, v) of edge parameter s. Illinois false position with bisection.
+template <class At>
+double edge_root(const Trimmer& g, double g0, double g1, At&& at) {
+  double a = 0.0, b = 1.0, ga = g0, gb = g1;
+  int side = 0;
+  double t = 0.5;
+  for (int it = 0; it < 80; ++it) {
+    t = (std::abs(ga - gb) > 0.0) ? (a * gb - b * ga) / (gb - ga) : 0.5 * (a + b);
+    if (!(t > a && t < b) || it % 4 == 3) t = 0.5 * (a + b);
+    const std::array<double, 2> uv = at(t);
+    const double gt = g(uv[0], uv[1]);
+    if (std::abs(gt) < 1e-12 || b - a < 1e-13) break;
+    if ((gt > 0.0) == (ga > 0.0)) {
+      a = t;
+      ga = gt;
+      if (side == -1) gb *= 0.5;
+      side = -1;
+    } else {
+      b = t;
+      gb = gt;
+      if (side == 1) ga *= 0.5;
+      side = 1;
+    }
+  }
+  return t;
+}
+
+/// Marching squares over the patch's grid: keeps the part where g > 0.
+PatchMesh trim_patch(const Context& ctx, const Patch& patch) {
+  PatchMesh out;
+  const Trimmer g(ctx, patch);
+  const int nu = patch.nu, nv = patch.nv;
+  const int su = patch.periodic_u ? nu : nu + 1;  // distinct node columns
+  const int sv = patch.periodic_v ? nv : nv + 1;
+  auto wrap_u = [&](int i) { return patch.periodic_u ? i % nu : i; };
+  auto wrap_v = [&](int j) { return patch.periodic_v ? j % nv : j; };
+  auto pu = [&](int i) { return static_cast<double>(i) / nu; };
+  auto pv = [&](int j) { return static_cast<double>(j) / nv; };
+
+  // Node values, evaluated lazily (the quadtree of large flat patches never visits most nodes).
+  std::vector<double> value(static_cast<std::size_t>(su) * sv, std::numeric_limits<double>::quiet_NaN());
+  auto val = [&](int i, int j) {
+    double& v = value[static_cast<std::size_t>(wrap_u(i)) * sv + wrap_v(j)];
+    if (std::isnan(v)) v = g(pu(wrap_u(i)), pv(wrap_v(j)));
+    return v;
+  };
+  // Large flat stock faces: blocks of cells that the exact 1-Lipschitz g proves entirely kept or
+  // removed are not subdivided (a kept block becomes one polygon whose edges carry the nodes of
+  // finer neighbours, so no T-junctions arise).
+  const bool quadtree =
+      !patch.sweep && (patch.form == Form::Plane || patch.form == Form::Triangle) && nu * nv > 16;
+  struct Block {
+    int i0, i1, j0, j1;
+  };
+  std::vector<Block> kept_blocks;
+  std::vector<std::array<int, 2>> fine_cells;
+  if (quadtree) {
+    std::vector<Block> stack{{0, nu, 0, nv}};
+    while (!stack.empty()) {
+      const Block b = stack.back();
+      stack.pop_back();
+      if (b.i1 - b.i0 == 1 && b.j1 - b.j0 == 1) {
+        fine_cells.push_back({b.i0, b.j0});
+        continue;
+      }
+      const double uc = 0.5 * (pu(b.i0) + pu(b.i1)), vc = 0.5 * (pv(b.j0) + pv(b.j1));
+      const Vector3d centre = evaluate(patch, uc, vc);
+      double radius = 0.0;  // the block's image lies in the convex hull of its corners' images
+      for (int ci : {b.i0, b.i1})
+        for (int cj : {b.j0, b.j1})
+          radius = std::max(radius, (evaluate(patch, pu(ci), pv(cj)) - centre).norm());
+      const double gc = g(uc, vc);
+      if (gc > 1.0001 * radius + 1e-12) {
+        kept_blocks.push_back(b);
+        continue;
+      }
+      if (gc < -1.0001 * radius - 1e-12) continue;
+      if (b.i1 - b.i0 >= b.j1 - b.j0) {
+        const int im = (b.i0 + b.i1) / 2;
+        stack.push_back({im, b.i1, b.j0, b.j1});
+        stack.push_back({b.i0, im, b.j0, b.j1});
+      } else {
+        const int jm = (b.j0 + b.j1) / 2;
+        stack.push_back({b.i0, b.i1, jm, b.j1});
+        stack.push_back({b.i0, b.i1, b.j0, jm});
+      }
+    }
+    if (kept_blocks.empty() && fine_cells.empty()) return out;
+  } else {
+    bool any_in = false;
+    for (int i = 0; i < su && !any_in; ++i)
+      for (int j = 0; j < sv && !any_in; ++j) any_in = val(i, j) > 0.0;
+    if (!any_in) return out;
+    for (int i = 0; i < nu; ++i)
+      for (int j = 0; j < nv; ++j) fine_cells.push_back({i, j});
+  }
+
+  std::vector<std::int32_t> node_id(value.size(), -1);
+  auto node = [&](int i, int j) {
+    std::int32_t& id = node_id[static_cast<std::size_t>(wrap_u(i)) * sv + wrap_v(j)];
+    if (id < 0) {
+      id = static_cast<std::int32_t>(out.vertices.size());
+      out.vertices.push_back(evaluate(patch, pu(wrap_u(i)), pv(wrap_v(j))));
+    }
+    return static_cast<std::uint32_t>(id);
+  };
+  // Crossing vertices on grid edges, cached so neighbouring cells share them.
+  std::unordered_map<std::uint64_t, std::uint32_t> crossing;
+  auto edge = [&](int i0, int j0, int i1, int j1) {
+    // Canonical key: the lower node and the direction.
+    const bool along_u = j0 == j1;
+    const int ia = std::min(i0, i1), ja = std::min(j0, j1);
+    const std::uint64_t key = (static_cast<std::uint64_t>(wrap_u(ia)) << 33) |
+                              (static_cast<std::uint64_t>(wrap_v(ja)) << 1) | (along_u ? 1u : 0u);
+    auto it = crossing.find(key);
+    if (it != crossing.end()) return it->second;
+    const int ib = along_u ? ia + 1 : ia, jb = along_u ? ja : ja + 1;
+    const double t = edge_root(g, val(ia, ja), val(ib, jb), [&](double s) {
+      return std::array<double, 2>{pu(ia) + s * (pu(ib) - pu(ia)), pv(ja) + s * (pv(jb) - pv(ja))};
+    });
+    // A root at a grid node is that node (no sliver triangles between them).
+    std::uint32_t id;
+    if (t <= 1e-9) {
+      id = node(ia, ja);
+    } else if (t >= 1.0 - 1e-9) {
+      id = node(ib, jb);
+    } else {
+      id = static_cast<std::uint32_t>(out.vertices.size());
+      out.vertices.push_back(evaluate(patch, pu(ia) + t * (pu(ib) - pu(ia)), pv(ja) + t * (pv(jb) - pv(ja))));
+    }
+    crossing.emplace(key, id);
+    return id;
+  };
+
+  std::vector<std::uint32_t> poly;
+  auto emit = [&](std::vector<std::uint32_t> p) {
+    // Roots snapped to nodes repeat a vertex: drop the repeats.
+    p.erase(std::unique(p.begin(), p.end()), p.end());
+    while (p.size() > 1 && p.front() == p.back()) p.pop_back();
+    for (std::size_t k = 1; k + 1 < p.size(); ++k) {
+      Triangle t{p[0], p[k], p[k + 1]};
+      if (t[0] == t[1] || t[1] == t[2] || t[0] == t[2]) continue;
+      if (patch.flip) std::swap(t[1], t[2]);
+      out.triangles.push_back(t);
+    }
+  };
+  for (const Block& b : kept_blocks)
+    for (int ci : {b.i0, b.i1})
+      for (int cj : {b.j0, b.j1}) node(ci, cj);
+  for (const auto& [i, j] : fine_cells) {
+    {
+      const int ci[4] = {i, i + 1, i + 1, i};
+      const int cj[4] = {j, j, j + 1, j + 1};
+      bool in[4];
+      int count = 0;
+      for (int k = 0; k < 4; ++k) count += (in[k] = val(ci[k], cj[k]) > 0.0);
+      if (count == 0) continue;
+      if (count == 4) {
+        emit({node(ci[0], cj[0]), node(ci[1], cj[1]), node(ci[2], cj[2]), node(ci[3], cj[3])});
+        continue;
+      }
+      const bool saddle = count == 2 && in[0] == in[2];
+      if (saddle && g(pu(i) + 0.5 / nu, pv(j) + 0.5 / nv) <= 0.0) {
+        // Two separate corners.
+        for (int k = 0; k < 4; ++k) {
+          if (!in[k]) continue;
+          const int kp = (k + 3) % 4, kn = (k + 1) % 4;
+          emit({node(ci[k], cj[k]), edge(ci[k], cj[k], ci[kn], cj[kn]), edge(ci[kp], cj[kp], ci[k], cj[k])});
+        }
+        continue;
+      }
+      poly.clear();
+      for (int k = 0; k < 4; ++k) {
+        const int kn = (k + 1) % 4;
+        if (in[k]) poly.push_back(node(ci[k], cj[k]));
+        if (in[k] != in[kn]) poly.push_back(edge(ci[k], cj[k], ci[kn], cj[kn]));
+      }
+      emit(poly);
+    }
+  }
+  // Kept blocks: their boundary with every node a neighbour created on it, fanned from the centre.
+  for (const Block& b : kept_blocks) {
+    poly.clear();
+    for (int i = b.i0; i < b.i1; ++i)
+      if (node_id[static_cast<std::size_t>(i) * sv + b.j0] >= 0) poly.push_back(node(i, b.j0));
+    for (int j = b.j0; j < b.j1; ++j)
+      if (node_id[static_cast<std::size_t>(b.i1) * sv + j] >= 0) poly.push_back(node(b.i1, j));
+    for (int i = b.i1; i > b.i0; --i)
+      if (node_id[static_cast<std::size_t>(i) * sv + b.j1] >= 0) poly.push_back(node(i, b.j1));
+    for (int j = b.j1; j > b.j0; --j)
+      if (node_id[static_cast<std::size_t>(b.i0) * sv + j] >= 0) poly.push_back(node(b.i0, j));
+    if (poly.size() == 4) {
+      emit(poly);
+      continue;
+    }
+    const std::uint32_t centre = static_cast<std::uint32_t>(out.vertices.size());
+    out.vertices.push_back(evaluate(patch, 0.5 * (pu(b.i0) + pu(b.i1)), 0.5 * (pv(b.j0) + pv(b.j1))));
+    for (std::size_t k = 0; k < poly.size(); ++k) {
+      Triangle t{centre, poly[k], poly[(k + 1) % poly.size()]};
+      if (patch.flip) std::swap(t[1], t[2]);
+      out.triangles.push_back(t);
+    }
+  }
+  mark_border(out);
+  return out;
+}
+
+// ---- patch construction --------------------------------------------------------------------
+
+int steps_for_angle(double radius, double angle, double chord_tolerance, double max_cell) {
+  double step = angle;
+  if (radius > chord_tolerance) step = std::min(step, 2.0 * std::acos(1.0 - chord_tolerance / radius));
+  if (max_cell > 0.0 && radius > 0.0) step = std::min(step, max_cell / radius);
+  return std::max(1, static_cast<int>(std::ceil(std::abs(angle) / step - 1e-9)));
+}
+
+int steps_for_length(double length, double max_cell) {
+  return std::max(1, static_cast<int>(std::ceil(length / max_cell - 1e-9)));
+}
+
+struct Budget {
+  double tessellation;  // chord error of curved patches
+  double cell;          // largest grid cell (trimming curve resolution)
+};
+
+void finish_patch(Patch& p) {
+  // Bounds from a coarse sampling padded by the largest possible bulge between samples.
+  Eigen::AlignedBox3d box;
+  const int n = 8;
+  for (int i = 0; i <= n; ++i)
+    for (int j = 0; j <= n; ++j)
+      box.extend(evaluate(p, static_cast<double>(i) / n, static_cast<double>(j) / n));
+  double pad = 1e-9;
+  if (p.form == Form::Tube || p.form == Form::Sphere || p.form == Form::Disc)
+    pad += p.R * (1.0 - std::cos(M_PI / n));
+  box.min().array() -= pad;
+  box.max().array() += pad;
+  p.box = box;
+  // Orientation: compare the parameter normal with the result's outward normal.
+  const double u = 0.37, v = 0.41, h = 1e-4;
+  const Vector3d xu = evaluate(p, u + h, v) - evaluate(p, u - h, v);
+  const Vector3d xv = evaluate(p, u, v + h) - evaluate(p, u, v - h);
+  // Each patch bounds a convex solid (tool sweep, tool, box, cylinder) or is a mesh triangle.
+  Vector3d outward = p.has_interior ? Vector3d(evaluate(p, u, v) - p.interior) : p.plane_normal;
+  if (p.sweep) outward = -outward;
+  p.flip = xu.cross(xv).dot(outward) < 0.0;
+}
+
+class PatchBuilder {
+ public:
+  PatchBuilder(const Context& ctx, Budget budget) : ctx_(ctx), budget_(budget) {}
+  std::vector<Patch> patches;
+
+  void plane(const Vector3d& o, const Vector3d& U, const Vector3d& V, const Vector3d& normal, Patch base) {
+    base.form = Form::Plane;
+    base.o = o;
+    base.U = U;
+    base.V = V;
+    base.plane_normal = normal;
+    base.nu = steps_for_length(U.norm(), budget_.cell);
+    base.nv = steps_for_length(V.norm(), budget_.cell);
+    add(base);
+  }
+  void tube(const Vector3d& o, const Vector3d& A, double R, const Vector3d& e1, const Vector3d& e2, double t0,
+            double t1, Patch base) {
+    base.form = Form::Tube;
+    base.o = o;
+    base.U = A;
+    base.R = R;
+    base.e1 = e1;
+    base.e2 = e2;
+    base.t0 = t0;
+    base.t1 = t1;
+    base.periodic_v = std::abs(std::abs(t1 - t0) - 2.0 * M_PI) < 1e-12;
+    base.nu = steps_for_length(A.norm(), budget_.cell);
+    base.nv = steps_for_angle(R, t1 - t0, budget_.tessellation, budget_.cell);
+    if (base.periodic_v) base.nv = std::max(base.nv, 3);
+    add(base);
+  }
+  // Sphere zone: azimuth f in [f0, f1] about w, polar angle t in [t0, t1] from w.
+  void sphere(const Vector3d& c, double R, const Vector3d& w, const Vector3d& e1, double f0, double f1,
+              double t0, double t1, Patch base) {
+    base.form = Form::Sphere;
+    base.o = c;
+    base.R = R;
+    base.w = w;
+    base.e1 = e1;
+    base.e2 = w.cross(e1);
+    base.f0 = f0;
+    base.f1 = f1;
+    base.t0 = t0;
+    base.t1 = t1;
+    base.periodic_u = std::abs(std::abs(f1 - f0) - 2.0 * M_PI) < 1e-12;
+    base.pole_v0 = t0 == 0.0;
+    base.pole_v1 = t1 == M_PI;
+    // Both directions curved: a cell's diagonal must keep the chord error, hence half the tolerance.
+    base.nu = steps_for_angle(R, f1 - f0, 0.5 * budget_.tessellation, budget_.cell);
+    base.nv = steps_for_angle(R, t1 - t0, 0.5 * budget_.tessellation, budget_.cell);
+    if (base.periodic_u) base.nu = std::max(base.nu, 3);
+    add(base);
+  }
+  void disc(const Vector3d& c, double R, const Vector3d& normal, Patch base) {
+    base.form = Form::Disc;
+    base.o = c;
+    base.R = R;
+    base.e1 = normal.unitOrthogonal();
+    base.e2 = normal.cross(base.e1);
+    base.plane_normal = normal;
+    base.periodic_v = true;
+    base.nu = steps_for_length(R, budget_.cell);
+    base.nv = std::max(3, steps_for_angle(R, 2.0 * M_PI, budget_.tessellation, budget_.cell));
+    add(base);
+  }
+  void triangle(const Vector3d& a, const Vector3d& b, const Vector3d& c, const Vector3d& normal, Patch base) {
+    base.form = Form::Triangle;
+    base.o = a;
+    base.U = b - a;
+    base.V = c - b;
+    base.plane_normal = normal;
+    base.nu = steps_for_length(std::max((b - a).norm(), (c - a).norm()), budget_.cell);
+    base.nv = steps_for_length((c - b).norm(), budget_.cell);
+    add(base);
+  }
+
+ private:
+  void add(Patch& p) {
+    finish_patch(p);
+    if (!p.box.intersects(ctx_.stock_box)) return;
+    patches.push_back(p);
+  }
+  const Context& ctx_;
+  Budget budget_;
+};
+
+Vector3d horizontal_perpendicular(const Vector3d& d) {
+  const Vector3d e = Vector3d::UnitZ().cross(d);
+  return e.norm() > 1e-12 ? Vector3d(e.normalized()) : Vector3d::UnitX();
+}
+
+void add_stock_patches(const Job& job, PatchBuilder& builder) {
+  Patch base;
+  base.sweep = false;
+  const Stock& stock = job.stock;
+  base.has_interior = stock.type != StockType::Mesh;
+  base.interior = stock.type == StockType::Cylinder
+                      ? Vector3d(stock.base + 0.5 * stock.height * stock.axis.normalized())
+                      : Vector3d(bounds(stock).center());
+  switch (stock.type) {
+    case StockType::Box: {
+      const Vector3d lo = stock.box.min(), hi = stock.box.max(), s = hi - lo;
+      const Vector3d X = Vector3d(s.x(), 0, 0), Y = Vector3d(0, s.y(), 0), Z = Vector3d(0, 0, s.z());
+      const std::array<std::tuple<Vector3d, Vector3d, Vector3d, Vector3d>, 6> faces = {{
+          {lo, Y, Z, -Vector3d::UnitX()},
+          {lo + X, Y, Z, Vector3d::UnitX()},
+          {lo, X, Z, -Vector3d::UnitY()},
+          {lo + Y, X, Z, Vector3d::UnitY()},
+          {lo, X, Y, -Vector3d::UnitZ()},
+          {lo + Z, X, Y, Vector3d::UnitZ()},
+      }};
+      for (int f = 0; f < 6; ++f) {
+        base.tag = {PatchKind::CutSurface, f, 0};
+        builder.plane(std::get<0>(faces[f]), std::get<1>(faces[f]), std::get<2>(faces[f]),
+                      std::get<3>(faces[f]), base);
+      }
+      break;
+    }
+    case StockType::Cylinder: {
+      const Vector3d a = stock.axis.normalized();
+      const Vector3d e1 = a.unitOrthogonal(), e2 = a.cross(e1);
+      base.tag = {PatchKind::CutSurface, 0, 0};
+      builder.tube(stock.base, stock.height * a, stock.radius, e1, e2, 0.0, 2.0 * M_PI, base);
+      base.tag = {PatchKind::CutSurface, 1, 0};
+      builder.disc(stock.base, stock.radius, -a, base);
+      base.tag = {PatchKind::CutSurface, 2, 0};
+      builder.disc(stock.base + stock.height * a, stock.radius, a, base);
+      break;
+    }
+    case StockType::Mesh: {
+      const TriangleMesh& m = stock.mesh;
+      for (std::size_t t = 0; t < m.triangles.size(); ++t) {
+        const Vector3d& p0 = m.vertices[m.triangles[t][0]];
+        const Vector3d& p1 = m.vertices[m.triangles[t][1]];
+        const Vector3d& p2 = m.vertices[m.triangles[t][2]];
+        const Vector3d n = (p1 - p0).cross(p2 - p0);
+        if (n.norm() <= 0.0) continue;
+        base.tag = {PatchKind::CutSurface, static_cast<std::int32_t>(t), 0};
+        builder.triangle(p0, p1, p2, n.normalized(), base);
+      }
+      break;
+    }
+  }
+}
+
+void add_side_sweep(const Context& ctx, int index, PatchBuilder& builder) {
+  const Segment& s = ctx.segments[index];
+  const Tool& tool = *s.tool;
+  const Vector3d A = s.b - s.a;
+  const double L = A.norm();
+  const Vector3d d = A / L;
+  const double r = tool.radius;
+  Patch base;
+  base.sweep = true;
+  base.owner = index;
+  base.segment = index;
+  base.exclude[0] = index;
+  base.adjacent[0] = s.prev;
+  base.adjacent[1] = s.next;
+  base.tag = {PatchKind::SideSweep, s.move, s.line};
+  base.has_interior = true;
+  base.interior = tool.type == ToolType::Sphere
+                      ? Vector3d(s.a + 0.5 * A)
+                      : Vector3d(s.a + 0.5 * A + (r + 0.5 * tool.length - 0.25 * r) * Vector3d::UnitZ());
+  if (tool.type == ToolType::Sphere) {
+    const Vector3d e1 = d.unitOrthogonal(), e2 = d.cross(e1);
+    builder.tube(s.a, A, r, e1, e2, 0.0, 2.0 * M_PI, base);
+    return;
+  }
+  // Ball end: tip sphere centre c = tip + r z, body up to c + length z.
+  const Vector3d z = Vector3d::UnitZ();
+  const Vector3d c0 = s.a + r * z;
+  const double top_z = ctx.stock_box.max().z();
+  const double lowest_centre = std::min(c0.z(), c0.z() + A.z());
+  // Body height that can matter: above the stock's top nothing is kept.
+  const double body = std::clamp(top_z - lowest_centre, 0.0, tool.length);
+  const Vector3d horizontal(d.x(), d.y(), 0.0);
+  if (horizontal.norm() < 1e-9) {
+    // Plunge or retract: the contour generator is the whole body side.
+    const Vector3d low = A.z() < 0 ? Vector3d(c0 + A) : c0;
+    const double height = std::abs(A.z()) + tool.length;
+    const double clipped = std::clamp(top_z - low.z(), 0.0, height);
+    if (clipped > 100.0 * ctx.tie)
+      builder.tube(low, clipped * z, r, Vector3d::UnitX(), Vector3d::UnitY(), 0.0, 2.0 * M_PI, base);
+    return;
+  }
+  const Vector3d e1 = horizontal_perpendicular(d);
+  const Vector3d e2 = d.cross(e1);  // e2.z = 1 - d.z^2 > 0
+  // Lower half great circle perpendicular to d (normals with n.z <= 0).
+  builder.tube(c0, A, r, e1, e2, M_PI, 2.0 * M_PI, base);
+  if (body > 100.0 * ctx.tie) {
+    // The two rulings of the body, swept.
+    base.tag = {PatchKind::SideSweep, s.move, s.line};
+    builder.plane(c0 + r * e1, A, body * z, e1, base);
+    builder.plane(c0 - r * e1, A, body * z, -e1, base);
+  }
+  if (lowest_centre + tool.length < top_z) {
+    const Vector3d top = c0 + tool.length * z;
+    if (std::abs(d.z()) < 1e-12) {
+      builder.plane(top - r * e1, A, 2.0 * r * e1, z, base);
+    } else {
+      // Half rim from e1 to -e1 through -sign(d.z) times the horizontal direction.
+      const Vector3d g = -(d.z() > 0 ? 1.0 : -1.0) * horizontal.normalized();
+      builder.tube(top, A, r, e1, g, 0.0, M_PI, base);
+    }
+  }
+}
+
+/// Front sweep: the tool's own surface at a chain vertex, kept outside the adjacent sweeps.
+void add_front_sweep(const Context& ctx, int prev, int next, PatchBuilder& builder) {
+  const Segment& s = ctx.segments[prev >= 0 ? prev : next];
+  const Tool& tool = *s.tool;
+  const Vector3d p = prev >= 0 ? s.b : s.a;
+  const double r = tool.radius;
+  Patch base;
+  base.sweep = true;
+  base.owner = prev >= 0 ? prev + 0.5 : next - 0.5;
+  base.segment = prev >= 0 ? prev : next;
+  base.at_vertex = true;
+  base.tool_point = p;
+  base.exclude[0] = base.adjacent[0] = prev;
+  base.exclude[1] = base.adjacent[1] = next;
+  const Segment& tag_seg = ctx.segments[next >= 0 ? next : prev];
+  base.has_interior = true;
+  base.interior = tool.type == ToolType::Sphere
+                      ? p
+                      : Vector3d(p + (r + 0.5 * tool.length - 0.25 * r) * Vector3d::UnitZ());
+  base.tag = {PatchKind::FrontSweep, tag_seg.move, tag_seg.line};
+  Vector3d dp = Vector3d::Zero(), dn = Vector3d::Zero();
+  if (prev >= 0) dp = (ctx.segments[prev].b - ctx.segments[prev].a).normalized();
+  if (next >= 0) dn = (ctx.segments[next].b - ctx.segments[next].a).normalized();
+  auto set_rules = [&](Patch& patch, bool flat_top, const Vector3d& centre) {
+    patch.rule_count = 0;
+    patch.rule_centre = centre;
+    patch.rule_radius = r;
+    for (const auto& [dir, sign] : {std::make_pair(dp, 1.0), std::make_pair(dn, -1.0)}) {
+      if (dir.squaredNorm() == 0.0) continue;
+      OwnRule rule;
+      rule.dir = sign * dir;
+      rule.position = flat_top && std::abs(dir.z()) < 1e-12;
+      if (flat_top && !rule.position) rule.dir = sign * (dir.z() > 0 ? 1.0 : -1.0) * Vector3d::UnitZ();
+      patch.rules[patch.rule_count++] = rule;
+    }
+  };
+  const Vector3d z = Vector3d::UnitZ();
+  const bool ballend = tool.type == ToolType::BallEnd;
+  const Vector3d c = ballend ? Vector3d(p + r * z) : p;
+  // The tool's sphere outside both adjacent sweeps is exactly a lune between the great circles
+  // normal to the two directions (a hemisphere at a path end): parametrised as such, its
+  // borders are the side sweeps' end profiles. The ball end keeps its lower half (n.z <= 0).
+  Patch ball = base;
+  ball.rule_count = 0;
+  if (ballend) ball.rules[ball.rule_count++] = OwnRule{-z, false};
+  if (prev >= 0 && next >= 0) {
+    Vector3d w = dp.cross(dn);
+    const double turn = std::atan2(w.norm(), dp.dot(dn));
+    w = w.norm() > 1e-12 ? Vector3d(w.normalized()) : dp.unitOrthogonal();
+    builder.sphere(c, r, w, dp, -0.5 * M_PI, -0.5 * M_PI + turn, 0.0, M_PI, ball);
+  } else {
+    const Vector3d axis = prev >= 0 ? dp : Vector3d(-dn);
+    builder.sphere(c, r, axis, axis.unitOrthogonal(), 0.0, 2.0 * M_PI, 0.0, 0.5 * M_PI, ball);
+  }
+  if (!ballend) return;
+  // The body's side: the arc of horizontal normals n with n.dp >= 0 and n.dn <= 0.
+  const double top_z = ctx.stock_box.max().z();
+  const double body = std::clamp(top_z - c.z(), 0.0, tool.length);
+  const Eigen::Vector2d a(dp.x(), dp.y()), b(dn.x(), dn.y());
+  const bool level_prev = prev < 0 || a.norm() > 1e-9, level_next = next < 0 || b.norm() > 1e-9;
+  if (body > 100.0 * ctx.tie && level_prev && level_next) {
+    Eigen::Vector2d middle;
+    double half_width = 0.5 * M_PI;
+    if (prev >= 0 && next >= 0) {
+      middle = a.normalized() - b.normalized();
+      half_width = 0.5 * std::acos(std::clamp(a.normalized().dot(b.normalized()), -1.0, 1.0));
+    } else {
+      middle = prev >= 0 ? Eigen::Vector2d(a.normalized()) : Eigen::Vector2d(-b.normalized());
+    }
+    if (half_width > 1e-12 && middle.norm() > 1e-12) {
+      const double centre_angle = std::atan2(middle.y(), middle.x());
+      Patch side = base;
+      side.rule_count = 0;
+      builder.tube(c, body * z, r, Vector3d::UnitX(), Vector3d::UnitY(), centre_angle - half_width,
+                   centre_angle + half_width, side);
+    }
+  }
+  if (c.z() + tool.length < top_z) {
+    // The flat top: for a rising move the top disc leads (normal rule on +z); for a level move
+    // the half ahead of the diameter belongs to this end (position rule).
+    set_rules(base, true, c + tool.length * z);
+    builder.disc(c + tool.length * z, r, z, base);
+  }
+}
+
+void check_job(const Job& job, double tolerance) {
+  if (!(tolerance > 0.0) || !std::isfinite(tolerance))
+    throw InputError(job.file + ": tolerance must be positive, got " + std::to_string(tolerance));
+  for (const auto& [number, tool] : job.tools) {
+    if (!tool.supported())
+      throw InputError(job.file + ": tool " + std::to_string(number) + " is of type '" +
+                       to_string(tool.type) +
+                       "', which the generator does not support (sphere and ballend only)");
+    if (!(tool.radius > 0.0))
+      throw InputError(job.file + ": tool " + std::to_string(number) + " needs a positive radius");
+    if (tool.type == ToolType::BallEnd && !(tool.length >= 0.0))
+      throw InputError(job.file + ": tool " + std::to_string(number) + " needs a non-negative length");
+  }
+}
+
+}  // namespace
+
+ErodeResult erode(const Job& job, const ErodeOptions& options) {
+  const auto t_start = Clock::now();
+  const double tolerance = options.tolerance > 0.0 ? options.tolerance : job.tolerance;
+  check_job(job, tolerance);
+  Progress& progress = options.progress ? *options.progress : null_progress();
+  ErodeResult result;
+  ErodeStats& stats = result.stats;
+
+  Context ctx;
+  ctx.job = &job;
+  ctx.stock_box = bounds(job.stock);
+  if (job.stock.type == StockType::Mesh) ctx.stock_mesh.emplace(job.stock.mesh);
+  const double scale = std::max(1.0, ctx.stock_box.sizes().maxCoeff());
+  ctx.tie = 1e-11 * scale;
+
+  // Budget: arcs' chords 0.3, tessellation 0.35, trimming curves 0.35 of the tolerance.
+  const double arc_chord = 0.3 * tolerance;
+  double min_radius = std::numeric_limits<double>::infinity();
+  for (const auto& [number, tool] : job.tools) min_radius = std::min(min_radius, tool.radius);
+  if (!std::isfinite(min_radius)) min_radius = scale;
+  for (const auto& [number, tool] : job.tools)
+    ctx.max_depth = std::max(ctx.max_depth, tool.radius + 2.0 * ctx.tie);
+  // A trimming curve is assumed to bend no tighter than the tool radius r; its chord over a cell
+  // diagonal sqrt(2) h has sagitta 2 h^2 / (8 r) = h^2 / (4 r) <= 0.35 tol.
+  Budget budget{0.35 * tolerance, std::sqrt(4.0 * min_radius * 0.35 * tolerance)};
+
+  // Segments, chained.
+  const std::vector<const Move*> moves = job.moves();
+  stats.moves = moves.size();
+  std::size_t global = 0;
+  for (const Path& path : job.paths) {
+    int last = -1;
+    for (const Move& move : path.moves) {
+      const int move_index = static_cast<int>(global++);
+      const Tool& tool = job.tool_of(move);
+      const std::vector<double> ts = chord_parameters(move, arc_chord);
+      Eigen::AlignedBox3d move_box = swept_bounds(tool, move);
+      if (move_box.intersects(ctx.stock_box)) ++stats.moves_touching_stock;
+      for (std::size_t k = 0; k + 1 < ts.size(); ++k) {
+        Segment seg;
+        seg.a = point_at(move, ts[k]);
+        seg.b = point_at(move, ts[k + 1]);
+        if ((seg.b - seg.a).norm() <= 1e-12 * scale) continue;
+        seg.tool = &tool;
+        seg.move = move_index;
+        seg.line = move.line;
+        Move straight;
+        straight.start = seg.a;
+        straight.end = seg.b;
+        seg.box = swept_bounds(tool, straight);
+        const int index = static_cast<int>(ctx.segments.size());
+        if (last >= 0 && ctx.segments[last].tool == &tool &&
+            (ctx.segments[last].b - seg.a).norm() <= 1e-9 * scale) {
+          seg.prev = last;
+          ctx.segments[last].next = index;
+        }
+        ctx.segments.push_back(seg);
+        last = index;
+      }
+    }
+  }
+  stats.segments = ctx.segments.size();
+  {
+    std::vector<Eigen::AlignedBox3d> boxes;
+    boxes.reserve(ctx.segments.size());
+    for (const Segment& s : ctx.segments) boxes.push_back(s.box);
+    ctx.tree = AabbTree(std::move(boxes));
+  }
+
+  PatchBuilder builder(ctx, budget);
+  add_stock_patches(job, builder);
+  for (int i = 0; i < static_cast<int>(ctx.segments.size()); ++i) {
+    const Segment& s = ctx.segments[i];
+    if (!s.box.intersects(ctx.stock_box)) continue;
+    add_side_sweep(ctx, i, builder);
+    if (s.prev < 0) add_front_sweep(ctx, -1, i, builder);
+    if (s.next < 0) {
+      add_front_sweep(ctx, i, -1, builder);
+    } else {
+      const Segment& n = ctx.segments[s.next];
+      const Vector3d d0 = (s.b - s.a).normalized(), d1 = (n.b - n.a).normalized();
+      if (d0.cross(d1).norm() > 1e-12 || d0.dot(d1) < 0.0) add_front_sweep(ctx, i, s.next, builder);
+    }
+  }
+  const std::vector<Patch>& patches = builder.patches;
+  stats.patches = patches.size();
+  stats.seconds_setup = seconds_since(t_start);
+
+  // Trim every patch independently.
+  const auto t_trim = Clock::now();
+  std::vector<PatchMesh> pieces(patches.size());
+  progress.begin("erode: patches", patches.size());
+  for_each_index(options.policy, 0, patches.size(), [&](std::size_t i) {
+    if (progress.interrupted()) return;
+    pieces[i] = trim_patch(ctx, patches[i]);
+    progress.advance(1);
+  });
+  progress.end();
+  if (progress.interrupted()) throw Interrupted("erode: interrupted");
+  stats.seconds_trim = seconds_since(t_trim);
+
+  // Assemble in patch order, then join the patches along their trimming curves.
+  const auto t_assemble = Clock::now();
+  TriangleMesh& mesh = result.mesh;
+  std::vector<detail::TriangleOrigin> patch_of_triangle;
+  for (std::size_t i = 0; i < pieces.size(); ++i) {
+    const PatchMesh& piece = pieces[i];
+    if (piece.triangles.empty()) continue;
+    ++stats.patches_kept;
+    const std::uint32_t offset = static_cast<std::uint32_t>(mesh.vertices.size());
+    mesh.vertices.insert(mesh.vertices.end(), piece.vertices.begin(), piece.vertices.end());
+    for (std::size_t k = 0; k < piece.triangles.size(); ++k) {
+      const Triangle& t = piece.triangles[k];
+      mesh.triangles.push_back({t[0] + offset, t[1] + offset, t[2] + offset});
+      mesh.tags.push_back(patches[i].tag);
+      patch_of_triangle.push_back({static_cast<std::uint32_t>(i), piece.border[k]});
+    }
+  }
+  detail::SeamOptions seam;
+  seam.weld_distance = 1e-9 * scale;
+  seam.snap_distance = 0.2 * tolerance;
+  seam.match_distance = 0.5 * tolerance;
+  seam.cell = budget.cell;
+  seam.hole_diameter = 4.0 * budget.cell;
+  const detail::SeamStats seam_stats =
+      detail::join_seams(mesh, patch_of_triangle, seam, [&](std::size_t patch, const Vector3d& x) {
+        const Patch& p = patches[patch];
+        if (!p.sweep) return ctx.stock_distance(x);
+        const Segment& s = ctx.segments[p.segment];
+        if (p.at_vertex) return tool_signed_distance(*s.tool, p.tool_point, x);
+        return sweep_distance(*s.tool, s.a, s.b, x);
+      });
+  stats.open_edges = seam_stats.boundary_edges;
+  stats.seam_splits = seam_stats.splits;
+  stats.corner_holes = seam_stats.holes_filled;
+  stats.triangles = mesh.triangles.size();
+  stats.vertices = mesh.vertices.size();
+  stats.seconds_assemble = seconds_since(t_assemble);
+  stats.seconds_total = seconds_since(t_start);
+  return result;
+}
+
+}  // namespace morph

@@ -1,0 +1,497 @@
+// Joining trimmed patches: both sides of a trimming curve carry vertices lying on the exact curve
+// (placed by root finding), but each side samples it at its own grid edges. Splitting every
+// boundary edge at the other side's vertices makes the two vertex sequences identical, as in a
+// B-rep where adjacent faces share their edge's vertices; the small holes where three patches
+// meet are closed around the exact corner point.
+#include <Eigen/Dense>
+
+#include <algorithm>
+#include <cmath>
+#include <unordered_map>
+
+#include "erode_seams.h"
+
+namespace morph::detail {
+
+namespace {
+
+using Eigen::Vector3d;
+
+struct CellKey {
+  std::int64_t x, y, z;
+  bool operator==(const CellKey& o) const { return x == o.x && y == o.y && z == o.z; }
+};
+struct CellHash {
+  std::size_t operator()(const CellKey& k) const {
+    return static_cast<std::size_t>(k.x * 73856093LL ^ k.y * 19349663LL ^ k.z * 83492791LL);
+  }
+};
+CellKey cell_of(const Vector3d& p, double cell) {
+  return {static_cast<std::int64_t>(std::floor(p.x() / cell)),
+          static_cast<std::int64_t>(std::floor(p.y() / cell)),
+          static_cast<std::int64_t>(std::floor(p.z() / cell))};
+}
+
+std::uint64_t edge_key(std::uint32_t a, std::uint32_t b) {
+  return (static_cast<std::uint64_t>(a) << 32) | b;
+}
+
+/// Merges vertices closer than `distance` into the first of them, drops collapsed triangles and
+/// unreferenced vertices. Returns the number of merged vertices.
+std::size_t weld(TriangleMesh& mesh, std::vector<TriangleOrigin>& patch_of, double distance) {
+  std::unordered_map<CellKey, std::vector<std::uint32_t>, CellHash> grid;
+  std::vector<std::uint32_t> target(mesh.vertices.size());
+  std::vector<bool> on_border(mesh.vertices.size(), false);
+  for (std::size_t t = 0; t < mesh.triangles.size(); ++t)
+    for (int k = 0; k < 3; ++k)
+      if (patch_of[t].border & (1u << k))
+        on_border[mesh.triangles[t][k]] = on_border[mesh.triangles[t][(k + 1) % 3]] = true;
+  std::size_t merged = 0;
+  for (std::uint32_t v = 0; v < mesh.vertices.size(); ++v) {
+    target[v] = v;
+    if (!on_border[v]) continue;  // interior vertices of a patch are never shared
+    const Vector3d& p = mesh.vertices[v];
+    const CellKey c = cell_of(p, distance);
+    std::uint32_t found = v;
+    for (int dx = -1; dx <= 1 && found == v; ++dx)
+      for (int dy = -1; dy <= 1 && found == v; ++dy)
+        for (int dz = -1; dz <= 1 && found == v; ++dz) {
+          auto it = grid.find({c.x + dx, c.y + dy, c.z + dz});
+          if (it == grid.end()) continue;
+          for (std::uint32_t u : it->second)
+            if ((mesh.vertices[u] - p).norm() <= distance) {
+              found = u;
+              break;
+            }
+        }
+    target[v] = found;
+    if (found == v) {
+      grid[c].push_back(v);
+    } else {
+      ++merged;
+    }
+  }
+  // Compact.
+  std::vector<std::uint32_t> new_index(mesh.vertices.size(), UINT32_MAX);
+  std::vector<Vector3d> vertices;
+  std::vector<Triangle> triangles;
+  std::vector<FaceTag> tags;
+  std::vector<TriangleOrigin> patches;
+  for (std::size_t t = 0; t < mesh.triangles.size(); ++t) {
+    Triangle tri;
+    for (int k = 0; k < 3; ++k) tri[k] = target[mesh.triangles[t][k]];
+    if (tri[0] == tri[1] || tri[1] == tri[2] || tri[0] == tri[2]) continue;
+    for (int k = 0; k < 3; ++k) {
+      std::uint32_t& n = new_index[tri[k]];
+      if (n == UINT32_MAX) {
+        n = static_cast<std::uint32_t>(vertices.size());
+        vertices.push_back(mesh.vertices[tri[k]]);
+      }
+      tri[k] = n;
+    }
+    triangles.push_back(tri);
+    tags.push_back(mesh.tags[t]);
+    patches.push_back(patch_of[t]);
+  }
+  mesh.vertices = std::move(vertices);
+  mesh.triangles = std::move(triangles);
+  mesh.tags = std::move(tags);
+  patch_of = std::move(patches);
+  return merged;
+}
+
+/// Directed edges on patch borders (interior edges of a patch are always paired within it).
+struct HalfEdges {
+  std::unordered_map<std::uint64_t, std::uint32_t> count;
+  HalfEdges(const TriangleMesh& mesh, const std::vector<TriangleOrigin>& origin) {
+    for (std::size_t i = 0; i < mesh.triangles.size(); ++i) {
+      if (!origin[i].border) continue;
+      const Triangle& t = mesh.triangles[i];
+      for (int k = 0; k < 3; ++k)
+        if (origin[i].border & (1u << k)) ++count[edge_key(t[k], t[(k + 1) % 3])];
+    }
+  }
+  bool boundary(std::uint32_t a, std::uint32_t b) const {
+    auto it = count.find(edge_key(a, b));
+    return it != count.end() && it->second == 1 && count.find(edge_key(b, a)) == count.end();
+  }
+};
+
+/// Merges boundary vertices of different patches closer than `distance` (points of the same
+/// curve sampled by both sides at nearly the same place, typically near corners) so that no
+/// sliver edges are left for the split pass.
+std::size_t snap_boundary(TriangleMesh& mesh, std::vector<TriangleOrigin>& patch_of, double distance) {
+  const HalfEdges half(mesh, patch_of);
+  std::unordered_map<std::uint32_t, std::vector<std::uint32_t>> patches_of_vertex;
+  for (std::uint32_t t = 0; t < mesh.triangles.size(); ++t)
+    for (int k = 0; k < 3; ++k) {
+      if (!(patch_of[t].border & (1u << k))) continue;
+      const std::uint32_t a = mesh.triangles[t][k], b = mesh.triangles[t][(k + 1) % 3];
+      if (!half.boundary(a, b)) continue;
+      for (std::uint32_t v : {a, b}) {
+        auto& list = patches_of_vertex[v];
+        if (std::find(list.begin(), list.end(), patch_of[t].patch) == list.end())
+          list.push_back(patch_of[t].patch);
+      }
+    }
+  std::vector<std::uint32_t> boundary;
+  for (const auto& [v, list] : patches_of_vertex) boundary.push_back(v);
+  std::sort(boundary.begin(), boundary.end());
+  std::vector<std::uint32_t> target(mesh.vertices.size());
+  for (std::uint32_t v = 0; v < target.size(); ++v) target[v] = v;
+  std::unordered_map<CellKey, std::vector<std::uint32_t>, CellHash> grid;
+  std::size_t merged = 0;
+  auto disjoint = [&](std::uint32_t a, std::uint32_t b) {
+    for (std::uint32_t p : patches_of_vertex[a])
+      if (std::find(patches_of_vertex[b].begin(), patches_of_vertex[b].end(), p) !=
+          patches_of_vertex[b].end())
+        return false;
+    return true;
+  };
+  for (std::uint32_t v : boundary) {
+    const Vector3d& p = mesh.vertices[v];
+    const CellKey c = cell_of(p, distance);
+    std::uint32_t found = v;
+    for (int dx = -1; dx <= 1 && found == v; ++dx)
+      for (int dy = -1; dy <= 1 && found == v; ++dy)
+        for (int dz = -1; dz <= 1 && found == v; ++dz) {
+          auto it = grid.find({c.x + dx, c.y + dy, c.z + dz});
+          if (it == grid.end()) continue;
+          for (std::uint32_t u : it->second)
+            if ((mesh.vertices[u] - p).norm() <= distance && disjoint(u, v)) {
+              found = u;
+              break;
+            }
+        }
+    if (found == v) {
+      grid[c].push_back(v);
+    } else {
+      target[v] = found;
+      auto& list = patches_of_vertex[found];
+      for (std::uint32_t q : patches_of_vertex[v])
+        if (std::find(list.begin(), list.end(), q) == list.end()) list.push_back(q);
+      ++merged;
+    }
+  }
+  if (merged == 0) return 0;
+  std::vector<Triangle> triangles;
+  std::vector<FaceTag> tags;
+  std::vector<TriangleOrigin> patches;
+  for (std::size_t t = 0; t < mesh.triangles.size(); ++t) {
+    Triangle tri;
+    for (int k = 0; k < 3; ++k) tri[k] = target[mesh.triangles[t][k]];
+    if (tri[0] == tri[1] || tri[1] == tri[2] || tri[0] == tri[2]) continue;
+    triangles.push_back(tri);
+    tags.push_back(mesh.tags[t]);
+    patches.push_back(patch_of[t]);
+  }
+  mesh.triangles = std::move(triangles);
+  mesh.tags = std::move(tags);
+  patch_of = std::move(patches);
+  return merged;
+}
+
+/// One pass of splitting boundary edges at other patches' boundary vertices. Returns the number
+/// of vertices inserted.
+std::size_t split_pass(TriangleMesh& mesh, std::vector<TriangleOrigin>& patch_of,
+                       const SeamOptions& options) {
+  const HalfEdges half(mesh, patch_of);
+  struct BoundaryVertex {
+    Vector3d tangent = Vector3d::Zero();
+    std::vector<std::uint32_t> patches;
+  };
+  std::unordered_map<std::uint32_t, BoundaryVertex> info;
+  std::vector<std::pair<std::uint32_t, int>> edges;  // (triangle, local edge)
+  for (std::uint32_t t = 0; t < mesh.triangles.size(); ++t)
+    for (int k = 0; k < 3; ++k) {
+      if (!(patch_of[t].border & (1u << k))) continue;
+      const std::uint32_t a = mesh.triangles[t][k], b = mesh.triangles[t][(k + 1) % 3];
+      if (!half.boundary(a, b)) continue;
+      edges.push_back({t, k});
+      const Vector3d dir = (mesh.vertices[b] - mesh.vertices[a]).normalized();
+      for (std::uint32_t v : {a, b}) {
+        BoundaryVertex& bv = info[v];
+        bv.tangent += dir;
+        if (std::find(bv.patches.begin(), bv.patches.end(), patch_of[t].patch) == bv.patches.end())
+          bv.patches.push_back(patch_of[t].patch);
+      }
+    }
+  if (edges.empty()) return 0;
+  const double cell = std::max(options.cell, 4.0 * options.match_distance);
+  std::unordered_map<CellKey, std::vector<std::uint32_t>, CellHash> grid;
+  std::vector<std::uint32_t> boundary_vertices;
+  for (const auto& [v, bv] : info) boundary_vertices.push_back(v);
+  std::sort(boundary_vertices.begin(), boundary_vertices.end());
+  for (std::uint32_t v : boundary_vertices) grid[cell_of(mesh.vertices[v], cell)].push_back(v);
+
+  // Candidate (vertex, edge) matches; a vertex goes into at most one edge of each other patch
+  // (the nearest), so that near corners it is not inserted into two consecutive edges.
+  struct Match {
+    std::uint32_t w, patch;
+    double distance, lambda;
+    std::uint32_t t;
+    int k;
+  };
+  std::vector<Match> matches;
+  for (const auto& [t, k] : edges) {
+    const std::uint32_t a = mesh.triangles[t][k], b = mesh.triangles[t][(k + 1) % 3];
+    const Vector3d& pa = mesh.vertices[a];
+    const Vector3d& pb = mesh.vertices[b];
+    const Vector3d ab = pb - pa;
+    const double len2 = ab.squaredNorm();
+    if (len2 <= 0.0) continue;
+    Eigen::AlignedBox3d box(pa.cwiseMin(pb), pa.cwiseMax(pb));
+    box.min().array() -= options.match_distance;
+    box.max().array() += options.match_distance;
+    const CellKey lo = cell_of(box.min(), cell), hi = cell_of(box.max(), cell);
+    if ((hi.x - lo.x + 1) * (hi.y - lo.y + 1) * (hi.z - lo.z + 1) > 4096) continue;
+    for (std::int64_t x = lo.x; x <= hi.x; ++x)
+      for (std::int64_t y = lo.y; y <= hi.y; ++y)
+        for (std::int64_t z = lo.z; z <= hi.z; ++z) {
+          auto it = grid.find({x, y, z});
+          if (it == grid.end()) continue;
+          for (std::uint32_t w : it->second) {
+            if (w == a || w == b) continue;
+            const BoundaryVertex& bv = info.at(w);
+            if (std::find(bv.patches.begin(), bv.patches.end(), patch_of[t].patch) != bv.patches.end())
+              continue;
+            const Vector3d& pw = mesh.vertices[w];
+            const double lambda = (pw - pa).dot(ab) / len2;
+            if (!(lambda > 1e-9 && lambda < 1.0 - 1e-9)) continue;
+            const double distance = (pw - (pa + lambda * ab)).norm();
+            // A chord of length c of a curve bending no tighter than c/2 stays within c/4 of it.
+            if (distance > options.match_distance || distance > 0.25 * std::sqrt(len2)) continue;
+            // The other side runs the curve the opposite way.
+            if (bv.tangent.dot(ab) >= 0.0) continue;
+            matches.push_back({w, patch_of[t].patch, distance, lambda, t, k});
+          }
+        }
+  }
+  std::sort(matches.begin(), matches.end(), [](const Match& x, const Match& y) {
+    if (x.w != y.w) return x.w < y.w;
+    if (x.patch != y.patch) return x.patch < y.patch;
+    if (x.distance != y.distance) return x.distance < y.distance;
+    return x.t < y.t;
+  });
+  std::unordered_map<std::uint64_t, std::vector<std::pair<double, std::uint32_t>>>
+      splits;  // (t,k) -> (lambda, w)
+  std::size_t inserted = 0;
+  for (std::size_t i = 0; i < matches.size(); ++i) {
+    if (i > 0 && matches[i].w == matches[i - 1].w && matches[i].patch == matches[i - 1].patch) continue;
+    splits[edge_key(matches[i].t, static_cast<std::uint32_t>(matches[i].k))].push_back(
+        {matches[i].lambda, matches[i].w});
+    ++inserted;
+  }
+  for (auto& [key, list] : splits) std::sort(list.begin(), list.end());
+  if (splits.empty()) return 0;
+
+  std::vector<Triangle> triangles;
+  std::vector<FaceTag> tags;
+  std::vector<TriangleOrigin> patches;
+  triangles.reserve(mesh.triangles.size() + inserted * 2);
+  for (std::uint32_t t = 0; t < mesh.triangles.size(); ++t) {
+    const Triangle tri = mesh.triangles[t];
+    const std::vector<std::pair<double, std::uint32_t>>* on_edge[3] = {nullptr, nullptr, nullptr};
+    int split_edges = 0;
+    for (int k = 0; k < 3; ++k) {
+      auto it = splits.find(edge_key(t, static_cast<std::uint32_t>(k)));
+      if (it != splits.end()) {
+        on_edge[k] = &it->second;
+        ++split_edges;
+      }
+    }
+    // New triangles keep border bits only on edges lying on the original triangle's edges.
+    const std::uint8_t bits = patch_of[t].border;
+    auto bit = [&](int original_edge, int new_edge) {
+      return static_cast<std::uint8_t>(((bits >> original_edge) & 1u) << new_edge);
+    };
+    auto push = [&](std::uint32_t a, std::uint32_t b, std::uint32_t c, std::uint8_t border) {
+      triangles.push_back({a, b, c});
+      tags.push_back(mesh.tags[t]);
+      patches.push_back({patch_of[t].patch, border});
+    };
+    if (split_edges == 0) {
+      triangles.push_back(tri);
+      tags.push_back(mesh.tags[t]);
+      patches.push_back(patch_of[t]);
+      continue;
+    }
+    const Vector3d normal =
+        (mesh.vertices[tri[1]] - mesh.vertices[tri[0]]).cross(mesh.vertices[tri[2]] - mesh.vertices[tri[0]]);
+    auto keeps_orientation = [&](std::uint32_t a, std::uint32_t b, std::uint32_t c) {
+      return (mesh.vertices[b] - mesh.vertices[a]).cross(mesh.vertices[c] - mesh.vertices[a]).dot(normal) >
+             0.0;
+    };
+    if (split_edges == 1) {
+      const int k = on_edge[0] ? 0 : on_edge[1] ? 1 : 2;
+      const std::uint32_t p0 = tri[k], p1 = tri[(k + 1) % 3], o = tri[(k + 2) % 3];
+      // Drop insertions that would fold the fan (a vertex off the chord on the wrong side).
+      std::vector<std::uint32_t> kept;
+      std::uint32_t previous = p0;
+      const auto& list = *on_edge[k];
+      for (std::size_t i = 0; i < list.size(); ++i) {
+        const std::uint32_t w = list[i].second;
+        const std::uint32_t following = i + 1 < list.size() ? list[i + 1].second : p1;
+        if (keeps_orientation(o, previous, w) && keeps_orientation(o, w, following) &&
+            keeps_orientation(o, w, p1)) {
+          kept.push_back(w);
+          previous = w;
+        }
+      }
+      if (kept.empty()) {
+        push(tri[0], tri[1], tri[2], bits);
+        continue;
+      }
+      // (p0, p1, o) has edges k: p0->p1, k+1: p1->o, k+2: o->p0.
+      previous = p0;
+      for (const std::uint32_t w : kept) {
+        push(o, previous, w, static_cast<std::uint8_t>(2u | (previous == p0 ? bit((k + 2) % 3, 0) : 0u)));
+        previous = w;
+      }
+      push(o, previous, p1, static_cast<std::uint8_t>(2u | bit((k + 1) % 3, 2)));
+      continue;
+    }
+    // Several edges split: fan from the centroid.
+    std::vector<std::uint32_t> polygon;
+    std::vector<int> from_edge;  // original edge of polygon edge i -> i+1
+    for (int k = 0; k < 3; ++k) {
+      polygon.push_back(tri[k]);
+      from_edge.push_back(k);
+      if (on_edge[k])
+        for (const auto& [lambda, w] : *on_edge[k]) {
+          polygon.push_back(w);
+          from_edge.push_back(k);
+        }
+    }
+    const std::uint32_t centre = static_cast<std::uint32_t>(mesh.vertices.size());
+    mesh.vertices.push_back((mesh.vertices[tri[0]] + mesh.vertices[tri[1]] + mesh.vertices[tri[2]]) / 3.0);
+    for (std::size_t i = 0; i < polygon.size(); ++i)
+      push(centre, polygon[i], polygon[(i + 1) % polygon.size()], bit(from_edge[i], 1));
+  }
+  mesh.triangles = std::move(triangles);
+  mesh.tags = std::move(tags);
+  patch_of = std::move(patches);
+  return inserted;
+}
+
+/// Point nearest to `start` on all the given surfaces (Levenberg-Marquardt on their functions).
+Vector3d corner_point(const std::vector<std::uint32_t>& patches, const SurfaceFunction& surface,
+                      const Vector3d& start, double reach) {
+  Vector3d x = start;
+  const int m = static_cast<int>(patches.size());
+  Eigen::VectorXd r(m);
+  Eigen::MatrixXd J(m, 3);
+  for (int it = 0; it < 30; ++it) {
+    for (int i = 0; i < m; ++i) {
+      r[i] = surface(patches[i], x);
+      const double h = 1e-7;
+      for (int c = 0; c < 3; ++c) {
+        Vector3d e = Vector3d::Zero();
+        e[c] = h;
+        J(i, c) = (surface(patches[i], x + e) - surface(patches[i], x - e)) / (2 * h);
+      }
+    }
+    if (r.cwiseAbs().maxCoeff() < 1e-10) break;
+    const Eigen::Matrix3d A = J.transpose() * J + 1e-9 * Eigen::Matrix3d::Identity();
+    const Vector3d step = A.ldlt().solve(J.transpose() * r);
+    x -= step;
+    if (step.norm() < 1e-13) break;
+  }
+  for (int i = 0; i < m; ++i)
+    if (std::abs(surface(patches[i], x)) > 1e-7) return start;
+  if ((x - start).norm() > reach) return start;
+  return x;
+}
+
+std::size_t fill_holes(TriangleMesh& mesh, std::vector<TriangleOrigin>& patch_of, const SeamOptions& options,
+                       const SurfaceFunction& surface) {
+  const HalfEdges half(mesh, patch_of);
+  // Outgoing boundary half-edges per vertex, with their triangle.
+  std::unordered_map<std::uint32_t, std::vector<std::pair<std::uint32_t, std::uint32_t>>>
+      out;  // v -> (next, tri)
+  std::vector<std::pair<std::uint32_t, std::uint32_t>> starts;
+  for (std::uint32_t t = 0; t < mesh.triangles.size(); ++t)
+    for (int k = 0; k < 3; ++k) {
+      if (!(patch_of[t].border & (1u << k))) continue;
+      const std::uint32_t a = mesh.triangles[t][k], b = mesh.triangles[t][(k + 1) % 3];
+      if (!half.boundary(a, b)) continue;
+      out[a].push_back({b, t});
+      starts.push_back({a, b});
+    }
+  std::unordered_map<std::uint64_t, bool> used;
+  std::size_t filled = 0;
+  for (const auto& [a0, b0] : starts) {
+    if (used.count(edge_key(a0, b0))) continue;
+    std::vector<std::uint32_t> loop{a0};
+    std::vector<std::uint32_t> loop_triangles;
+    std::uint32_t a = a0;
+    bool closed = false;
+    for (int steps = 0; steps < 32; ++steps) {
+      const auto& outs = out[a];
+      if (outs.size() != 1) break;
+      const auto [b, t] = outs[0];
+      if (used.count(edge_key(a, b))) break;
+      loop_triangles.push_back(t);
+      if (b == a0) {
+        closed = true;
+        break;
+      }
+      loop.push_back(b);
+      a = b;
+    }
+    if (!closed || loop.size() < 3) continue;
+    Eigen::AlignedBox3d box;
+    Vector3d centroid = Vector3d::Zero();
+    for (std::uint32_t v : loop) {
+      box.extend(mesh.vertices[v]);
+      centroid += mesh.vertices[v];
+    }
+    centroid /= static_cast<double>(loop.size());
+    if (box.diagonal().norm() > options.hole_diameter) continue;
+    for (std::size_t i = 0; i < loop.size(); ++i) used[edge_key(loop[i], loop[(i + 1) % loop.size()])] = true;
+    std::vector<std::uint32_t> patches;
+    for (std::uint32_t t : loop_triangles)
+      if (std::find(patches.begin(), patches.end(), patch_of[t].patch) == patches.end())
+        patches.push_back(patch_of[t].patch);
+    const Vector3d corner = corner_point(patches, surface, centroid, box.diagonal().norm());
+    const std::uint32_t c = static_cast<std::uint32_t>(mesh.vertices.size());
+    mesh.vertices.push_back(corner);
+    for (std::size_t i = 0; i < loop.size(); ++i) {
+      const std::uint32_t va = loop[i], vb = loop[(i + 1) % loop.size()];
+      mesh.triangles.push_back({vb, va, c});
+      mesh.tags.push_back(mesh.tags[loop_triangles[i]]);
+      patch_of.push_back({patch_of[loop_triangles[i]].patch, 7});
+    }
+    ++filled;
+  }
+  return filled;
+}
+
+std::size_t count_boundary(const TriangleMesh& mesh, const std::vector<TriangleOrigin>& patch_of) {
+  const HalfEdges half(mesh, patch_of);
+  std::size_t n = 0;
+  for (std::size_t i = 0; i < mesh.triangles.size(); ++i) {
+    const Triangle& t = mesh.triangles[i];
+    for (int k = 0; k < 3; ++k) n += (patch_of[i].border & (1u << k)) && half.boundary(t[k], t[(k + 1) % 3]);
+  }
+  return n;
+}
+
+}  // namespace
+
+SeamStats join_seams(TriangleMesh& mesh, std::vector<TriangleOrigin>& patch_of_triangle,
+                     const SeamOptions& options, const SurfaceFunction& surface) {
+  SeamStats stats;
+  stats.welded = weld(mesh, patch_of_triangle, options.weld_distance);
+  stats.welded += snap_boundary(mesh, patch_of_triangle, options.snap_distance);
+  for (int pass = 0; pass < 3; ++pass) {
+    const std::size_t n = split_pass(mesh, patch_of_triangle, options);
+    stats.splits += n;
+    if (n == 0) break;
+  }
+  stats.holes_filled = fill_holes(mesh, patch_of_triangle, options, surface);
+  stats.boundary_edges = count_boundary(mesh, patch_of_triangle);
+  return stats;
+}
+
+}  // namespace morph::detail

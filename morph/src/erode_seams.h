@@ -1,0 +1,43 @@
+#pragma once
+// Private to the generator: joining independently trimmed patches along their shared curves.
+#include <morph/mesh.h>
+
+#include <cstdint>
+#include <functional>
+#include <vector>
+
+namespace morph::detail {
+
+/// Which patch a triangle comes from and which of its edges (bit k: edge k -> k+1) lie on the
+/// patch's border: only those can be open, so the seam work never touches patch interiors.
+struct TriangleOrigin {
+  std::uint32_t patch = 0;
+  std::uint8_t border = 0;
+};
+
+struct SeamOptions {
+  double weld_distance = 1e-9;    ///< points closer than this are one vertex
+  double snap_distance = 0.0005;  ///< boundary vertices of different patches closer than this merge
+  double match_distance = 0.005;  ///< largest distance of a vertex from the other side's chord
+  double cell = 0.1;              ///< typical boundary edge length (spatial hash cell)
+  double hole_diameter = 0.5;     ///< largest corner hole to fill
+};
+
+struct SeamStats {
+  std::size_t welded = 0;          ///< vertices merged by the weld
+  std::size_t splits = 0;          ///< boundary edges split at the other side's vertices
+  std::size_t holes_filled = 0;    ///< corner holes closed
+  std::size_t boundary_edges = 0;  ///< boundary edges left at the end
+};
+
+/// Exact "which surface" function of a patch (zero on it): used to place the corner point of a hole.
+using SurfaceFunction = std::function<double(std::size_t patch, const Eigen::Vector3d& x)>;
+
+/// Welds near-identical vertices, removes collapsed triangles, splits every boundary edge at the
+/// boundary vertices of other patches lying on it (so that both sides of a trimming curve share
+/// the same vertices) and closes the small holes left at corners where three patches meet.
+/// `patch_of_triangle` is kept in step with `mesh.triangles` (and tags).
+SeamStats join_seams(TriangleMesh& mesh, std::vector<TriangleOrigin>& patch_of_triangle,
+                     const SeamOptions& options, const SurfaceFunction& surface);
+
+}  // namespace morph::detail

@@ -1,0 +1,223 @@
+#include <morph/exceptions.h>
+#include <morph/topology.h>
+
+#include <algorithm>
+#include <cstdint>
+#include <numeric>
+#include <vector>
+
+namespace morph {
+
+namespace {
+
+// Conventions shared by every count below:
+// - A triangle with a repeated vertex index ("collapsed") is counted in `triangles` and
+//   `degenerate_triangles` but takes no part in edges, manifoldness or the Euler characteristic:
+//   it has no well-defined edges or orientation. Zero-area triangles with three distinct indices
+//   are degenerate geometrically but are ordinary faces combinatorially.
+// - Components join triangles that share an undirected edge (any number of triangles on it),
+//   including the single edge a collapsed triangle (a, a, b) still has.
+
+bool collapsed(const Triangle& t) {
+  return t[0] == t[1] || t[1] == t[2] || t[0] == t[2];
+}
+
+// Zero area relative to the triangle's size: |cross| <= eps * longest edge^2, so that a sliver
+// whose third vertex lies on the opposite edge up to rounding counts as degenerate.
+bool zero_area(const TriangleMesh& mesh, const Triangle& t) {
+  const Eigen::Vector3d& a = mesh.vertices[t[0]];
+  const Eigen::Vector3d& b = mesh.vertices[t[1]];
+  const Eigen::Vector3d& c = mesh.vertices[t[2]];
+  const double longest_squared =
+      std::max({(b - a).squaredNorm(), (c - b).squaredNorm(), (a - c).squaredNorm()});
+  constexpr double kRelativeEpsilon = 1e-14;
+  return (b - a).cross(c - a).norm() <= kRelativeEpsilon * longest_squared;
+}
+
+// One directed use of an undirected edge by a triangle.
+struct EdgeUse {
+  std::uint64_t key;  // (min << 32) | max
+  std::uint32_t triangle;
+  bool forward;  // the triangle traverses min -> max
+};
+
+std::uint64_t edge_key(std::uint32_t a, std::uint32_t b) {
+  const std::uint64_t lo = std::min(a, b), hi = std::max(a, b);
+  return (lo << 32) | hi;
+}
+
+// Every use of an edge with two distinct endpoints, sorted by (key, triangle) so that the uses of
+// one edge are contiguous and the order is deterministic.
+std::vector<EdgeUse> sorted_edge_uses(const TriangleMesh& mesh, bool include_collapsed) {
+  std::vector<EdgeUse> uses;
+  uses.reserve(3 * mesh.triangles.size());
+  for (std::size_t t = 0; t < mesh.triangles.size(); ++t) {
+    const Triangle& tri = mesh.triangles[t];
+    if (!include_collapsed && collapsed(tri)) continue;
+    for (int k = 0; k < 3; ++k) {
+      const std::uint32_t a = tri[k], b = tri[(k + 1) % 3];
+      if (a == b) continue;
+      // A collapsed (a, a, b) has the edge a-b twice; keep it once.
+      if (collapsed(tri) && !uses.empty() && uses.back().triangle == t && uses.back().key == edge_key(a, b))
+        continue;
+      uses.push_back({edge_key(a, b), static_cast<std::uint32_t>(t), a < b});
+    }
+  }
+  std::sort(uses.begin(), uses.end(), [](const EdgeUse& x, const EdgeUse& y) {
+    return x.key != y.key ? x.key < y.key : x.triangle < y.triangle;
+  });
+  return uses;
+}
+
+class UnionFind {
+ public:
+  explicit UnionFind(std::size_t n) : parent_(n) {
+    std::iota(parent_.begin(), parent_.end(), std::uint32_t{0});
+  }
+  std::uint32_t find(std::uint32_t x) {
+    while (parent_[x] != x) {
+      parent_[x] = parent_[parent_[x]];
+      x = parent_[x];
+    }
+    return x;
+  }
+  // The smaller root wins, so a root is always the smallest member of its set.
+  void unite(std::uint32_t a, std::uint32_t b) {
+    a = find(a);
+    b = find(b);
+    if (a == b) return;
+    if (a < b)
+      parent_[b] = a;
+    else
+      parent_[a] = b;
+  }
+
+ private:
+  std::vector<std::uint32_t> parent_;
+};
+
+// True when the triangles around `v` form one disc or half-disc: the link of v (one edge w1-w2 per
+// triangle (v, w1, w2)) is a single cycle or a single path. That holds iff no link vertex has more
+// than two link edges (no edge at v is shared by three or more triangles) and the link is connected.
+bool vertex_is_manifold(std::uint32_t v, const std::vector<std::uint32_t>& incident,
+                        const TriangleMesh& mesh) {
+  // Local ids for the link vertices; fans are small, so linear search beats hashing.
+  std::vector<std::uint32_t> link_vertices;
+  std::vector<std::pair<std::uint32_t, std::uint32_t>> link_edges;
+  auto local = [&](std::uint32_t w) -> std::uint32_t {
+    auto it = std::find(link_vertices.begin(), link_vertices.end(), w);
+    if (it != link_vertices.end()) return static_cast<std::uint32_t>(it - link_vertices.begin());
+    link_vertices.push_back(w);
+    return static_cast<std::uint32_t>(link_vertices.size() - 1);
+  };
+  for (std::uint32_t t : incident) {
+    const Triangle& tri = mesh.triangles[t];
+    const int k = tri[0] == v ? 0 : (tri[1] == v ? 1 : 2);
+    link_edges.emplace_back(local(tri[(k + 1) % 3]), local(tri[(k + 2) % 3]));
+  }
+  std::vector<int> degree(link_vertices.size(), 0);
+  UnionFind sets(link_vertices.size());
+  for (const auto& [a, b] : link_edges) {
+    if (++degree[a] > 2 || ++degree[b] > 2) return false;
+    sets.unite(a, b);
+  }
+  for (std::uint32_t i = 1; i < link_vertices.size(); ++i)
+    if (sets.find(i) != sets.find(0)) return false;
+  return true;
+}
+
+void check_indices(const TriangleMesh& mesh) {
+  const std::size_t n = mesh.vertices.size();
+  for (std::size_t t = 0; t < mesh.triangles.size(); ++t)
+    for (std::uint32_t v : mesh.triangles[t])
+      if (v >= n)
+        throw InputError("topology report: triangle " + std::to_string(t) + " refers to vertex " +
+                         std::to_string(v) + " but there are " + std::to_string(n) + " vertices");
+}
+
+}  // namespace
+
+std::size_t connected_components(const TriangleMesh& mesh,
+                                 std::vector<std::uint32_t>& component_of_triangle) {
+  check_indices(mesh);
+  const std::vector<EdgeUse> uses = sorted_edge_uses(mesh, /*include_collapsed=*/true);
+  UnionFind sets(mesh.triangles.size());
+  for (std::size_t i = 1; i < uses.size(); ++i)
+    if (uses[i].key == uses[i - 1].key) sets.unite(uses[i].triangle, uses[i - 1].triangle);
+  // Roots are the smallest triangle of their component, so numbering roots in triangle order
+  // numbers components by their smallest triangle.
+  constexpr std::uint32_t kUnset = ~std::uint32_t{0};
+  std::vector<std::uint32_t> component_of_root(mesh.triangles.size(), kUnset);
+  component_of_triangle.assign(mesh.triangles.size(), 0);
+  std::uint32_t count = 0;
+  for (std::uint32_t t = 0; t < mesh.triangles.size(); ++t) {
+    const std::uint32_t root = sets.find(t);
+    if (component_of_root[root] == kUnset) component_of_root[root] = count++;
+    component_of_triangle[t] = component_of_root[root];
+  }
+  return count;
+}
+
+TopologyReport topology_report(const TriangleMesh& mesh) {
+  check_indices(mesh);
+  TopologyReport report;
+  const std::size_t vertex_count = mesh.vertices.size();
+  report.triangles = mesh.triangles.size();
+
+  std::vector<char> referenced(vertex_count, 0);
+  std::size_t proper_triangles = 0;
+  for (const Triangle& t : mesh.triangles) {
+    for (std::uint32_t v : t) referenced[v] = 1;
+    if (collapsed(t)) {
+      ++report.degenerate_triangles;
+      continue;
+    }
+    ++proper_triangles;
+    if (zero_area(mesh, t)) ++report.degenerate_triangles;
+  }
+  report.vertices = static_cast<std::size_t>(std::count(referenced.begin(), referenced.end(), 1));
+  report.unreferenced_vertices = vertex_count - report.vertices;
+
+  const std::vector<EdgeUse> uses = sorted_edge_uses(mesh, /*include_collapsed=*/false);
+  for (std::size_t begin = 0; begin < uses.size();) {
+    std::size_t end = begin + 1;
+    while (end < uses.size() && uses[end].key == uses[begin].key) ++end;
+    const std::size_t count = end - begin;
+    ++report.edges;
+    if (count == 1)
+      ++report.boundary_edges;
+    else if (count >= 3)
+      ++report.non_manifold_edges;
+    else if (uses[begin].forward == uses[begin + 1].forward)
+      ++report.inconsistent_edges;
+    begin = end;
+  }
+
+  // Incident proper triangles of every vertex, in compressed rows.
+  std::vector<std::uint32_t> row_start(vertex_count + 1, 0);
+  for (const Triangle& t : mesh.triangles)
+    if (!collapsed(t))
+      for (std::uint32_t v : t) ++row_start[v + 1];
+  std::partial_sum(row_start.begin(), row_start.end(), row_start.begin());
+  std::vector<std::uint32_t> incident_triangles(row_start.back());
+  std::vector<std::uint32_t> fill(row_start.begin(), row_start.end() - 1);
+  for (std::uint32_t t = 0; t < mesh.triangles.size(); ++t)
+    if (!collapsed(mesh.triangles[t]))
+      for (std::uint32_t v : mesh.triangles[t]) incident_triangles[fill[v]++] = t;
+  std::vector<std::uint32_t> incident;
+  for (std::uint32_t v = 0; v < vertex_count; ++v) {
+    if (row_start[v] == row_start[v + 1]) continue;
+    incident.assign(incident_triangles.begin() + row_start[v], incident_triangles.begin() + row_start[v + 1]);
+    if (!vertex_is_manifold(v, incident, mesh)) ++report.non_manifold_vertices;
+  }
+
+  std::vector<std::uint32_t> component_of_triangle;
+  report.components = connected_components(mesh, component_of_triangle);
+  report.euler_characteristic = static_cast<long>(report.vertices) - static_cast<long>(report.edges) +
+                                static_cast<long>(proper_triangles);
+  report.volume = enclosed_volume(mesh);
+  report.area = surface_area(mesh);
+  return report;
+}
+
+}  // namespace morph

@@ -1,0 +1,131 @@
+// End-to-end checks of `morphmill verify`: the verdict and files on a job with a closed form, the
+// report opened in a real browser (headless Chromium), and exit code 2 for broken input.
+#include <gtest/gtest.h>
+
+#include <array>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <nlohmann/json.hpp>
+#include <regex>
+#include <string>
+
+namespace fs = std::filesystem;
+
+namespace {
+
+struct CommandResult {
+  int exit_code = -1;
+  std::string output;
+};
+
+CommandResult run(const std::string& command) {
+  CommandResult result;
+  FILE* pipe = popen((command + " 2>&1").c_str(), "r");
+  if (!pipe) return result;
+  std::array<char, 4096> buffer{};
+  while (fgets(buffer.data(), buffer.size(), pipe)) result.output += buffer.data();
+  const int status = pclose(pipe);
+  result.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+  return result;
+}
+
+fs::path scratch(const std::string& name) {
+  const fs::path dir = fs::temp_directory_path() / ("morphmill_verify_test_" + name);
+  fs::remove_all(dir);
+  fs::create_directories(dir);
+  return dir;
+}
+
+std::string slurp(const fs::path& path) {
+  std::ifstream in(path);
+  return std::string(std::istreambuf_iterator<char>(in), {});
+}
+
+const std::string kBinary = MORPHMILL_BINARY;
+const std::string kData = MORPHMILL_TEST_DATA;
+
+// One verify run shared by the tests below (it is the slow part).
+class VerifySingleSlot : public ::testing::Test {
+ protected:
+  static void SetUpTestSuite() {
+    out_ = new fs::path(scratch("single_slot"));
+    result_ = new CommandResult(run(kBinary + " verify " + kData + "/jobs/single_slot.json --out " +
+                                    out_->string() + " --voxel 0.25 --samples 20000"));
+  }
+  static void TearDownTestSuite() {
+    delete out_;
+    delete result_;
+  }
+  static fs::path* out_;
+  static CommandResult* result_;
+};
+fs::path* VerifySingleSlot::out_ = nullptr;
+CommandResult* VerifySingleSlot::result_ = nullptr;
+
+}  // namespace
+
+TEST_F(VerifySingleSlot, VerdictHoldsAndEveryFileIsWritten) {
+  EXPECT_EQ(result_->exit_code, 0) << result_->output;
+  for (const char* file :
+       {"morph.ply", "reference.ply", "reference.vdb", "deviation.json", "morph_vs_exact.ply",
+        "morph_vs_reference.ply", "reference_vs_exact.ply", "morph_vs_exact.png", "report.md", "report.html"})
+    EXPECT_TRUE(fs::exists(*out_ / file)) << file;
+}
+
+TEST_F(VerifySingleSlot, JsonMatchesTheClosedForm) {
+  const auto json = nlohmann::json::parse(slurp(*out_ / "deviation.json"));
+  // A 2 mm deep ball-end slot of radius 2 through a 40 mm long block: a half-disc cross-section.
+  const double removed = 0.5 * M_PI * 2.0 * 2.0 * 40.0;
+  const double expected = 40.0 * 20.0 * 10.0 - removed;
+  ASSERT_EQ(json["pieces"]["generator"].size(), 1u);
+  EXPECT_NEAR(json["pieces"]["generator"][0]["volume"].get<double>(), expected, 0.01 * 40 * 2 * M_PI);
+  EXPECT_NEAR(json["pieces"]["reference"][0]["volume"].get<double>(), expected, 0.005 * expected);
+  EXPECT_LE(json["deviation"]["generator_to_exact"]["max_abs"].get<double>(), 0.01);
+  EXPECT_TRUE(json["verdict"]["holds"].get<bool>());
+}
+
+TEST_F(VerifySingleSlot, ReportLoadsInAHeadlessBrowser) {
+  const fs::path report = *out_ / "report.html";
+  ASSERT_TRUE(fs::exists(report));
+  const CommandResult browser =
+      run("chromium --headless --no-sandbox --disable-gpu --disable-quic --no-first-run "
+          "--disable-background-networking "
+          "--disable-component-update --disable-sync --user-data-dir=" +
+          scratch("chromium_profile").string() + " --virtual-time-budget=10000 --dump-dom file://" +
+          report.string());
+  ASSERT_EQ(browser.exit_code, 0) << browser.output;
+  // The page's own script counts the pictures the browser decoded.
+  std::smatch match;
+  ASSERT_TRUE(std::regex_search(browser.output, match, std::regex("data-images-loaded=\"(\\d+)/(\\d+)\"")))
+      << browser.output.substr(0, 2000);
+  EXPECT_EQ(match[1], match[2]);
+  EXPECT_EQ(match[2], "5");
+  for (const char* heading : {"Stages", "Pieces", "Deviation", "Worst places", "Verdict"})
+    EXPECT_NE(browser.output.find(std::string("<h3>") + heading), std::string::npos) << heading;
+  EXPECT_GE(std::count(browser.output.begin(), browser.output.end(), '<'), 100);
+}
+
+TEST(VerifyBadInput, TruncatedGcodeAndMissingStockMeshExitWithTwo) {
+  const fs::path dir = scratch("bad_input");
+  {
+    std::ofstream gcode(dir / "truncated.nc");
+    gcode << "G21 G90\nG0 X0 Y0 Z5\nG1 Z-1 F100\nG1 X10 (unterminated comment";
+    std::ofstream job(dir / "truncated.json");
+    job << R"({"name": "t", "units": "mm", "stock": {"type": "box", "min": [0,0,-5], "max": [20,20,0]},
+              "tools": {"1": {"type": "ballend", "radius": 1, "length": 10}},
+              "paths": [{"tool": 1, "gcode": "truncated.nc"}], "tolerance": 0.01})";
+    std::ofstream missing(dir / "missing_mesh.json");
+    missing << R"({"name": "m", "units": "mm", "stock": {"type": "mesh", "path": "nowhere.stl"},
+                   "tools": {"1": {"type": "sphere", "radius": 1}},
+                   "paths": [{"tool": 1, "polyline": [[0,0,0],[1,0,0]]}], "tolerance": 0.01})";
+  }
+  const CommandResult truncated =
+      run(kBinary + " verify " + (dir / "truncated.json").string() + " --out " + (dir / "out1").string());
+  EXPECT_EQ(truncated.exit_code, 2) << truncated.output;
+  EXPECT_NE(truncated.output.find("truncated.nc:4"), std::string::npos) << truncated.output;
+  const CommandResult missing =
+      run(kBinary + " verify " + (dir / "missing_mesh.json").string() + " --out " + (dir / "out2").string());
+  EXPECT_EQ(missing.exit_code, 2) << missing.output;
+  EXPECT_NE(missing.output.find("nowhere.stl"), std::string::npos) << missing.output;
+}

@@ -1,0 +1,119 @@
+// Embree deviation measurement: closest-point queries per second and a one-sided deviation of a
+// 1M-triangle sphere against a 200k-triangle one (the pair of the peer comparison, built in code).
+#include <benchmark/benchmark.h>
+#include <raytest/deviation.h>
+#include <raytest/surface_query.h>
+
+#include <cmath>
+
+namespace {
+
+// UV sphere (same layout as ../shared/peers/make_meshes.py): 2 * nlon * (nlat - 1) triangles.
+morph::TriangleMesh uv_sphere(double r, int nlat, int nlon) {
+  morph::TriangleMesh mesh;
+  mesh.vertices.push_back(Eigen::Vector3d(0, 0, r));
+  for (int i = 1; i < nlat; ++i)
+    for (int j = 0; j < nlon; ++j) {
+      const double theta = M_PI * i / nlat, phi = 2 * M_PI * j / nlon;
+      mesh.vertices.push_back(r * Eigen::Vector3d(std::sin(theta) * std::cos(phi),
+                                                  std::sin(theta) * std::sin(phi), std::cos(theta)));
+    }
+  mesh.vertices.push_back(Eigen::Vector3d(0, 0, -r));
+  const auto ring = [&](int i, int j) { return static_cast<std::uint32_t>(1 + i * nlon + (j % nlon)); };
+  const auto south = static_cast<std::uint32_t>(mesh.vertices.size() - 1);
+  for (int j = 0; j < nlon; ++j) mesh.triangles.push_back({0, ring(0, j), ring(0, j + 1)});
+  for (int i = 0; i + 2 < nlat; ++i)
+    for (int j = 0; j < nlon; ++j) {
+      mesh.triangles.push_back({ring(i, j), ring(i + 1, j), ring(i + 1, j + 1)});
+      mesh.triangles.push_back({ring(i, j), ring(i + 1, j + 1), ring(i, j + 1)});
+    }
+  for (int j = 0; j < nlon; ++j) mesh.triangles.push_back({south, ring(nlat - 2, j + 1), ring(nlat - 2, j)});
+  return mesh;
+}
+
+const morph::TriangleMesh& sphere_1m() {
+  static const morph::TriangleMesh mesh = uv_sphere(1.01, 500, 1000);  // 998,000 triangles
+  return mesh;
+}
+
+const morph::TriangleMesh& sphere_200k() {
+  static const morph::TriangleMesh mesh = uv_sphere(1.0, 250, 400);  // 199,200 triangles
+  return mesh;
+}
+
+const raytest::SurfaceQuery& query_200k() {
+  static const raytest::SurfaceQuery query(sphere_200k());
+  return query;
+}
+
+void BM_BuildSurfaceQuery200k(benchmark::State& state) {
+  for (auto _ : state) {
+    raytest::SurfaceQuery query(sphere_200k());
+    benchmark::DoNotOptimize(query);
+  }
+  state.counters["triangles/s"] = benchmark::Counter(static_cast<double>(sphere_200k().triangle_count()),
+                                                     benchmark::Counter::kIsIterationInvariantRate);
+}
+BENCHMARK(BM_BuildSurfaceQuery200k)->Unit(benchmark::kMillisecond);
+
+// Single-threaded closest points without hints: the raw query rate.
+void BM_ClosestPointQueries(benchmark::State& state) {
+  const raytest::SurfaceQuery& query = query_200k();
+  const auto& points = sphere_1m().vertices;
+  std::size_t i = 0;
+  for (auto _ : state) {
+    benchmark::DoNotOptimize(query.closest_point(points[i]));
+    i = (i + 7919) % points.size();  // hop around the sphere: no coherence between queries
+  }
+  state.SetItemsProcessed(static_cast<std::int64_t>(state.iterations()));
+}
+BENCHMARK(BM_ClosestPointQueries);
+
+// The deviation command's inner loop: vertices of the 1M sphere against the 200k sphere, in
+// parallel, neighbouring samples hinting each other; items = queries.
+void BM_DeviationVertices1MTo200k(benchmark::State& state) {
+  const raytest::SurfaceQuery& query = query_200k();
+  raytest::DeviationOptions options;
+  options.mode = state.range(0) ? raytest::DeviationMode::Signed : raytest::DeviationMode::Unsigned;
+  for (auto _ : state) {
+    const auto result = raytest::measure_one_sided(sphere_1m(), query, options);
+    benchmark::DoNotOptimize(result.stats.max);
+  }
+  state.SetItemsProcessed(static_cast<std::int64_t>(state.iterations() * sphere_1m().vertex_count()));
+}
+BENCHMARK(BM_DeviationVertices1MTo200k)
+    ->Arg(0)
+    ->Arg(1)
+    ->ArgNames({"signed"})
+    ->Unit(benchmark::kMillisecond)
+    ->UseRealTime();
+
+// One million area-uniform face samples of the 1M sphere to the 200k sphere.
+void BM_DeviationFaceSamples1MTo200k(benchmark::State& state) {
+  const raytest::SurfaceQuery& query = query_200k();
+  raytest::DeviationOptions options;
+  options.sampling.vertices = false;
+  options.sampling.face_samples = 1000000;
+  for (auto _ : state) {
+    const auto result = raytest::measure_one_sided(sphere_1m(), query, options);
+    benchmark::DoNotOptimize(result.stats.max);
+  }
+  state.SetItemsProcessed(static_cast<std::int64_t>(state.iterations() * 1000000));
+}
+BENCHMARK(BM_DeviationFaceSamples1MTo200k)->Unit(benchmark::kMillisecond)->UseRealTime();
+
+// Ray mode: vertices of the 1M sphere along their normals to the 200k sphere.
+void BM_RayDeviationVertices1MTo200k(benchmark::State& state) {
+  const raytest::SurfaceQuery& query = query_200k();
+  raytest::DeviationOptions options;
+  options.mode = raytest::DeviationMode::Ray;
+  options.max_distance = 0.1;
+  for (auto _ : state) {
+    const auto result = raytest::measure_one_sided(sphere_1m(), query, options);
+    benchmark::DoNotOptimize(result.stats.max);
+  }
+  state.SetItemsProcessed(static_cast<std::int64_t>(state.iterations() * sphere_1m().vertex_count()));
+}
+BENCHMARK(BM_RayDeviationVertices1MTo200k)->Unit(benchmark::kMillisecond)->UseRealTime();
+
+}  // namespace

@@ -1,0 +1,340 @@
+// Tests of the surface generator (morph/erode.h) against the exact field of morph/sweep_distance.h.
+#include <gtest/gtest.h>
+#include <morph/erode.h>
+#include <morph/exceptions.h>
+#include <morph/mesh_distance.h>
+#include <morph/sweep_distance.h>
+#include <morph/topology.h>
+
+#include <cmath>
+#include <iostream>
+#include <random>
+
+namespace {
+
+using Eigen::Vector3d;
+using morph::Job;
+using morph::PatchKind;
+using morph::Tool;
+using morph::ToolType;
+
+Tool sphere_tool(double radius) {
+  Tool t;
+  t.number = 1;
+  t.type = ToolType::Sphere;
+  t.radius = radius;
+  return t;
+}
+
+Tool ballend_tool(double radius, double length) {
+  Tool t;
+  t.number = 1;
+  t.type = ToolType::BallEnd;
+  t.radius = radius;
+  t.length = length;
+  return t;
+}
+
+Job box_job(const Vector3d& lo, const Vector3d& hi, const Tool& tool,
+            const std::vector<std::vector<Vector3d>>& polylines, double tolerance) {
+  Job job;
+  job.name = "test";
+  job.stock.type = morph::StockType::Box;
+  job.stock.box = Eigen::AlignedBox3d(lo, hi);
+  job.tools[tool.number] = tool;
+  job.tolerance = tolerance;
+  int line = 1;
+  for (const auto& points : polylines) {
+    morph::Path path;
+    path.source = "test";
+    for (std::size_t i = 0; i + 1 < points.size(); ++i) {
+      morph::Move m;
+      m.kind = morph::MoveKind::Linear;
+      m.start = points[i];
+      m.end = points[i + 1];
+      m.tool = tool.number;
+      m.line = ++line;
+      path.moves.push_back(m);
+    }
+    ++line;
+    job.paths.push_back(path);
+  }
+  return job;
+}
+
+/// Largest |f| over the vertices, edge midpoints and centroids of the output (the exact field
+/// f is 1-Lipschitz, so |f| bounds the distance to the exact surface from below and equals it
+/// away from creases; at creases f is the max of two exact distances).
+double largest_field_error(const morph::TriangleMesh& mesh, const morph::ErosionField& field) {
+  double worst = 0.0;
+  for (const Vector3d& v : mesh.vertices) worst = std::max(worst, std::abs(field.value(v)));
+  for (const auto& t : mesh.triangles) {
+    const Vector3d& a = mesh.vertices[t[0]];
+    const Vector3d& b = mesh.vertices[t[1]];
+    const Vector3d& c = mesh.vertices[t[2]];
+    for (const Vector3d& p :
+         {Vector3d((a + b) / 2), Vector3d((b + c) / 2), Vector3d((c + a) / 2), Vector3d((a + b + c) / 3)})
+      worst = std::max(worst, std::abs(field.value(p)));
+  }
+  return worst;
+}
+
+/// Points of the exact surface: random points near the stock projected onto f = 0 by Newton
+/// steps on the exact field. Returns the largest distance from them to the output mesh.
+double largest_coverage_gap(const morph::TriangleMesh& mesh, const morph::ErosionField& field,
+                            const Eigen::AlignedBox3d& region, int samples, int* accepted_out = nullptr) {
+  morph::MeshDistance distance(mesh);
+  std::mt19937_64 rng(12345);
+  std::uniform_real_distribution<double> unit(0.0, 1.0);
+  double worst = 0.0;
+  int accepted = 0;
+  for (int s = 0; s < samples; ++s) {
+    Vector3d p = region.min() + region.sizes().cwiseProduct(Vector3d(unit(rng), unit(rng), unit(rng)));
+    bool converged = false;
+    for (int it = 0; it < 30; ++it) {
+      const double f = field.value(p);
+      if (std::abs(f) < 1e-9) {
+        converged = true;
+        break;
+      }
+      const double h = 1e-6;
+      Vector3d grad;
+      for (int c = 0; c < 3; ++c) {
+        Vector3d e = Vector3d::Zero();
+        e[c] = h;
+        grad[c] = (field.value(p + e) - field.value(p - e)) / (2 * h);
+      }
+      if (grad.squaredNorm() < 1e-12) break;
+      p -= f * grad / grad.squaredNorm();
+    }
+    if (!converged) continue;
+    ++accepted;
+    worst = std::max(worst, distance.distance(p));
+  }
+  if (accepted_out) *accepted_out = accepted;
+  return worst;
+}
+
+void expect_within_tolerance_both_ways(const Job& job, const morph::TriangleMesh& mesh, int samples = 3000) {
+  const morph::ErosionField field(job);
+  const double tol = job.tolerance;
+  const double field_error = largest_field_error(mesh, field);
+  EXPECT_LE(field_error, tol);
+  std::cout << "  triangles " << mesh.triangles.size() << ", largest |f| on the output " << field_error
+            << '\n';
+  Eigen::AlignedBox3d region = job.stock.box;
+  region.min().array() -= 1.0;
+  region.max().array() += 1.0;
+  int accepted = 0;
+  const double gap = largest_coverage_gap(mesh, field, region, samples, &accepted);
+  EXPECT_LE(gap, tol);
+  std::cout << "  largest distance from " << accepted << " exact surface points to the output " << gap
+            << '\n';
+  EXPECT_GT(accepted, samples / 4);
+}
+
+TEST(ErodeSphere, SinglePassWithinToleranceBothWays) {
+  const Job job = box_job({0, 0, 0}, {20, 10, 10}, sphere_tool(2.0), {{{4, 5, 9}, {16, 5, 9}}}, 0.01);
+  const morph::ErodeResult result = morph::erode(job);
+  ASSERT_FALSE(result.mesh.empty());
+  EXPECT_EQ(result.mesh.tags.size(), result.mesh.triangles.size());
+  EXPECT_EQ(result.stats.moves, 1u);
+  EXPECT_EQ(result.stats.moves_touching_stock, 1u);
+  expect_within_tolerance_both_ways(job, result.mesh);
+}
+
+TEST(ErodeBallEnd, RampsPlungesAndLevelMovesWithinTolerance) {
+  const Job job = box_job({0, 0, -10}, {30, 20, 0}, ballend_tool(1.5, 12.0),
+                          {{{-3, 4, -1}, {12, 4, -2}, {12, 4, -5}, {20, 9, -3}, {27, 14, -3}, {27, 14, 2}},
+                           {{5, 16, 3}, {5, 16, -2}, {25, 16, -2}}},
+                          0.01);
+  const morph::ErodeResult result = morph::erode(job);
+  ASSERT_FALSE(result.mesh.empty());
+  expect_within_tolerance_both_ways(job, result.mesh);
+}
+
+TEST(ErodeSphere, ProvenanceOfEveryFace) {
+  const Job job = box_job({0, 0, 0}, {20, 10, 10}, sphere_tool(1.5),
+                          {{{3, 3, 9}, {10, 6, 9.5}, {17, 3, 9}}, {{3, 8, 11}, {17, 8, 11}}}, 0.01);
+  const morph::ErodeResult result = morph::erode(job);
+  const auto moves = job.moves();
+  const Tool& tool = job.tools.at(1);
+  const morph::TriangleMesh& mesh = result.mesh;
+  ASSERT_EQ(mesh.tags.size(), mesh.triangles.size());
+  std::size_t side = 0, front = 0, cut = 0;
+  for (std::size_t t = 0; t < mesh.triangles.size(); ++t) {
+    const morph::FaceTag& tag = mesh.tags[t];
+    const Vector3d c = (mesh.vertices[mesh.triangles[t][0]] + mesh.vertices[mesh.triangles[t][1]] +
+                        mesh.vertices[mesh.triangles[t][2]]) /
+                       3.0;
+    switch (tag.kind) {
+      case PatchKind::CutSurface: {
+        ++cut;
+        ASSERT_GE(tag.source, 0);
+        ASSERT_LT(tag.source, 6);
+        // Box faces are numbered -x, +x, -y, +y, -z, +z.
+        const int axis = tag.source / 2;
+        const double plane = tag.source % 2 ? job.stock.box.max()[axis] : job.stock.box.min()[axis];
+        EXPECT_NEAR(c[axis], plane, 1e-9);
+        break;
+      }
+      case PatchKind::SideSweep:
+      case PatchKind::FrontSweep: {
+        (tag.kind == PatchKind::SideSweep ? side : front)++;
+        ASSERT_GE(tag.source, 0);
+        ASSERT_LT(tag.source, static_cast<int>(moves.size()));
+        const morph::Move& m = *moves[tag.source];
+        EXPECT_EQ(tag.line, m.line);
+        // The face lies on the surface of that move's own sweep.
+        EXPECT_LE(std::abs(morph::swept_signed_distance(tool, m, c)), job.tolerance);
+        break;
+      }
+      default:
+        ADD_FAILURE() << "face " << t << " has kind " << morph::to_string(tag.kind);
+    }
+  }
+  EXPECT_GT(side, 0u);
+  EXPECT_GT(front, 0u);
+  EXPECT_GT(cut, 0u);
+}
+
+TEST(Erode, SameBytesWhateverTheThreads) {
+  const Job job = box_job({0, 0, -10}, {30, 20, 0}, ballend_tool(1.5, 12.0),
+                          {{{-3, 4, -1}, {12, 4, -2}, {12, 4, -5}, {20, 9, -3}, {27, 14, -3}}}, 0.02);
+  morph::ErodeOptions sequential, parallel;
+  sequential.policy = morph::ExecutionPolicy::Sequential;
+  parallel.policy = morph::ExecutionPolicy::Parallel;
+  const morph::ErodeResult a = morph::erode(job, sequential);
+  const morph::ErodeResult b = morph::erode(job, parallel);
+  ASSERT_EQ(a.mesh.vertices.size(), b.mesh.vertices.size());
+  ASSERT_EQ(a.mesh.triangles, b.mesh.triangles);
+  ASSERT_EQ(a.mesh.tags, b.mesh.tags);
+  for (std::size_t v = 0; v < a.mesh.vertices.size(); ++v)
+    ASSERT_EQ(a.mesh.vertices[v], b.mesh.vertices[v]) << "vertex " << v;
+}
+
+TEST(Erode, MovesThatMissTheStockLeaveNoTrace) {
+  const Job job = box_job({0, 0, 0}, {10, 10, 10}, sphere_tool(1.0), {{{0, 0, 12}, {10, 10, 12}}}, 0.01);
+  const morph::ErodeResult result = morph::erode(job);
+  EXPECT_EQ(result.stats.moves_touching_stock, 0u);
+  for (const morph::FaceTag& tag : result.mesh.tags) EXPECT_EQ(tag.kind, PatchKind::CutSurface);
+  EXPECT_NEAR(morph::surface_area(result.mesh), 600.0, 1e-9);
+  EXPECT_NEAR(morph::enclosed_volume(result.mesh), 1000.0, 1e-9);
+}
+
+// Closed form of a sphere pass: the removed volume of a capsule fully inside the box is
+// pi r^2 L + 4/3 pi r^3, and its surface is an inner shell (a cavity): two surface components.
+TEST(ErodeSphere, CavityOfAPassInsideTheBoxIsClosedWithExactVolume) {
+  const double r = 2.0, L = 12.0;
+  const Job job = box_job({0, 0, 0}, {20, 10, 10}, sphere_tool(r), {{{4, 5, 5}, {4 + L, 5, 5}}}, 0.01);
+  const morph::ErodeResult result = morph::erode(job);
+  const morph::TopologyReport topology = morph::topology_report(result.mesh);
+  EXPECT_TRUE(topology.closed_manifold());
+  EXPECT_EQ(topology.components, 2u);
+  EXPECT_EQ(result.stats.open_edges, 0u);
+  const double removed = M_PI * r * r * L + 4.0 / 3.0 * M_PI * r * r * r;
+  const double removed_area = 2.0 * M_PI * r * L + 4.0 * M_PI * r * r;
+  // Every point within the tolerance of the exact surface bounds the volume error by area * tol.
+  EXPECT_NEAR(topology.volume, 2000.0 - removed, removed_area * job.tolerance);
+  EXPECT_LE(largest_field_error(result.mesh, morph::ErosionField(job)), job.tolerance);
+}
+
+// A pass whose sphere pokes out of the top face: the removed volume is the capsule below z = 10.
+TEST(ErodeSphere, PassThroughTheTopFaceIsClosedWithExactVolume) {
+  const double r = 2.0, L = 12.0, depth_above = 1.0;  // centre 1 below the top face
+  const Job job = box_job({0, 0, 0}, {20, 10, 10}, sphere_tool(r), {{{4, 5, 9}, {4 + L, 5, 9}}}, 0.01);
+  const morph::ErodeResult result = morph::erode(job);
+  const morph::TopologyReport topology = morph::topology_report(result.mesh);
+  EXPECT_TRUE(topology.closed_manifold());
+  EXPECT_EQ(topology.components, 1u);
+  // Disc minus the circular segment above the face, times L; ball minus its cap above the face.
+  const double segment =
+      r * r * std::acos(depth_above / r) - depth_above * std::sqrt(r * r - depth_above * depth_above);
+  const double cap_height = r - depth_above;
+  const double removed = (M_PI * r * r - segment) * L + 4.0 / 3.0 * M_PI * r * r * r -
+                         M_PI * cap_height * cap_height * (3 * r - cap_height) / 3.0;
+  const double removed_area = 2.0 * M_PI * r * L + 4.0 * M_PI * r * r;  // bounds the curved area
+  EXPECT_NEAR(topology.volume, 2000.0 - removed, removed_area * job.tolerance);
+}
+
+// A repeated pass coincides with the first everywhere: the output is the same surface.
+TEST(ErodeSphere, RepeatedPassGivesTheSameSurface) {
+  const std::vector<Vector3d> pass{{4, 5, 9}, {16, 5, 9}};
+  const Job once = box_job({0, 0, 0}, {20, 10, 10}, sphere_tool(2.0), {pass}, 0.01);
+  const Job twice = box_job({0, 0, 0}, {20, 10, 10}, sphere_tool(2.0), {pass, pass}, 0.01);
+  const morph::ErodeResult a = morph::erode(once);
+  const morph::ErodeResult b = morph::erode(twice);
+  const morph::TopologyReport ta = morph::topology_report(a.mesh), tb = morph::topology_report(b.mesh);
+  EXPECT_TRUE(tb.closed_manifold());
+  EXPECT_EQ(tb.components, 1u);
+  EXPECT_NEAR(tb.volume, ta.volume, 1e-9 * ta.volume);
+  EXPECT_NEAR(tb.area, ta.area, 1e-9 * ta.area);
+  for (const morph::FaceTag& tag : b.mesh.tags)
+    if (tag.kind == PatchKind::SideSweep || tag.kind == PatchKind::FrontSweep) {
+      EXPECT_EQ(tag.source, 0);
+    }
+}
+
+// Two full-depth slots across a block leave three pieces; the removed volume per unit length is
+// the disc of the sphere clipped to the block's height.
+TEST(ErodeSphere, ThroughSlotsSplitTheBlockIntoThreePieces) {
+  const double r = 3.0, h = 5.0, zc = 2.5;
+  const Job job = box_job({0, 0, 0}, {30, 10, h}, sphere_tool(r),
+                          {{{10, -5, zc}, {10, 15, zc}}, {{20, 15, zc}, {20, -5, zc}}}, 0.01);
+  const morph::ErodeResult result = morph::erode(job);
+  const morph::TopologyReport topology = morph::topology_report(result.mesh);
+  EXPECT_TRUE(topology.closed_manifold());
+  EXPECT_EQ(topology.components, 3u);
+  const double outside = r - zc;  // the disc pokes out by this much above and below
+  const double segment =
+      r * r * std::acos((r - outside) / r) - (r - outside) * std::sqrt(2 * r * outside - outside * outside);
+  const double removed = 2.0 * (M_PI * r * r - 2.0 * segment) * 10.0;
+  // Only the curved walls deviate from the exact surface (by at most the tolerance).
+  const double wall_area = 2.0 * 10.0 * r * (2.0 * M_PI - 4.0 * std::acos(zc / r));
+  EXPECT_NEAR(topology.volume, 30.0 * 10.0 * h - removed, wall_area * job.tolerance);
+  expect_within_tolerance_both_ways(job, result.mesh, 1500);
+}
+
+// The paper's figures 12/13 in 3D: a trajectory (a U-shaped loop crossed by a straight pass) that
+// cuts the block into six disconnected partitions; passes leave and re-enter the stock.
+TEST(ErodeSphere, TrajectoryLeavesSixPartitions) {
+  const Job job = box_job(
+      {0, 0, 0}, {30, 20, 5}, sphere_tool(3.0),
+      {{{-5, 5, 2.5}, {35, 5, 2.5}, {35, 15, 2.5}, {-5, 15, 2.5}}, {{15, -5, 2.5}, {15, 25, 2.5}}}, 0.01);
+  const morph::ErodeResult result = morph::erode(job);
+  const morph::TopologyReport topology = morph::topology_report(result.mesh);
+  EXPECT_TRUE(topology.closed_manifold());
+  EXPECT_EQ(topology.components, 6u);
+  EXPECT_LE(largest_field_error(result.mesh, morph::ErosionField(job)), job.tolerance);
+}
+
+// A path that crosses itself five times (a pentagram): every crossing trims four side sweeps
+// against each other.
+TEST(ErodeSphere, SelfCrossingPathIsClosedAndWithinTolerance) {
+  std::vector<Vector3d> star;
+  for (int k = 0; k <= 5; ++k) {
+    const double a = M_PI / 2 + k * 4 * M_PI / 5;
+    star.push_back({15 + 10 * std::cos(a), 15 + 10 * std::sin(a), 9.5});
+  }
+  const Job job = box_job({0, 0, 0}, {30, 30, 10}, sphere_tool(2.0), {star}, 0.01);
+  const morph::ErodeResult result = morph::erode(job);
+  const morph::TopologyReport topology = morph::topology_report(result.mesh);
+  EXPECT_TRUE(topology.closed_manifold());
+  EXPECT_EQ(topology.components, 1u);
+  expect_within_tolerance_both_ways(job, result.mesh, 1500);
+}
+
+TEST(Erode, RejectsUnsupportedToolsAndTolerances) {
+  Tool flat = sphere_tool(1.0);
+  flat.type = ToolType::Flat;
+  const Job job = box_job({0, 0, 0}, {10, 10, 10}, flat, {{{0, 0, 9}, {10, 10, 9}}}, 0.01);
+  EXPECT_THROW(morph::erode(job), morph::InputError);
+  const Job ok = box_job({0, 0, 0}, {10, 10, 10}, sphere_tool(1.0), {{{0, 0, 9}, {10, 10, 9}}}, 0.01);
+  morph::ErodeOptions negative;
+  negative.tolerance = -1.0;
+  Job zero = ok;
+  zero.tolerance = 0.0;
+  EXPECT_THROW(morph::erode(zero), morph::InputError);
+}
+
+}  // namespace

@@ -1,0 +1,257 @@
+// Topology report against meshes whose counts are known in closed form.
+#include <gtest/gtest.h>
+#include <morph/exceptions.h>
+#include <morph/topology.h>
+
+#include <cmath>
+
+namespace {
+
+using morph::Triangle;
+using morph::TriangleMesh;
+
+constexpr double kPi = 3.14159265358979323846;
+
+// Axis-aligned box, 8 vertices (index = x + 2y + 4z bits), 12 triangles wound outward.
+TriangleMesh box(const Eigen::Vector3d& lo, const Eigen::Vector3d& hi) {
+  TriangleMesh mesh;
+  for (int i = 0; i < 8; ++i)
+    mesh.vertices.emplace_back(i & 1 ? hi.x() : lo.x(), i & 2 ? hi.y() : lo.y(), i & 4 ? hi.z() : lo.z());
+  const int quads[6][4] = {{0, 2, 3, 1}, {4, 5, 7, 6}, {0, 1, 5, 4},
+                           {2, 6, 7, 3}, {0, 4, 6, 2}, {1, 3, 7, 5}};
+  for (const auto& q : quads) {
+    mesh.triangles.push_back({std::uint32_t(q[0]), std::uint32_t(q[1]), std::uint32_t(q[2])});
+    mesh.triangles.push_back({std::uint32_t(q[0]), std::uint32_t(q[2]), std::uint32_t(q[3])});
+  }
+  return mesh;
+}
+
+TriangleMesh unit_cube() {
+  return box(Eigen::Vector3d::Zero(), Eigen::Vector3d::Ones());
+}
+
+// Corner tetrahedron (0,0,0), e_x, e_y, e_z wound outward: volume 1/6.
+TriangleMesh tetrahedron() {
+  TriangleMesh mesh;
+  mesh.vertices = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {0, 0, 1}};
+  mesh.triangles = {{0, 2, 1}, {0, 1, 3}, {0, 3, 2}, {1, 2, 3}};
+  return mesh;
+}
+
+// Torus of revolution with a regular `minor_segments`-gon cross-section of circumradius r around
+// the circle of radius R, revolved in `major_segments` steps. Every quad is a planar isosceles
+// trapezoid, so the polyhedron's volume is exactly
+//   n sin(2 pi / n) * R * (m / 2) r^2 sin(2 pi / m)
+// (each horizontal slice of a sector is the region between two chords of the wedge).
+TriangleMesh torus(double R, double r, int major_segments, int minor_segments) {
+  TriangleMesh mesh;
+  const int n = major_segments, m = minor_segments;
+  for (int i = 0; i < n; ++i) {
+    const double theta = 2 * kPi * i / n;
+    for (int j = 0; j < m; ++j) {
+      const double phi = 2 * kPi * j / m;
+      const double rho = R + r * std::cos(phi);
+      mesh.vertices.emplace_back(rho * std::cos(theta), rho * std::sin(theta), r * std::sin(phi));
+    }
+  }
+  auto id = [&](int i, int j) { return std::uint32_t(((i % n) * m) + (j % m)); };
+  for (int i = 0; i < n; ++i)
+    for (int j = 0; j < m; ++j) {
+      // (i,j) -> (i+1,j) runs along +theta, then +phi: the normal points away from the tube axis.
+      mesh.triangles.push_back({id(i, j), id(i + 1, j), id(i + 1, j + 1)});
+      mesh.triangles.push_back({id(i, j), id(i + 1, j + 1), id(i, j + 1)});
+    }
+  return mesh;
+}
+
+TEST(Topology, Tetrahedron) {
+  const morph::TopologyReport r = morph::topology_report(tetrahedron());
+  EXPECT_EQ(r.vertices, 4u);
+  EXPECT_EQ(r.triangles, 4u);
+  EXPECT_EQ(r.edges, 6u);
+  EXPECT_EQ(r.boundary_edges, 0u);
+  EXPECT_EQ(r.non_manifold_edges, 0u);
+  EXPECT_EQ(r.inconsistent_edges, 0u);
+  EXPECT_EQ(r.non_manifold_vertices, 0u);
+  EXPECT_EQ(r.components, 1u);
+  EXPECT_EQ(r.euler_characteristic, 2);
+  EXPECT_NEAR(r.volume, 1.0 / 6.0, 1e-15);
+  EXPECT_NEAR(r.area, 1.5 + std::sqrt(3.0) / 2.0, 1e-14);
+  EXPECT_TRUE(r.closed_manifold());
+}
+
+TEST(Topology, Cube) {
+  const morph::TopologyReport r = morph::topology_report(box({-1, 2, 3}, {1, 5, 7}));
+  EXPECT_EQ(r.vertices, 8u);
+  EXPECT_EQ(r.unreferenced_vertices, 0u);
+  EXPECT_EQ(r.triangles, 12u);
+  EXPECT_EQ(r.degenerate_triangles, 0u);
+  EXPECT_EQ(r.edges, 18u);
+  EXPECT_EQ(r.boundary_edges, 0u);
+  EXPECT_EQ(r.components, 1u);
+  EXPECT_EQ(r.euler_characteristic, 2);
+  EXPECT_NEAR(r.volume, 2.0 * 3.0 * 4.0, 1e-13);
+  EXPECT_NEAR(r.area, 2 * (6.0 + 8.0 + 12.0), 1e-13);
+  EXPECT_TRUE(r.closed_manifold());
+}
+
+TEST(Topology, TwoDisjointCubes) {
+  TriangleMesh mesh = unit_cube();
+  mesh.append(box({3, 0, 0}, {5, 2, 2}));
+  const morph::TopologyReport r = morph::topology_report(mesh);
+  EXPECT_EQ(r.vertices, 16u);
+  EXPECT_EQ(r.edges, 36u);
+  EXPECT_EQ(r.components, 2u);
+  EXPECT_EQ(r.euler_characteristic, 4);
+  EXPECT_NEAR(r.volume, 1.0 + 8.0, 1e-13);
+  EXPECT_TRUE(r.closed_manifold());
+}
+
+TEST(Topology, ComponentsAreNumberedBySmallestTriangle) {
+  // Interleave the triangles of two cubes so the second cube owns triangle 0.
+  const TriangleMesh a = unit_cube();
+  const TriangleMesh b = box({3, 0, 0}, {4, 1, 1});
+  TriangleMesh mesh;
+  mesh.vertices = a.vertices;
+  mesh.vertices.insert(mesh.vertices.end(), b.vertices.begin(), b.vertices.end());
+  for (std::size_t t = 0; t < 12; ++t) {
+    const Triangle& tb = b.triangles[t];
+    mesh.triangles.push_back({tb[0] + 8, tb[1] + 8, tb[2] + 8});
+    mesh.triangles.push_back(a.triangles[t]);
+  }
+  std::vector<std::uint32_t> component;
+  ASSERT_EQ(morph::connected_components(mesh, component), 2u);
+  ASSERT_EQ(component.size(), 24u);
+  for (std::size_t t = 0; t < 24; ++t) EXPECT_EQ(component[t], t % 2 == 0 ? 0u : 1u) << "triangle " << t;
+}
+
+TEST(Topology, TorusHasEulerCharacteristicZero) {
+  const double R = 3.0, r = 1.0;
+  const int n = 40, m = 12;
+  const TriangleMesh mesh = torus(R, r, n, m);
+  const morph::TopologyReport report = morph::topology_report(mesh);
+  EXPECT_EQ(report.vertices, std::size_t(n * m));
+  EXPECT_EQ(report.triangles, std::size_t(2 * n * m));
+  EXPECT_EQ(report.edges, std::size_t(3 * n * m));
+  EXPECT_EQ(report.euler_characteristic, 0);
+  EXPECT_EQ(report.components, 1u);
+  EXPECT_TRUE(report.closed_manifold());
+  const double exact = n * std::sin(2 * kPi / n) * R * 0.5 * m * r * r * std::sin(2 * kPi / m);
+  EXPECT_NEAR(report.volume, exact, 1e-12 * exact);
+}
+
+TEST(Topology, OpenBoxHasBoundary) {
+  TriangleMesh mesh = unit_cube();
+  mesh.triangles.erase(mesh.triangles.begin() + 2, mesh.triangles.begin() + 4);  // the +z face
+  const morph::TopologyReport r = morph::topology_report(mesh);
+  EXPECT_EQ(r.triangles, 10u);
+  EXPECT_EQ(r.edges, 17u);  // the removed face's diagonal is gone
+  EXPECT_EQ(r.boundary_edges, 4u);
+  EXPECT_EQ(r.non_manifold_edges, 0u);
+  EXPECT_EQ(r.non_manifold_vertices, 0u);  // rim vertices are half-discs
+  EXPECT_EQ(r.inconsistent_edges, 0u);
+  EXPECT_EQ(r.euler_characteristic, 1);  // a disc
+  EXPECT_FALSE(r.closed_manifold());
+}
+
+TEST(Topology, FlippedFaceIsInconsistent) {
+  TriangleMesh mesh = unit_cube();
+  std::swap(mesh.triangles[5][1], mesh.triangles[5][2]);
+  const morph::TopologyReport r = morph::topology_report(mesh);
+  EXPECT_EQ(r.inconsistent_edges, 3u);
+  EXPECT_EQ(r.boundary_edges, 0u);
+  EXPECT_EQ(r.non_manifold_edges, 0u);
+  EXPECT_EQ(r.euler_characteristic, 2);
+  EXPECT_FALSE(r.closed_manifold());
+  // Relative to the cube's centre every triangle spans a tetrahedron of volume
+  // (1/2 * 1/2) / 3 = 1/12; the flipped one counts negatively.
+  EXPECT_NEAR(r.volume, 1.0 - 2.0 / 12.0, 1e-14);
+}
+
+TEST(Topology, ThreeTrianglesOnOneEdge) {
+  TriangleMesh mesh;
+  mesh.vertices = {{0, 0, 0}, {0, 0, 1}, {1, 0, 0}, {-1, 0, 0}, {0, 1, 0}};
+  mesh.triangles = {{0, 1, 2}, {1, 0, 3}, {0, 1, 4}};
+  const morph::TopologyReport r = morph::topology_report(mesh);
+  EXPECT_EQ(r.edges, 7u);
+  EXPECT_EQ(r.non_manifold_edges, 1u);
+  EXPECT_EQ(r.boundary_edges, 6u);
+  EXPECT_EQ(r.inconsistent_edges, 0u);     // not counted on a non-manifold edge
+  EXPECT_EQ(r.non_manifold_vertices, 2u);  // both ends of the fin edge
+  EXPECT_EQ(r.components, 1u);
+  EXPECT_EQ(r.euler_characteristic, 5 - 7 + 3);
+  EXPECT_FALSE(r.closed_manifold());
+}
+
+TEST(Topology, BowTieVertex) {
+  TriangleMesh mesh;
+  mesh.vertices = {{0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {-1, 0, 0}, {-1, -1, 0}};
+  mesh.triangles = {{0, 1, 2}, {0, 3, 4}};
+  const morph::TopologyReport r = morph::topology_report(mesh);
+  EXPECT_EQ(r.non_manifold_vertices, 1u);
+  EXPECT_EQ(r.non_manifold_edges, 0u);
+  EXPECT_EQ(r.boundary_edges, 6u);
+  EXPECT_EQ(r.components, 2u);  // edge-connected: a shared vertex does not join them
+  EXPECT_EQ(r.euler_characteristic, 1);
+  EXPECT_NEAR(r.area, 1.0, 1e-15);
+}
+
+TEST(Topology, TwoCubesTouchingAtACornerMakeANonManifoldVertex) {
+  TriangleMesh mesh = unit_cube();
+  TriangleMesh other = box({1, 1, 1}, {2, 2, 2});
+  // Weld the second cube's corner (1,1,1) (its vertex 0) to the first cube's vertex 7.
+  const std::uint32_t offset = 8;
+  for (std::size_t i = 1; i < 8; ++i) mesh.vertices.push_back(other.vertices[i]);
+  for (const Triangle& t : other.triangles) {
+    Triangle w;
+    for (int k = 0; k < 3; ++k) w[k] = t[k] == 0 ? 7 : t[k] + offset - 1;
+    mesh.triangles.push_back(w);
+  }
+  const morph::TopologyReport r = morph::topology_report(mesh);
+  EXPECT_EQ(r.vertices, 15u);
+  EXPECT_EQ(r.non_manifold_vertices, 1u);
+  EXPECT_EQ(r.boundary_edges, 0u);
+  EXPECT_EQ(r.non_manifold_edges, 0u);
+  EXPECT_EQ(r.components, 2u);
+  EXPECT_EQ(r.euler_characteristic, 15 - 36 + 24);
+  EXPECT_FALSE(r.closed_manifold());
+}
+
+TEST(Topology, DegenerateTrianglesAndUnreferencedVertices) {
+  TriangleMesh mesh = tetrahedron();
+  mesh.vertices.push_back({5, 5, 5});      // 4: unreferenced
+  mesh.vertices.push_back({0.5, 0.5, 0});  // 5: on the edge 1-2, referenced only by a sliver
+  mesh.vertices.push_back({9, 9, 9});      // 6: unreferenced
+  mesh.triangles.push_back({1, 2, 5});     // zero area, distinct indices
+  mesh.triangles.push_back({3, 3, 0});     // repeated index
+  const morph::TopologyReport r = morph::topology_report(mesh);
+  EXPECT_EQ(r.triangles, 6u);
+  EXPECT_EQ(r.degenerate_triangles, 2u);
+  EXPECT_EQ(r.vertices, 5u);
+  EXPECT_EQ(r.unreferenced_vertices, 2u);
+  // The sliver adds edges 2-5 and 5-1 (boundary) and makes 1-2 non-manifold; the collapsed
+  // triangle takes no part in edges.
+  EXPECT_EQ(r.edges, 8u);
+  EXPECT_EQ(r.boundary_edges, 2u);
+  EXPECT_EQ(r.non_manifold_edges, 1u);
+  EXPECT_EQ(r.non_manifold_vertices, 2u);  // 1 and 2; the sliver's apex 5 is a half-disc
+  EXPECT_EQ(r.components, 1u);
+  EXPECT_EQ(r.euler_characteristic, 5 - 8 + 5);
+  EXPECT_NEAR(r.volume, 1.0 / 6.0, 1e-15);
+}
+
+TEST(Topology, EmptyMesh) {
+  const morph::TopologyReport r = morph::topology_report(TriangleMesh{});
+  EXPECT_EQ(r.triangles, 0u);
+  EXPECT_EQ(r.components, 0u);
+  EXPECT_EQ(r.euler_characteristic, 0);
+  EXPECT_FALSE(r.closed_manifold());
+}
+
+TEST(Topology, IndexOutOfRangeIsAnInputError) {
+  TriangleMesh mesh = tetrahedron();
+  mesh.triangles.push_back({0, 1, 9});
+  EXPECT_THROW(morph::topology_report(mesh), morph::InputError);
+}
+
+}  // namespace
