@@ -7,10 +7,10 @@ namespace morphmill {
 
 /// Exit codes of every morphmill command.
 enum ExitCode : int {
-  kExitOk = 0,          ///< success (verify: the verdict holds)
-  kExitVerdictFails = 1,///< verify/stress: the computation ran but the verdict does not hold
-  kExitBadInput = 2,    ///< the input is wrong (job, G-code, mesh, options)
-  kExitInternal = 3,    ///< an unexpected internal error
+  kExitOk = 0,            ///< success (verify: the verdict holds)
+  kExitVerdictFails = 1,  ///< verify/stress: the computation ran but the verdict does not hold
+  kExitBadInput = 2,      ///< the input is wrong (job, G-code, mesh, options)
+  kExitInternal = 3,      ///< an unexpected internal error
 };
 
 /// Thrown by a command whose computation ran but whose verdict does not hold (exit code 1).

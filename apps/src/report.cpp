@@ -165,11 +165,12 @@ std::vector<Table> tables(const VerifyOutcome& o) {
        {"check", "holds", "measured", "bound"},
        {{"generator within tolerance of the exact surface (both ways)", yes_no(o.generator_within_tolerance),
          number(std::max(o.morph_to_exact.stats.max_abs, o.exact_to_morph.max_abs)), number(o.tolerance)},
-        {fmt::format("generator and reference agree: two-sided Hausdorff over the {} samples where the surface "
-                     "is resolvable at this voxel size ({} near acute wedges, thin walls or narrow gaps left out; "
-                     "over all samples: {})",
-                     o.agreement_samples, o.unresolvable_samples,
-                     number(std::max(o.morph_to_reference.stats.max_abs, o.reference_to_morph.stats.max_abs))),
+        {fmt::format(
+             "generator and reference agree: two-sided Hausdorff over the {} samples where the surface "
+             "is resolvable at this voxel size ({} near acute wedges, thin walls or narrow gaps left out; "
+             "over all samples: {})",
+             o.agreement_samples, o.unresolvable_samples,
+             number(std::max(o.morph_to_reference.stats.max_abs, o.reference_to_morph.stats.max_abs))),
          yes_no(o.sides_agree), number(o.resolvable_hausdorff), number(o.agreement_bound)},
         {"same pieces, volumes within half a voxel times area", yes_no(o.pieces_match),
          fmt::format("{} vs {}", o.morph_pieces.size(), o.reference_pieces.size()), "-"}}});

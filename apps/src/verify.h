@@ -74,13 +74,14 @@ struct VerifyOutcome {
 
 /// What evaluate_job needs: the verify pipeline without any file output.
 struct EvaluateOptions {
-  double voxel_size = 0.0;  ///< reference voxel, job units; 0 picks one with auto_voxel_size
-  double tolerance = 0.0;   ///< generator tolerance, job units; 0 uses the job's
+  double voxel_size = 0.0;            ///< reference voxel, job units; 0 picks one with auto_voxel_size
+  double tolerance = 0.0;             ///< generator tolerance, job units; 0 uses the job's
   std::size_t face_samples = 100000;  ///< area-uniform samples per surface, on top of every vertex
   std::uint64_t seed = 1;
   morph::Progress* progress = nullptr;
   std::string vdb_output_path;  ///< if not empty, the reference level set is also written there
-  std::size_t reference_memory_cap_bytes = std::size_t(8) << 30;  ///< vdb_ref::ReferenceOptions::memory_cap_bytes
+  std::size_t reference_memory_cap_bytes = std::size_t(8)
+                                           << 30;  ///< vdb_ref::ReferenceOptions::memory_cap_bytes
   /// When true, each stage's peak_rss_mib is the peak resident memory during that stage alone
   /// (Linux: the high-water mark is reset through /proc/self/clear_refs before the stage);
   /// otherwise it is the process's peak so far. Only meaningful when nothing else runs in the process.
@@ -89,7 +90,8 @@ struct EvaluateOptions {
 
 /// The outcome and the two surfaces it was measured on.
 struct Evaluation {
-  VerifyOutcome outcome;  ///< stages "generator (morph)", "reference (OpenVDB)", "deviation (Embree)"; files empty
+  VerifyOutcome
+      outcome;  ///< stages "generator (morph)", "reference (OpenVDB)", "deviation (Embree)"; files empty
   morph::TriangleMesh morph_mesh;
   morph::TriangleMesh reference_mesh;
   vdb_ref::ReferenceStats reference_stats;

@@ -19,7 +19,9 @@ AabbTree::AabbTree(std::vector<Eigen::AlignedBox3d> boxes) : boxes_(std::move(bo
   nodes_.push_back(Node{});
   // Iterative median split on the longest axis of the centre bounds; the depth stays below 64
   // because each split halves the item count.
-  struct Task { std::uint32_t node, first, count; };
+  struct Task {
+    std::uint32_t node, first, count;
+  };
   std::vector<Task> tasks{{0, 0, static_cast<std::uint32_t>(boxes_.size())}};
   while (!tasks.empty()) {
     const Task task = tasks.back();
@@ -39,11 +41,10 @@ AabbTree::AabbTree(std::vector<Eigen::AlignedBox3d> boxes) : boxes_(std::move(bo
     centre_box.sizes().maxCoeff(&axis);
     const std::uint32_t half = task.count / 2;
     auto begin = order_.begin() + task.first;
-    std::nth_element(begin, begin + half, begin + task.count,
-                     [&](std::uint32_t a, std::uint32_t b) {
-                       if (centres[a][axis] != centres[b][axis]) return centres[a][axis] < centres[b][axis];
-                       return a < b;
-                     });
+    std::nth_element(begin, begin + half, begin + task.count, [&](std::uint32_t a, std::uint32_t b) {
+      if (centres[a][axis] != centres[b][axis]) return centres[a][axis] < centres[b][axis];
+      return a < b;
+    });
     const auto left = static_cast<std::uint32_t>(nodes_.size());
     nodes_.push_back(Node{});
     nodes_.push_back(Node{});

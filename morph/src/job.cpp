@@ -3,9 +3,13 @@
 
 namespace morph {
 
-const char* to_string(Units units) { return units == Units::Inch ? "inch" : "mm"; }
+const char* to_string(Units units) {
+  return units == Units::Inch ? "inch" : "mm";
+}
 
-double millimetres_per_unit(Units units) { return units == Units::Inch ? 25.4 : 1.0; }
+double millimetres_per_unit(Units units) {
+  return units == Units::Inch ? 25.4 : 1.0;
+}
 
 std::vector<const Move*> Job::moves() const {
   std::vector<const Move*> all;

@@ -23,8 +23,7 @@ Eigen::Vector3d closest_point_on_triangle(const Eigen::Vector3d& p, const Eigen:
   const double vb = d5 * d2 - d1 * d6;
   if (vb <= 0 && d2 >= 0 && d6 <= 0) return a + (d2 / (d2 - d6)) * ac;
   const double va = d3 * d6 - d5 * d4;
-  if (va <= 0 && (d4 - d3) >= 0 && (d5 - d6) >= 0)
-    return b + ((d4 - d3) / ((d4 - d3) + (d5 - d6))) * (c - b);
+  if (va <= 0 && (d4 - d3) >= 0 && (d5 - d6) >= 0) return b + ((d4 - d3) / ((d4 - d3) + (d5 - d6))) * (c - b);
   const double denom = 1.0 / (va + vb + vc);
   return a + ab * (vb * denom) + ac * (vc * denom);
 }
@@ -47,7 +46,8 @@ MeshDistance::MeshDistance(TriangleMesh mesh) : mesh_(std::move(mesh)) {
       if (std::isfinite(angle)) vertex_normals_[tri[k]] += angle * face_normals_[t];
       auto key = std::minmax(tri[k], tri[(k + 1) % 3]);
       // try_emplace with an explicit zero: Eigen vectors are not zeroed by default construction.
-      edge_sum.try_emplace({key.first, key.second}, Eigen::Vector3d::Zero()).first->second += face_normals_[t];
+      edge_sum.try_emplace({key.first, key.second}, Eigen::Vector3d::Zero()).first->second +=
+          face_normals_[t];
     }
   }
   edge_normals_.resize(nt);
@@ -61,7 +61,8 @@ MeshDistance::MeshDistance(TriangleMesh mesh) : mesh_(std::move(mesh)) {
   tree_ = AabbTree(std::move(boxes));
 }
 
-double MeshDistance::distance(const Eigen::Vector3d& p, std::size_t* triangle, Eigen::Vector3d* closest) const {
+double MeshDistance::distance(const Eigen::Vector3d& p, std::size_t* triangle,
+                              Eigen::Vector3d* closest) const {
   double best = 0.0;
   const std::int64_t item = tree_.nearest(
       p,
@@ -74,7 +75,8 @@ double MeshDistance::distance(const Eigen::Vector3d& p, std::size_t* triangle, E
       &best);
   if (item >= 0 && closest) {
     const Triangle& tri = mesh_.triangles[static_cast<std::size_t>(item)];
-    *closest = closest_point_on_triangle(p, mesh_.vertices[tri[0]], mesh_.vertices[tri[1]], mesh_.vertices[tri[2]]);
+    *closest =
+        closest_point_on_triangle(p, mesh_.vertices[tri[0]], mesh_.vertices[tri[1]], mesh_.vertices[tri[2]]);
   }
   if (triangle) *triangle = item < 0 ? 0 : static_cast<std::size_t>(item);
   return best;
@@ -100,8 +102,10 @@ double MeshDistance::signed_distance(const Eigen::Vector3d& p) const {
     const double w[3] = {wa, wb, wc};
     int zeros = 0, nonzero_index = -1;
     for (int k = 0; k < 3; ++k) {
-      if (w[k] < eps) ++zeros;
-      else nonzero_index = k;
+      if (w[k] < eps)
+        ++zeros;
+      else
+        nonzero_index = k;
     }
     if (zeros == 2) {
       normal = vertex_normals_[tri[nonzero_index]];

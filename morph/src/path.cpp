@@ -9,9 +9,12 @@ namespace morph {
 
 const char* to_string(MoveKind kind) {
   switch (kind) {
-    case MoveKind::Rapid: return "rapid";
-    case MoveKind::Linear: return "linear";
-    case MoveKind::Arc: return "arc";
+    case MoveKind::Rapid:
+      return "rapid";
+    case MoveKind::Linear:
+      return "linear";
+    case MoveKind::Arc:
+      return "arc";
   }
   return "unknown";
 }
@@ -19,8 +22,8 @@ const char* to_string(MoveKind kind) {
 namespace {
 
 struct ArcFrame {
-  Eigen::Vector3d u, v;  // in-plane unit vectors, v = axis x u
-  double r0, r1, rise;   // start radius, end radius, axial travel
+  Eigen::Vector3d u, v;     // in-plane unit vectors, v = axis x u
+  double r0, r1, rise;      // start radius, end radius, axial travel
   Eigen::Vector3d closure;  // end - unclosed point at t=1, spread linearly so point_at(1)==end
 };
 

@@ -20,11 +20,17 @@ std::pair<double, double> golden_minimum(F&& f, double lo, double hi) {
   double f1 = f(x1), f2 = f(x2);
   for (int i = 0; i < 64 && hi - lo > 1e-14; ++i) {
     if (f1 < f2) {
-      hi = x2; x2 = x1; f2 = f1;
-      x1 = hi - kInvPhi * (hi - lo); f1 = f(x1);
+      hi = x2;
+      x2 = x1;
+      f2 = f1;
+      x1 = hi - kInvPhi * (hi - lo);
+      f1 = f(x1);
     } else {
-      lo = x1; x1 = x2; f1 = f2;
-      x2 = lo + kInvPhi * (hi - lo); f2 = f(x2);
+      lo = x1;
+      x1 = x2;
+      f1 = f2;
+      x2 = lo + kInvPhi * (hi - lo);
+      f2 = f(x2);
     }
   }
   std::pair<double, double> best{f1 < f2 ? x1 : x2, std::min(f1, f2)};
@@ -64,12 +70,15 @@ std::pair<double, double> segment_sweep(const Tool& tool, const Eigen::Vector3d&
       // inside the ball: the ball alone decides (the common case under a cutting path).
       if (p.z() <= std::min(a.z(), b.z()) + tool.radius) return {tb, ball};
       const auto body = golden_minimum(
-          [&](double t) { return capped_cylinder_distance(p - (a + lift + t * (b - a)), tool.radius, 0.0, tool.length); },
+          [&](double t) {
+            return capped_cylinder_distance(p - (a + lift + t * (b - a)), tool.radius, 0.0, tool.length);
+          },
           0.0, 1.0);
       return ball <= body.second ? std::make_pair(tb, ball) : body;
     }
     default: {
-      return golden_minimum([&](double t) { return tool_signed_distance(tool, a + t * (b - a), p); }, 0.0, 1.0);
+      return golden_minimum([&](double t) { return tool_signed_distance(tool, a + t * (b - a), p); }, 0.0,
+                            1.0);
     }
   }
 }
@@ -79,7 +88,9 @@ std::pair<double, double> segment_sweep(const Tool& tool, const Eigen::Vector3d&
 std::pair<double, double> arc_sweep(const Tool& tool, const Move& move, const Eigen::Vector3d& p) {
   const double total = length(move);
   auto f = [&](double t) { return tool_signed_distance(tool, point_at(move, t), p); };
-  struct Piece { double t0, t1, value, bound; };
+  struct Piece {
+    double t0, t1, value, bound;
+  };
   const int initial = std::max(8, static_cast<int>(std::ceil(std::abs(move.sweep) / (M_PI / 16))));
   std::vector<Piece> pieces;
   std::pair<double, double> best{0.0, std::numeric_limits<double>::infinity()};
@@ -176,7 +187,9 @@ ErosionField::~ErosionField() = default;
 ErosionField::ErosionField(ErosionField&&) noexcept = default;
 ErosionField& ErosionField::operator=(ErosionField&&) noexcept = default;
 
-const Job& ErosionField::job() const { return *impl_->job; }
+const Job& ErosionField::job() const {
+  return *impl_->job;
+}
 
 double ErosionField::stock_distance(const Eigen::Vector3d& p) const {
   if (impl_->stock_mesh) return impl_->stock_mesh->signed_distance(p);

@@ -36,7 +36,8 @@ TEST(Mesh, ValidateNamesTheProblem) {
     m.validate("part.ply");
     FAIL() << "expected InputError";
   } catch (const morph::InputError& e) {
-    EXPECT_NE(std::string(e.what()).find("part.ply: triangle 12 refers to vertex 99"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("part.ply: triangle 12 refers to vertex 99"), std::string::npos)
+        << e.what();
   }
 }
 

@@ -92,7 +92,8 @@ TEST(SweepDistance, BallEndMatchesDenseSamplingOnRampsAndPlunges) {
   const Tool tool = ballend(1.5, 10.0);
   std::mt19937_64 rng(7);
   std::uniform_real_distribution<double> u(-6.0, 6.0);
-  const Move moves[] = {line({0, 0, 0}, {5, 3, -2}), line({1, 1, 4}, {1, 1, -3}), line({-2, 0, 1}, {4, 0, 1})};
+  const Move moves[] = {line({0, 0, 0}, {5, 3, -2}), line({1, 1, 4}, {1, 1, -3}),
+                        line({-2, 0, 1}, {4, 0, 1})};
   for (const Move& m : moves) {
     for (int k = 0; k < 60; ++k) {
       const Vector3d p(u(rng), u(rng), u(rng));
@@ -127,8 +128,8 @@ TEST(SweepDistance, SweptBoundsContainTheSweep) {
   const Eigen::AlignedBox3d box = morph::swept_bounds(tool, m);
   for (int i = 0; i <= 1000; ++i) {
     const Vector3d c = morph::point_at(m, i / 1000.0);
-    for (const Vector3d& offset : {Vector3d(2, 0, 0), Vector3d(-2, 0, 0), Vector3d(0, 2, 0), Vector3d(0, -2, 0),
-                                   Vector3d(0, 0, 0), Vector3d(0, 0, 10)})
+    for (const Vector3d& offset : {Vector3d(2, 0, 0), Vector3d(-2, 0, 0), Vector3d(0, 2, 0),
+                                   Vector3d(0, -2, 0), Vector3d(0, 0, 0), Vector3d(0, 0, 10)})
       EXPECT_TRUE(box.contains(c + offset));
   }
 }

@@ -21,6 +21,7 @@ struct MeshWriteOptions {
 
 /// Writes a mesh, keeping tags (PLY face properties patch_kind, source, line), scalars and
 /// colours where the format can hold them. Throws morph::IoError on failure.
-void write_mesh(const morph::TriangleMesh& mesh, const std::string& path, const MeshWriteOptions& options = {});
+void write_mesh(const morph::TriangleMesh& mesh, const std::string& path,
+                const MeshWriteOptions& options = {});
 
 }  // namespace morphmill

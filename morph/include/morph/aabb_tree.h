@@ -3,8 +3,8 @@
 /// A static bounding-volume hierarchy over axis-aligned boxes: the spatial index that keeps
 /// move-against-move and point-against-move work near-linear in the number of moves.
 #include <Eigen/Geometry>
-#include <cstdint>
 #include <algorithm>
+#include <cstdint>
 #include <limits>
 #include <vector>
 
@@ -55,7 +55,10 @@ class AabbTree {
     double best = std::numeric_limits<double>::infinity();
     std::int64_t best_item = -1;
     if (!nodes_.empty()) {
-      struct Entry { double bound; std::uint32_t node; };
+      struct Entry {
+        double bound;
+        std::uint32_t node;
+      };
       std::vector<Entry> heap;
       heap.push_back({lower_bound(nodes_[0].box), 0});
       auto cmp = [](const Entry& a, const Entry& b) { return a.bound > b.bound; };
@@ -70,12 +73,18 @@ class AabbTree {
             const std::uint32_t item = order_[node.first + i];
             if (lower_bound(boxes_[item]) >= best) continue;
             const double d = distance(item);
-            if (d < best) { best = d; best_item = item; }
+            if (d < best) {
+              best = d;
+              best_item = item;
+            }
           }
         } else {
           for (std::uint32_t c = 0; c < 2; ++c) {
             const double b = lower_bound(nodes_[node.first + c].box);
-            if (b < best) { heap.push_back({b, node.first + c}); std::push_heap(heap.begin(), heap.end(), cmp); }
+            if (b < best) {
+              heap.push_back({b, node.first + c});
+              std::push_heap(heap.begin(), heap.end(), cmp);
+            }
           }
         }
       }

@@ -23,9 +23,9 @@ struct GcodeOptions {
 };
 
 struct GcodeResult {
-  Path path;                       ///< moves in program order, each with its 1-based line
-  std::vector<Warning> warnings;   ///< unknown words, ignored codes, with their line
-  std::set<int> tools_used;        ///< T numbers selected by M6 (and initial_tool if it cut)
+  Path path;                               ///< moves in program order, each with its 1-based line
+  std::vector<Warning> warnings;           ///< unknown words, ignored codes, with their line
+  std::set<int> tools_used;                ///< T numbers selected by M6 (and initial_tool if it cut)
   std::map<std::string, int> word_counts;  ///< "G1", "M3", "F", ... as recorded
   std::size_t line_count = 0;
 };

@@ -27,7 +27,7 @@ class MeshDistance {
   TriangleMesh mesh_;
   AabbTree tree_;
   std::vector<Eigen::Vector3d> face_normals_;
-  std::vector<Eigen::Vector3d> vertex_normals_;        // angle-weighted
+  std::vector<Eigen::Vector3d> vertex_normals_;               // angle-weighted
   std::vector<std::array<Eigen::Vector3d, 3>> edge_normals_;  // per triangle edge (i, i+1)
 };
 

@@ -31,9 +31,9 @@ struct Move {
   Eigen::Vector3d center = Eigen::Vector3d::Zero();  ///< arcs only
   Eigen::Vector3d axis = Eigen::Vector3d::UnitZ();   ///< arcs only, unit length
   double sweep = 0.0;                                ///< arcs only, radians, signed
-  int tool = 0;       ///< tool number in Job::tools
-  int line = 0;       ///< 1-based source line (G-code line, or polyline point index + 1)
-  double feed = 0.0;  ///< F word in effect, job units per minute (0 if none)
+  int tool = 0;                                      ///< tool number in Job::tools
+  int line = 0;          ///< 1-based source line (G-code line, or polyline point index + 1)
+  double feed = 0.0;     ///< F word in effect, job units per minute (0 if none)
   double spindle = 0.0;  ///< S word in effect
 
   bool is_arc() const { return kind == MoveKind::Arc; }

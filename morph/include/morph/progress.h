@@ -12,7 +12,10 @@ class Progress {
  public:
   virtual ~Progress() = default;
   /// A new stage of `total` work units begins.
-  virtual void begin(const std::string& stage, std::size_t total) { (void)stage; (void)total; }
+  virtual void begin(const std::string& stage, std::size_t total) {
+    (void)stage;
+    (void)total;
+  }
   /// `done` more units finished (may be called from several threads).
   virtual void advance(std::size_t done) { (void)done; }
   /// The current stage ended.

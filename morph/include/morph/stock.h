@@ -15,13 +15,13 @@ const char* to_string(StockType type);
 
 struct Stock {
   StockType type = StockType::Box;
-  Eigen::AlignedBox3d box;                              ///< Box
-  Eigen::Vector3d base = Eigen::Vector3d::Zero();       ///< Cylinder: centre of the bottom disc
-  Eigen::Vector3d axis = Eigen::Vector3d::UnitZ();      ///< Cylinder: unit axis
-  double radius = 0.0;                                  ///< Cylinder
-  double height = 0.0;                                  ///< Cylinder
-  TriangleMesh mesh;                                    ///< Mesh (closed, outward)
-  std::string mesh_path;                                ///< Mesh: file it was read from
+  Eigen::AlignedBox3d box;                          ///< Box
+  Eigen::Vector3d base = Eigen::Vector3d::Zero();   ///< Cylinder: centre of the bottom disc
+  Eigen::Vector3d axis = Eigen::Vector3d::UnitZ();  ///< Cylinder: unit axis
+  double radius = 0.0;                              ///< Cylinder
+  double height = 0.0;                              ///< Cylinder
+  TriangleMesh mesh;                                ///< Mesh (closed, outward)
+  std::string mesh_path;                            ///< Mesh: file it was read from
 };
 
 /// Axis-aligned bounds of the stock.

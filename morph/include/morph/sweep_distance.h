@@ -22,8 +22,8 @@ double swept_signed_distance(const Tool& tool, const Move& move, const Eigen::Ve
 
 /// Parameter t in [0,1] of the tool position nearest to p along a straight segment (for
 /// provenance and for the closest tool position).
-double closest_sweep_parameter(const Tool& tool, const Eigen::Vector3d& a,
-                               const Eigen::Vector3d& b, const Eigen::Vector3d& p);
+double closest_sweep_parameter(const Tool& tool, const Eigen::Vector3d& a, const Eigen::Vector3d& b,
+                               const Eigen::Vector3d& p);
 
 /// Axis-aligned box containing the whole swept volume of `tool` along `move`.
 Eigen::AlignedBox3d swept_bounds(const Tool& tool, const Move& move);

@@ -36,8 +36,7 @@ struct Tool {
 
 /// Exact signed distance (job units, negative inside) from `p` to the tool placed with its tool
 /// point at `tool_point`.
-double tool_signed_distance(const Tool& tool, const Eigen::Vector3d& tool_point,
-                            const Eigen::Vector3d& p);
+double tool_signed_distance(const Tool& tool, const Eigen::Vector3d& tool_point, const Eigen::Vector3d& p);
 
 /// Offset from the tool point to the lowest and highest tool points along z, and the radius of
 /// the tool's bounding cylinder: used to bound sweeps.

@@ -9,18 +9,18 @@
 namespace morph {
 
 struct TopologyReport {
-  std::size_t vertices = 0;          ///< vertices referenced by at least one triangle
+  std::size_t vertices = 0;  ///< vertices referenced by at least one triangle
   std::size_t unreferenced_vertices = 0;
   std::size_t triangles = 0;
-  std::size_t degenerate_triangles = 0;  ///< repeated vertex index or zero area
-  std::size_t edges = 0;                 ///< undirected edges
-  std::size_t boundary_edges = 0;        ///< used by exactly one triangle
-  std::size_t non_manifold_edges = 0;    ///< used by three or more triangles
-  std::size_t inconsistent_edges = 0;    ///< two triangles traversing the edge the same way
-  std::size_t non_manifold_vertices = 0; ///< whose triangle fan is not a single disc or half-disc
-  std::size_t components = 0;            ///< edge-connected components of triangles
-  long euler_characteristic = 0;         ///< V - E + F
-  double volume = 0.0;                   ///< enclosed volume (divergence theorem)
+  std::size_t degenerate_triangles = 0;   ///< repeated vertex index or zero area
+  std::size_t edges = 0;                  ///< undirected edges
+  std::size_t boundary_edges = 0;         ///< used by exactly one triangle
+  std::size_t non_manifold_edges = 0;     ///< used by three or more triangles
+  std::size_t inconsistent_edges = 0;     ///< two triangles traversing the edge the same way
+  std::size_t non_manifold_vertices = 0;  ///< whose triangle fan is not a single disc or half-disc
+  std::size_t components = 0;             ///< edge-connected components of triangles
+  long euler_characteristic = 0;          ///< V - E + F
+  double volume = 0.0;                    ///< enclosed volume (divergence theorem)
   double area = 0.0;
 
   /// Closed, oriented 2-manifold: no boundary, no non-manifold edges or vertices, consistent.
