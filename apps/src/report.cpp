@@ -1,14 +1,13 @@
 // verify's outputs for people: report.md and a self-contained report.html, plus the JSON.
 #include <fmt/format.h>
 #include <morph/exceptions.h>
-#include <boost/archive/iterators/base64_from_binary.hpp>
-#include <boost/archive/iterators/transform_width.hpp>
 
 #include <filesystem>
 #include <fstream>
 #include <iterator>
 #include <sstream>
 
+#include "html.h"
 #include "verify.h"
 
 namespace morphmill {
@@ -16,43 +15,6 @@ namespace morphmill {
 namespace fs = std::filesystem;
 
 namespace {
-
-std::string read_file(const fs::path& path) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw morph::IoError(path.string() + ": cannot read");
-  return std::string(std::istreambuf_iterator<char>(in), {});
-}
-
-std::string base64(const std::string& bytes) {
-  using namespace boost::archive::iterators;
-  using Encoder = base64_from_binary<transform_width<std::string::const_iterator, 6, 8>>;
-  std::string encoded(Encoder(bytes.begin()), Encoder(bytes.end()));
-  encoded.append((3 - bytes.size() % 3) % 3, '=');
-  return encoded;
-}
-
-std::string html_escape(const std::string& text) {
-  std::string out;
-  for (char c : text) {
-    switch (c) {
-      case '&':
-        out += "&amp;";
-        break;
-      case '<':
-        out += "&lt;";
-        break;
-      case '>':
-        out += "&gt;";
-        break;
-      case '"':
-        out += "&quot;";
-        break;
-      default:
-        out += c;
-    }
-  }
-  return out;
-}
 
 std::string tag_text(const morph::FaceTag& tag) {
   if (tag.kind == morph::PatchKind::Unknown) return "-";
@@ -268,7 +230,7 @@ void write_reports(const VerifyOutcome& o, const std::string& out_dir,
   page << "<h3>Pictures</h3>\n";
   for (const auto& [title, file] : pictures) {
     page << "<figure><img alt=\"" << html_escape(title) << "\" src=\"data:image/png;base64,"
-         << base64(read_file(dir / file)) << "\"><figcaption>" << html_escape(title)
+         << base64(read_file_bytes(dir / file)) << "\"><figcaption>" << html_escape(title)
          << "</figcaption></figure>\n";
   }
   // Lets a browser test read back how many pictures the browser decoded.

@@ -7,8 +7,6 @@
 #include <morphmill/job_io.h>
 #include <raytest/heatmap.h>
 #include <raytest/render.h>
-#include <boost/archive/iterators/base64_from_binary.hpp>
-#include <boost/archive/iterators/transform_width.hpp>
 
 #include <algorithm>
 #include <cmath>
@@ -19,6 +17,7 @@
 #include <sstream>
 #include <tuple>
 
+#include "html.h"
 #include "verify.h"
 
 namespace morphmill::study {
@@ -27,47 +26,10 @@ namespace fs = std::filesystem;
 
 namespace {
 
-std::string read_text(const fs::path& path) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw morph::IoError(path.string() + ": cannot read");
-  return std::string(std::istreambuf_iterator<char>(in), {});
-}
-
 void write_text(const fs::path& path, const std::string& text) {
   std::ofstream out(path, std::ios::binary);
   out << text;
   if (!out) throw morph::IoError(path.string() + ": cannot write");
-}
-
-std::string base64(const std::string& bytes) {
-  using namespace boost::archive::iterators;
-  using Encoder = base64_from_binary<transform_width<std::string::const_iterator, 6, 8>>;
-  std::string encoded(Encoder(bytes.begin()), Encoder(bytes.end()));
-  encoded.append((3 - bytes.size() % 3) % 3, '=');
-  return encoded;
-}
-
-std::string html_escape(const std::string& text) {
-  std::string out;
-  for (char c : text) {
-    switch (c) {
-      case '&':
-        out += "&amp;";
-        break;
-      case '<':
-        out += "&lt;";
-        break;
-      case '>':
-        out += "&gt;";
-        break;
-      case '"':
-        out += "&quot;";
-        break;
-      default:
-        out += c;
-    }
-  }
-  return out;
 }
 
 // --- study file parsing ------------------------------------------------------------------------
@@ -463,7 +425,7 @@ void write_html(const StudyResult& result, const std::vector<std::pair<std::stri
   page << "<h3>Plots</h3>\n";
   for (const auto& [title, file] : plots)
     page << "<figure><img alt=\"" << html_escape(title) << "\" src=\"data:image/png;base64,"
-         << base64(read_text(dir / file)) << "\"><figcaption>" << html_escape(title)
+         << base64(read_file_bytes(dir / file)) << "\"><figcaption>" << html_escape(title)
          << "</figcaption></figure>\n";
   page << "<h3>Table</h3>\n";
   std::vector<std::vector<std::string>> rows;
@@ -486,7 +448,7 @@ void write_html(const StudyResult& result, const std::vector<std::pair<std::stri
   for (const auto& r : result.rows)
     for (const auto& file : r.pictures)
       page << "<figure><img alt=\"" << html_escape(file) << "\" src=\"data:image/png;base64,"
-           << base64(read_text(dir / file)) << "\"><figcaption>" << html_escape(r.job) << ", "
+           << base64(read_file_bytes(dir / file)) << "\"><figcaption>" << html_escape(r.job) << ", "
            << to_string(r.parameter) << " = " << number(r.value) << ", "
            << (file.find("_generator.png") != std::string::npos ? "generator" : "reference")
            << "</figcaption></figure>\n";
@@ -626,7 +588,7 @@ StudySpec parse_study(const nlohmann::json& json, const std::string& file) {
 StudySpec load_study(const std::string& path) {
   std::string text;
   try {
-    text = read_text(path);
+    text = read_file_bytes(path);
   } catch (const morph::IoError&) {
     throw morph::IoError(path + ": cannot read the study file");
   }

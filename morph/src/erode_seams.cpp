@@ -7,6 +7,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <unordered_map>
 
 #include "erode_seams.h"
@@ -253,6 +254,12 @@ std::size_t split_pass(TriangleMesh& mesh, std::vector<TriangleOrigin>& patch_of
           for (std::uint32_t w : it->second) {
             if (w == a || w == b) continue;
             const BoundaryVertex& bv = info.at(w);
+            const bool dbg = std::abs(mesh.vertices[w].x() - 25.1003) < 1e-3 && mesh.vertices[w].y() < 9 &&
+                             std::abs(pa.x() - 25.0833) < 0.1 && pa.z() > 9.99;
+            if (dbg)
+              fprintf(stderr, "DBG w=%u edge %u->%u patch %u wpatches %zu first %u tangent %g %g %g\n", w, a, b,
+                      patch_of[t].patch, bv.patches.size(), bv.patches[0], bv.tangent.x(), bv.tangent.y(),
+                      bv.tangent.z());
             if (std::find(bv.patches.begin(), bv.patches.end(), patch_of[t].patch) != bv.patches.end())
               continue;
             const Vector3d& pw = mesh.vertices[w];

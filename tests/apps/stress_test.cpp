@@ -2,10 +2,12 @@
 // OpenVDB reference, shards that partition a campaign, merges that add up, and a CI-sized campaign
 // through the real binary.
 #include <gtest/gtest.h>
+
 #include <morph/exceptions.h>
 #include <morph/mesh.h>
 #include <morphmill/job_io.h>
 #include <vdb_ref/reference.h>
+#include "apps/command_support.h"
 
 #include <array>
 #include <cstdio>
@@ -25,10 +27,7 @@ using namespace morphmill::stress;
 namespace {
 
 fs::path scratch(const std::string& name) {
-  const fs::path dir = fs::temp_directory_path() / ("morphmill_stress_test_" + name);
-  fs::remove_all(dir);
-  fs::create_directories(dir);
-  return dir;
+  return morphmill_test::scratch_dir("stress_test", name);
 }
 
 std::string slurp(const fs::path& path) {
@@ -36,20 +35,9 @@ std::string slurp(const fs::path& path) {
   return std::string(std::istreambuf_iterator<char>(in), {});
 }
 
-struct CommandResult {
-  int exit_code = -1;
-  std::string output;
-};
-
+using morphmill_test::CommandResult;
 CommandResult run(const std::string& command) {
-  CommandResult result;
-  FILE* pipe = popen((command + " 2>&1").c_str(), "r");
-  if (!pipe) return result;
-  std::array<char, 4096> buffer{};
-  while (fgets(buffer.data(), buffer.size(), pipe)) result.output += buffer.data();
-  const int status = pclose(pipe);
-  result.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-  return result;
+  return morphmill_test::run_command(command);
 }
 
 CaseResult fake_result(std::size_t index, std::vector<std::string> failures, double generator_to_exact) {

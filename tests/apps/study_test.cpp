@@ -1,7 +1,9 @@
 // `morphmill study`: the least-squares order on synthetic data, the zigzag job builder, the study
 // file checks, PLplot pictures, and a small study through the binary.
 #include <gtest/gtest.h>
+
 #include <morph/exceptions.h>
+#include "apps/command_support.h"
 
 #include <array>
 #include <cmath>
@@ -20,10 +22,7 @@ using namespace morphmill::study;
 namespace {
 
 fs::path scratch(const std::string& name) {
-  const fs::path dir = fs::temp_directory_path() / ("morphmill_study_test_" + name);
-  fs::remove_all(dir);
-  fs::create_directories(dir);
-  return dir;
+  return morphmill_test::scratch_dir("study_test", name);
 }
 
 std::string slurp(const fs::path& path) {
@@ -44,12 +43,9 @@ std::pair<int, int> png_size(const fs::path& path) {
 }
 
 int run(const std::string& command, std::string* output) {
-  FILE* pipe = popen((command + " 2>&1").c_str(), "r");
-  if (!pipe) return -1;
-  std::array<char, 4096> buffer{};
-  while (fgets(buffer.data(), buffer.size(), pipe)) *output += buffer.data();
-  const int status = pclose(pipe);
-  return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+  const morphmill_test::CommandResult result = morphmill_test::run_command(command);
+  *output += result.output;
+  return result.exit_code;
 }
 
 }  // namespace

@@ -2,6 +2,8 @@
 // report opened in a real browser (headless Chromium), and exit code 2 for broken input.
 #include <gtest/gtest.h>
 
+#include "apps/command_support.h"
+
 #include <array>
 #include <cstdio>
 #include <filesystem>
@@ -14,27 +16,13 @@ namespace fs = std::filesystem;
 
 namespace {
 
-struct CommandResult {
-  int exit_code = -1;
-  std::string output;
-};
-
+using morphmill_test::CommandResult;
 CommandResult run(const std::string& command) {
-  CommandResult result;
-  FILE* pipe = popen((command + " 2>&1").c_str(), "r");
-  if (!pipe) return result;
-  std::array<char, 4096> buffer{};
-  while (fgets(buffer.data(), buffer.size(), pipe)) result.output += buffer.data();
-  const int status = pclose(pipe);
-  result.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-  return result;
+  return morphmill_test::run_command(command);
 }
 
 fs::path scratch(const std::string& name) {
-  const fs::path dir = fs::temp_directory_path() / ("morphmill_verify_test_" + name);
-  fs::remove_all(dir);
-  fs::create_directories(dir);
-  return dir;
+  return morphmill_test::scratch_dir("verify_test", name);
 }
 
 std::string slurp(const fs::path& path) {
