@@ -344,8 +344,23 @@ Evaluation evaluate_job(const morph::Job& job, const EvaluateOptions& options) {
       for (std::uint32_t v : eroded.mesh.triangles[t]) boxes[t].extend(eroded.mesh.vertices[v]);
     const morph::AabbTree triangles(std::move(boxes));
     const double radius = 2.0 * out.voxel_size;
-    for (const raytest::OneSidedDeviation* side : {&out.morph_to_reference, &out.reference_to_morph}) {
-      const std::vector<bool> resolvable = resolvable_samples(side->samples, eroded.mesh, triangles, radius);
+    // Judge each comparison where it lands on the generator: for the reference's samples that is
+    // their closest point on the generator (a feature the reference lost lies there, not at the sample).
+    std::vector<raytest::SurfaceSample> landing = out.reference_to_morph.samples;
+    for (std::size_t i = 0; i < landing.size() && i < out.reference_to_morph.target_triangles.size(); ++i) {
+      const std::uint32_t t = out.reference_to_morph.target_triangles[i];
+      const auto& tri = eroded.mesh.triangles[t];
+      landing[i].position =
+          morph::closest_point_on_triangle(landing[i].position, eroded.mesh.vertices[tri[0]],
+                                           eroded.mesh.vertices[tri[1]], eroded.mesh.vertices[tri[2]]);
+      landing[i].normal = morph::face_normal(eroded.mesh, t);
+    }
+    const std::pair<const raytest::OneSidedDeviation*, const std::vector<raytest::SurfaceSample>*> sides[] = {
+        {&out.morph_to_reference, &out.morph_to_reference.samples}, {&out.reference_to_morph, &landing}};
+    WorstPlace decisive;
+    decisive.against = "reference (largest resolvable, decides the verdict)";
+    for (const auto& [side, positions] : sides) {
+      const std::vector<bool> resolvable = resolvable_samples(*positions, eroded.mesh, triangles, radius);
       for (std::size_t i = 0; i < resolvable.size(); ++i) {
         if (std::isnan(side->values[i])) continue;
         if (!resolvable[i]) {
@@ -353,9 +368,17 @@ Evaluation evaluate_job(const morph::Job& job, const EvaluateOptions& options) {
           continue;
         }
         ++out.agreement_samples;
-        out.resolvable_hausdorff = std::max(out.resolvable_hausdorff, std::abs(side->values[i]));
+        if (std::abs(side->values[i]) > out.resolvable_hausdorff) {
+          out.resolvable_hausdorff = std::abs(side->values[i]);
+          decisive.position = (*positions)[i].position;
+          decisive.deviation = side->values[i];
+          const std::uint32_t t =
+              side == &out.morph_to_reference ? (*positions)[i].triangle : side->target_triangles[i];
+          decisive.tag = t < eroded.mesh.tags.size() ? eroded.mesh.tags[t] : morph::FaceTag{};
+        }
       }
     }
+    if (out.agreement_samples > 0) out.worst.push_back(decisive);
   }
   out.sides_agree = out.agreement_samples > 0 && out.resolvable_hausdorff <= out.agreement_bound;
   out.pieces_match = out.morph_pieces.size() == out.reference_pieces.size();

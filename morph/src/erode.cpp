@@ -427,11 +427,16 @@ PatchMesh trim_patch(const Context& ctx, const Patch& patch) {
     const double t = edge_root(g, val(ia, ja), val(ib, jb), [&](double s) {
       return std::array<double, 2>{pu(ia) + s * (pu(ib) - pu(ia)), pv(ja) + s * (pv(jb) - pv(ja))};
     });
-    // A root at a grid node is that node (no sliver triangles between them).
+    // A root at a grid node is that node (no sliver triangles between them). "At" means within
+    // the weld distance (100 ties) in space: the tie-break shifts a trimming curve that runs
+    // along a grid line (a pass exactly along a stock face) by one tie, which on a short edge is
+    // far more than 1e-9 of it, and the sliver left would keep the seam from closing.
+    const double edge_length = (evaluate(patch, pu(ib), pv(jb)) - evaluate(patch, pu(ia), pv(ja))).norm();
+    const double snap = std::max(1e-9, 100.0 * ctx.tie / std::max(edge_length, 1e-300));
     std::uint32_t id;
-    if (t <= 1e-9) {
+    if (t <= snap) {
       id = node(ia, ja);
-    } else if (t >= 1.0 - 1e-9) {
+    } else if (t >= 1.0 - snap) {
       id = node(ib, jb);
     } else {
       id = static_cast<std::uint32_t>(out.vertices.size());

@@ -6,8 +6,8 @@
 #include <Eigen/Dense>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
-#include <cstdio>
 #include <unordered_map>
 
 #include "erode_seams.h"
@@ -78,10 +78,14 @@ std::size_t weld(TriangleMesh& mesh, std::vector<TriangleOrigin>& patch_of, doub
   std::vector<Triangle> triangles;
   std::vector<FaceTag> tags;
   std::vector<TriangleOrigin> patches;
+  std::vector<std::uint32_t> collapsed_patches;
   for (std::size_t t = 0; t < mesh.triangles.size(); ++t) {
     Triangle tri;
     for (int k = 0; k < 3; ++k) tri[k] = target[mesh.triangles[t][k]];
-    if (tri[0] == tri[1] || tri[1] == tri[2] || tri[0] == tri[2]) continue;
+    if (tri[0] == tri[1] || tri[1] == tri[2] || tri[0] == tri[2]) {
+      collapsed_patches.push_back(patch_of[t].patch);
+      continue;
+    }
     for (int k = 0; k < 3; ++k) {
       std::uint32_t& n = new_index[tri[k]];
       if (n == UINT32_MAX) {
@@ -98,6 +102,31 @@ std::size_t weld(TriangleMesh& mesh, std::vector<TriangleOrigin>& patch_of, doub
   mesh.triangles = std::move(triangles);
   mesh.tags = std::move(tags);
   patch_of = std::move(patches);
+  // A collapsed triangle (a patch's degenerate corner, e.g. a stock triangle's apex) may have
+  // paired an edge of its neighbour, which therefore carries no border bit although it is now
+  // open: recompute the bits of the patches that lost triangles.
+  std::sort(collapsed_patches.begin(), collapsed_patches.end());
+  collapsed_patches.erase(std::unique(collapsed_patches.begin(), collapsed_patches.end()),
+                          collapsed_patches.end());
+  if (!collapsed_patches.empty()) {
+    auto affected = [&](std::uint32_t patch) {
+      return std::binary_search(collapsed_patches.begin(), collapsed_patches.end(), patch);
+    };
+    std::vector<std::array<std::uint32_t, 3>> keys;  // (patch, from, to)
+    for (std::size_t t = 0; t < mesh.triangles.size(); ++t)
+      if (affected(patch_of[t].patch))
+        for (int k = 0; k < 3; ++k)
+          keys.push_back({patch_of[t].patch, mesh.triangles[t][k], mesh.triangles[t][(k + 1) % 3]});
+    std::sort(keys.begin(), keys.end());
+    for (std::size_t t = 0; t < mesh.triangles.size(); ++t) {
+      if (!affected(patch_of[t].patch)) continue;
+      const Triangle& tri = mesh.triangles[t];
+      for (int k = 0; k < 3; ++k) {
+        const std::array<std::uint32_t, 3> reverse{patch_of[t].patch, tri[(k + 1) % 3], tri[k]};
+        if (!std::binary_search(keys.begin(), keys.end(), reverse)) patch_of[t].border |= 1u << k;
+      }
+    }
+  }
   return merged;
 }
 
@@ -241,38 +270,41 @@ std::size_t split_pass(TriangleMesh& mesh, std::vector<TriangleOrigin>& patch_of
     const Vector3d ab = pb - pa;
     const double len2 = ab.squaredNorm();
     if (len2 <= 0.0) continue;
-    Eigen::AlignedBox3d box(pa.cwiseMin(pb), pa.cwiseMax(pb));
-    box.min().array() -= options.match_distance;
-    box.max().array() += options.match_distance;
-    const CellKey lo = cell_of(box.min(), cell), hi = cell_of(box.max(), cell);
-    if ((hi.x - lo.x + 1) * (hi.y - lo.y + 1) * (hi.z - lo.z + 1) > 4096) continue;
-    for (std::int64_t x = lo.x; x <= hi.x; ++x)
-      for (std::int64_t y = lo.y; y <= hi.y; ++y)
-        for (std::int64_t z = lo.z; z <= hi.z; ++z) {
-          auto it = grid.find({x, y, z});
-          if (it == grid.end()) continue;
-          for (std::uint32_t w : it->second) {
-            if (w == a || w == b) continue;
-            const BoundaryVertex& bv = info.at(w);
-            const bool dbg = std::abs(mesh.vertices[w].x() - 25.1003) < 1e-3 && mesh.vertices[w].y() < 9 &&
-                             std::abs(pa.x() - 25.0833) < 0.1 && pa.z() > 9.99;
-            if (dbg)
-              fprintf(stderr, "DBG w=%u edge %u->%u patch %u wpatches %zu first %u tangent %g %g %g\n", w, a, b,
-                      patch_of[t].patch, bv.patches.size(), bv.patches[0], bv.tangent.x(), bv.tangent.y(),
-                      bv.tangent.z());
-            if (std::find(bv.patches.begin(), bv.patches.end(), patch_of[t].patch) != bv.patches.end())
-              continue;
-            const Vector3d& pw = mesh.vertices[w];
-            const double lambda = (pw - pa).dot(ab) / len2;
-            if (!(lambda > 1e-9 && lambda < 1.0 - 1e-9)) continue;
-            const double distance = (pw - (pa + lambda * ab)).norm();
-            // A chord of length c of a curve bending no tighter than c/2 stays within c/4 of it.
-            if (distance > options.match_distance || distance > 0.25 * std::sqrt(len2)) continue;
-            // The other side runs the curve the opposite way.
-            if (bv.tangent.dot(ab) >= 0.0) continue;
-            matches.push_back({w, patch_of[t].patch, distance, lambda, t, k});
+    // The cells near the edge, piece by piece: a long edge (a big flat stock triangle's side)
+    // has a bounding box of far too many cells, but only the cells along it can hold matches.
+    std::vector<std::uint32_t> near;
+    const double length = std::sqrt(len2);
+    const int pieces = static_cast<int>(std::min(1e6, std::ceil(length / cell)));
+    for (int piece = 0; piece < pieces; ++piece) {
+      const Vector3d p0 = pa + (static_cast<double>(piece) / pieces) * ab;
+      const Vector3d p1 = pa + (static_cast<double>(piece + 1) / pieces) * ab;
+      Eigen::AlignedBox3d box(p0.cwiseMin(p1), p0.cwiseMax(p1));
+      box.min().array() -= options.match_distance;
+      box.max().array() += options.match_distance;
+      const CellKey lo = cell_of(box.min(), cell), hi = cell_of(box.max(), cell);
+      for (std::int64_t x = lo.x; x <= hi.x; ++x)
+        for (std::int64_t y = lo.y; y <= hi.y; ++y)
+          for (std::int64_t z = lo.z; z <= hi.z; ++z) {
+            auto it = grid.find({x, y, z});
+            if (it != grid.end()) near.insert(near.end(), it->second.begin(), it->second.end());
           }
-        }
+    }
+    std::sort(near.begin(), near.end());
+    near.erase(std::unique(near.begin(), near.end()), near.end());
+    for (std::uint32_t w : near) {
+      if (w == a || w == b) continue;
+      const BoundaryVertex& bv = info.at(w);
+      if (std::find(bv.patches.begin(), bv.patches.end(), patch_of[t].patch) != bv.patches.end()) continue;
+      const Vector3d& pw = mesh.vertices[w];
+      const double lambda = (pw - pa).dot(ab) / len2;
+      if (!(lambda > 1e-9 && lambda < 1.0 - 1e-9)) continue;
+      const double distance = (pw - (pa + lambda * ab)).norm();
+      // A chord of length c of a curve bending no tighter than c/2 stays within c/4 of it.
+      if (distance > options.match_distance || distance > 0.25 * std::sqrt(len2)) continue;
+      // The other side runs the curve the opposite way.
+      if (bv.tangent.dot(ab) >= 0.0) continue;
+      matches.push_back({w, patch_of[t].patch, distance, lambda, t, k});
+    }
   }
   std::sort(matches.begin(), matches.end(), [](const Match& x, const Match& y) {
     if (x.w != y.w) return x.w < y.w;
@@ -429,24 +461,52 @@ std::size_t fill_holes(TriangleMesh& mesh, std::vector<TriangleOrigin>& patch_of
   std::size_t filled = 0;
   for (const auto& [a0, b0] : starts) {
     if (used.count(edge_key(a0, b0))) continue;
-    std::vector<std::uint32_t> loop{a0};
-    std::vector<std::uint32_t> loop_triangles;
-    std::uint32_t a = a0;
-    bool closed = false;
-    for (int steps = 0; steps < 32; ++steps) {
-      const auto& outs = out[a];
-      if (outs.size() != 1) break;
-      const auto [b, t] = outs[0];
-      if (used.count(edge_key(a, b))) break;
-      loop_triangles.push_back(t);
-      if (b == a0) {
-        closed = true;
+    // Shortest loop of unused boundary edges back to a0 (breadth first): where two holes touch
+    // at a vertex (a trimming curve ending exactly on another patch's border), that vertex has
+    // two outgoing boundary edges and a plain walk could not choose.
+    constexpr std::size_t kMaxLoop = 32;
+    std::vector<std::uint32_t> frontier{b0};
+    std::unordered_map<std::uint32_t, std::pair<std::uint32_t, std::uint32_t>>
+        reached;  // v -> (previous, triangle)
+    std::uint32_t first_triangle = UINT32_MAX;
+    for (const auto& [b, t] : out[a0])
+      if (b == b0) {
+        first_triangle = t;
         break;
       }
-      loop.push_back(b);
-      a = b;
+    reached[b0] = {a0, first_triangle};
+    bool closed = false;
+    for (std::size_t depth = 1; depth < kMaxLoop && !frontier.empty() && !closed; ++depth) {
+      std::vector<std::uint32_t> next;
+      for (std::uint32_t a : frontier) {
+        for (const auto& [b, t] : out[a]) {
+          if (used.count(edge_key(a, b))) continue;
+          if (b == a0) {
+            reached[a0] = {a, t};
+            closed = true;
+            break;
+          }
+          if (reached.count(b)) continue;
+          reached[b] = {a, t};
+          next.push_back(b);
+        }
+        if (closed) break;
+      }
+      frontier = std::move(next);
     }
-    if (!closed || loop.size() < 3) continue;
+    if (!closed) continue;
+    std::vector<std::uint32_t> loop;
+    std::vector<std::uint32_t> loop_triangles;  // triangle of the edge loop[i] -> loop[i+1]
+    for (std::uint32_t v = a0;;) {
+      const auto [previous, t] = reached.at(v);
+      loop.push_back(previous);
+      loop_triangles.push_back(t);
+      v = previous;
+      if (v == a0) break;
+    }
+    std::reverse(loop.begin(), loop.end());
+    std::reverse(loop_triangles.begin(), loop_triangles.end());
+    if (loop.size() < 3) continue;
     Eigen::AlignedBox3d box;
     Vector3d centroid = Vector3d::Zero();
     for (std::uint32_t v : loop) {

@@ -257,6 +257,55 @@ TEST(ErodeSphere, PassThroughTheTopFaceIsClosedWithExactVolume) {
   EXPECT_NEAR(topology.volume, 2000.0 - removed, removed_area * job.tolerance);
 }
 
+// data/jobs/single_slot.json: a ball-end pass whose ball centre runs exactly in the top face
+// (tip 2 below it), through the whole block. The slot's half-cylinder edge lies exactly on the top
+// face and the tie-break shifts the trimming curves of both sides off the grid line by one tie:
+// the seams must still close. Removed: a half cylinder of radius r across the block.
+TEST(ErodeBallEnd, SlotWithBallCentreInTheTopFaceIsClosedWithExactVolume) {
+  const double r = 2.0, width = 40.0;
+  const Job job =
+      box_job({0, 0, 0}, {width, 20, 10}, ballend_tool(r, 20.0), {{{-5, 10, 8}, {45, 10, 8}}}, 0.01);
+  const morph::ErodeResult result = morph::erode(job);
+  const morph::TopologyReport topology = morph::topology_report(result.mesh);
+  EXPECT_TRUE(topology.closed_manifold());
+  EXPECT_EQ(topology.components, 1u);
+  EXPECT_EQ(result.stats.open_edges, 0u);
+  const double removed = 0.5 * M_PI * r * r * width;
+  const double cut_area = M_PI * r * width + M_PI * r * r;  // half cylinder and its two end half discs
+  EXPECT_NEAR(topology.volume, width * 20.0 * 10.0 - removed, cut_area * job.tolerance);
+  EXPECT_LE(largest_field_error(result.mesh, morph::ErosionField(job)), job.tolerance);
+}
+
+// data/jobs/mesh_stock.json built in code: a sphere dragged along a bent groove through a block
+// given as the 12 triangles of data/meshes/block.stl (same vertices, same diagonals). The stock
+// triangles' degenerate apex corners and their long shared diagonals must not leave seams open.
+// The surface is the same as with the analytic box stock, so both volumes are within the curved
+// area times the tolerance of the truth.
+TEST(ErodeSphere, GrooveThroughAMeshStockIsClosedAndMatchesTheBoxStock) {
+  const double r = 4.0;
+  const std::vector<std::vector<Vector3d>> groove{{{-5, 20, 20}, {50, 30, 18}, {105, 40, 20}}};
+  const Job box = box_job({0, 0, 0}, {100, 60, 20}, sphere_tool(r), groove, 0.01);
+  Job job = box;
+  job.stock.type = morph::StockType::Mesh;
+  job.stock.mesh.vertices = {{0, 0, 0},  {0, 60, 0},   {100, 60, 0},  {100, 0, 0},
+                             {0, 0, 20}, {100, 0, 20}, {100, 60, 20}, {0, 60, 20}};
+  job.stock.mesh.triangles = {{0, 1, 2}, {0, 2, 3}, {4, 5, 6}, {4, 6, 7}, {0, 3, 5}, {0, 5, 4},
+                              {1, 7, 6}, {1, 6, 2}, {0, 4, 7}, {0, 7, 1}, {3, 2, 6}, {3, 6, 5}};
+  ASSERT_NEAR(morph::enclosed_volume(job.stock.mesh), 100.0 * 60.0 * 20.0, 1e-9);
+  const morph::ErodeResult result = morph::erode(job);
+  const morph::TopologyReport topology = morph::topology_report(result.mesh);
+  EXPECT_TRUE(topology.closed_manifold());
+  EXPECT_EQ(topology.components, 1u);
+  EXPECT_EQ(result.stats.open_edges, 0u);
+  const morph::TopologyReport reference = morph::topology_report(morph::erode(box).mesh);
+  EXPECT_TRUE(reference.closed_manifold());
+  const double path_length = (groove[0][1] - groove[0][0]).norm() + (groove[0][2] - groove[0][1]).norm();
+  const double curved_area = 2.0 * M_PI * r * path_length + 4.0 * M_PI * r * r;  // bounds the groove's
+  EXPECT_NEAR(topology.volume, reference.volume, 2.0 * curved_area * job.tolerance);
+  EXPECT_LT(topology.volume, 100.0 * 60.0 * 20.0);
+  EXPECT_LE(largest_field_error(result.mesh, morph::ErosionField(job)), job.tolerance);
+}
+
 // A repeated pass coincides with the first everywhere: the output is the same surface.
 TEST(ErodeSphere, RepeatedPassGivesTheSameSurface) {
   const std::vector<Vector3d> pass{{4, 5, 9}, {16, 5, 9}};
