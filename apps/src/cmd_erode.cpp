@@ -70,7 +70,7 @@ void register_erode_command(CLI::App& app) {
       "side sweeps along every move, front sweeps at path ends and turns, and the stock's faces, each\n"
       "trimmed against the exact swept volumes. The PLY output keeps each face's provenance\n"
       "(patch_kind, source = move or stock face, line = G-code line).\n"
-      "Example: morphmill erode data/jobs/erode_slots.json -o out/part.ply --tolerance 0.01");
+      "Example: morphmill erode data/jobs/through_slots.json -o out/part.ply --tolerance 0.01");
   command->add_option("job", options->job_path, "Job file (JSON, see docs/job-format.md)")->required();
   command->add_option("--out,-o", options->mesh_path, "Output mesh (PLY keeps the face provenance)")
       ->required();

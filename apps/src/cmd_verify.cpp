@@ -12,7 +12,9 @@ void register_verify_command(CLI::App& app) {
       "verify",
       "Run the generator, the OpenVDB reference and the Embree deviation measurement on one job and write\n"
       "a report. Checks that the generator stays within the job's tolerance of the exact surface (both\n"
-      "ways) and that generator and reference agree within tolerance + sqrt(3) * voxel, piece by piece.\n"
+      "ways) and that generator and reference agree within tolerance + sqrt(3) * voxel wherever the\n"
+      "surface is resolvable at that voxel size (acute wedges, thin walls and gaps under two voxels are\n"
+      "reported but left out), with the same pieces and volumes.\n"
       "Exit code 0 when the verdict holds, 1 when it does not, 2 for bad input.\n"
       "Example: morphmill verify data/jobs/through_slots.json --out out/slots");
   verify->add_option("job", options->job_path, "Job file (JSON, see docs/job-format.md)")
