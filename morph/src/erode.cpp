@@ -15,6 +15,7 @@
 #include <optional>
 #include <unordered_map>
 
+#include "convex_minimum.h"
 #include "erode_seams.h"
 
 namespace morph {
@@ -130,13 +131,6 @@ Vector3d solid_normal(const Patch& p, double u, double v) {
 // The exact swept-volume distance of morph/sweep_distance.h, evaluated faster where possible:
 // the body's golden-section search only runs when a lower bound of the body's distance could
 // beat the tip's capsule (closed form). Same value as swept_signed_distance.
-double capped_cylinder(const Vector3d& q, double r, double height) {
-  const double dr = std::sqrt(q.x() * q.x() + q.y() * q.y()) - r;
-  const double dz = std::max(-q.z(), q.z() - height);
-  const double a = std::max(dr, 0.0), b = std::max(dz, 0.0);
-  return std::sqrt(a * a + b * b) + std::min(std::max(dr, dz), 0.0);
-}
-
 double sweep_distance(const Tool& tool, const Vector3d& a, const Vector3d& b, const Vector3d& p) {
   const Vector3d d = b - a;
   const double dd = d.squaredNorm();
@@ -160,7 +154,9 @@ double sweep_distance(const Tool& tool, const Vector3d& a, const Vector3d& b, co
     bound = std::max(bound, (ph - th * dh).norm() - r);
   }
   if (bound >= ball) return ball;
-  auto body = [&](double t) { return capped_cylinder(p - (c0 + t * d), r, tool.length); };
+  auto body = [&](double t) {
+    return detail::capped_cylinder_distance(p - (c0 + t * d), r, 0.0, tool.length);
+  };
   // The body distance is convex in t. Beside the body it is the horizontal distance to the
   // centre at the parameter nearest horizontally, within the parameters whose body spans p's
   // height: try that parameter and accept it if it is a local (hence global) minimum.
@@ -181,27 +177,7 @@ double sweep_distance(const Tool& tool, const Vector3d& a, const Vector3d& b, co
     }
   }
   // Otherwise golden section on the convex body distance along the move.
-  constexpr double kInvPhi = 0.6180339887498949;
-  double lo = 0.0, hi = 1.0;
-  double x1 = hi - kInvPhi * (hi - lo), x2 = lo + kInvPhi * (hi - lo);
-  double f1 = body(x1), f2 = body(x2);
-  for (int i = 0; i < 64 && hi - lo > 1e-14; ++i) {
-    if (f1 < f2) {
-      hi = x2;
-      x2 = x1;
-      f2 = f1;
-      x1 = hi - kInvPhi * (hi - lo);
-      f1 = body(x1);
-    } else {
-      lo = x1;
-      x1 = x2;
-      f1 = f2;
-      x2 = lo + kInvPhi * (hi - lo);
-      f2 = body(x2);
-    }
-  }
-  double best = std::min({f1, f2, body(lo), body(hi)});
-  return std::min(ball, best);
+  return std::min(ball, detail::golden_minimum(body, 0.0, 1.0).second);
 }
 
 /// Everything a patch's trimming function needs, shared read-only by all threads.

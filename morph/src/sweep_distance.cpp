@@ -2,6 +2,8 @@
 #include <morph/mesh_distance.h>
 #include <morph/sweep_distance.h>
 
+#include "convex_minimum.h"
+
 #include <algorithm>
 #include <cmath>
 #include <limits>
@@ -11,46 +13,13 @@ namespace morph {
 
 namespace {
 
-constexpr double kInvPhi = 0.6180339887498949;
-
-// Minimum of a convex (or, on small pieces, unimodal) function over [lo, hi] by golden section.
-template <class F>
-std::pair<double, double> golden_minimum(F&& f, double lo, double hi) {
-  double x1 = hi - kInvPhi * (hi - lo), x2 = lo + kInvPhi * (hi - lo);
-  double f1 = f(x1), f2 = f(x2);
-  for (int i = 0; i < 64 && hi - lo > 1e-14; ++i) {
-    if (f1 < f2) {
-      hi = x2;
-      x2 = x1;
-      f2 = f1;
-      x1 = hi - kInvPhi * (hi - lo);
-      f1 = f(x1);
-    } else {
-      lo = x1;
-      x1 = x2;
-      f1 = f2;
-      x2 = lo + kInvPhi * (hi - lo);
-      f2 = f(x2);
-    }
-  }
-  std::pair<double, double> best{f1 < f2 ? x1 : x2, std::min(f1, f2)};
-  for (double t : {lo, hi}) {
-    const double v = f(t);
-    if (v < best.second) best = {t, v};
-  }
-  return best;
-}
+using detail::capped_cylinder_distance;
+using detail::golden_minimum;
 
 double segment_parameter(const Eigen::Vector3d& a, const Eigen::Vector3d& b, const Eigen::Vector3d& p) {
   const Eigen::Vector3d d = b - a;
   const double dd = d.squaredNorm();
   return dd > 0.0 ? std::clamp((p - a).dot(d) / dd, 0.0, 1.0) : 0.0;
-}
-
-double capped_cylinder_distance(const Eigen::Vector3d& q, double r, double z0, double z1) {
-  const double dr = std::hypot(q.x(), q.y()) - r;
-  const double dz = std::max(z0 - q.z(), q.z() - z1);
-  return std::hypot(std::max(dr, 0.0), std::max(dz, 0.0)) + std::min(std::max(dr, dz), 0.0);
 }
 
 // (parameter, distance) of the nearest tool position along a straight segment.

@@ -1,6 +1,8 @@
 #include <morph/exceptions.h>
 #include <morph/tool.h>
 
+#include "convex_minimum.h"
+
 #include <algorithm>
 #include <cmath>
 
@@ -30,19 +32,6 @@ ToolType tool_type_from_string(const std::string& name, const std::string& where
                    "' (expected sphere, ballend, flat, bullnose or conical)");
 }
 
-namespace {
-
-// Exact signed distance to a vertical capped cylinder [z0, z1] of radius r around the origin's
-// z axis, with q relative to the axis.
-double capped_cylinder_distance(const Eigen::Vector3d& q, double r, double z0, double z1) {
-  const double dr = std::hypot(q.x(), q.y()) - r;
-  const double dz = std::max(z0 - q.z(), q.z() - z1);
-  const double outside = std::hypot(std::max(dr, 0.0), std::max(dz, 0.0));
-  return outside + std::min(std::max(dr, dz), 0.0);
-}
-
-}  // namespace
-
 double tool_signed_distance(const Tool& tool, const Eigen::Vector3d& tool_point, const Eigen::Vector3d& p) {
   switch (tool.type) {
     case ToolType::Sphere:
@@ -53,7 +42,7 @@ double tool_signed_distance(const Tool& tool, const Eigen::Vector3d& tool_point,
       // inside (the cylinder's bottom disc lies inside the ball).
       const Eigen::Vector3d q = p - (tool_point + Eigen::Vector3d(0, 0, tool.radius));
       const double ball = q.norm() - tool.radius;
-      const double body = capped_cylinder_distance(q, tool.radius, 0.0, tool.length);
+      const double body = detail::capped_cylinder_distance(q, tool.radius, 0.0, tool.length);
       return std::min(ball, body);
     }
     default:

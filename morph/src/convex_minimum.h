@@ -1,0 +1,49 @@
+#pragma once
+// Private to morph: the pieces every exact tool-sweep distance is built from.
+#include <Eigen/Core>
+
+#include <algorithm>
+#include <cmath>
+#include <utility>
+
+namespace morph::detail {
+
+/// (argument, value) of the minimum of a convex (or, on a small piece, unimodal) function over
+/// [lo, hi] by golden section, to 1e-14 in the argument; the ends are candidates too.
+template <class F>
+std::pair<double, double> golden_minimum(F&& f, double lo, double hi) {
+  constexpr double kInvPhi = 0.6180339887498949;
+  double x1 = hi - kInvPhi * (hi - lo), x2 = lo + kInvPhi * (hi - lo);
+  double f1 = f(x1), f2 = f(x2);
+  for (int i = 0; i < 64 && hi - lo > 1e-14; ++i) {
+    if (f1 < f2) {
+      hi = x2;
+      x2 = x1;
+      f2 = f1;
+      x1 = hi - kInvPhi * (hi - lo);
+      f1 = f(x1);
+    } else {
+      lo = x1;
+      x1 = x2;
+      f1 = f2;
+      x2 = lo + kInvPhi * (hi - lo);
+      f2 = f(x2);
+    }
+  }
+  std::pair<double, double> best{f1 < f2 ? x1 : x2, std::min(f1, f2)};
+  for (double t : {lo, hi}) {
+    const double v = f(t);
+    if (v < best.second) best = {t, v};
+  }
+  return best;
+}
+
+/// Exact signed distance to a vertical capped cylinder of radius r around the z axis between
+/// heights z0 and z1, with q relative to that axis.
+inline double capped_cylinder_distance(const Eigen::Vector3d& q, double r, double z0, double z1) {
+  const double dr = std::hypot(q.x(), q.y()) - r;
+  const double dz = std::max(z0 - q.z(), q.z() - z1);
+  return std::hypot(std::max(dr, 0.0), std::max(dz, 0.0)) + std::min(std::max(dr, dz), 0.0);
+}
+
+}  // namespace morph::detail
