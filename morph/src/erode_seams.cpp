@@ -33,6 +33,25 @@ CellKey cell_of(const Vector3d& p, double cell) {
           static_cast<std::int64_t>(std::floor(p.z() / cell))};
 }
 
+using PointGrid = std::unordered_map<CellKey, std::vector<std::uint32_t>, CellHash>;
+
+/// The first point of `grid` (cells of edge `distance`) within `distance` of p that `accept`s,
+/// searching the 27 cells around p in a fixed order; `none` if there is none.
+template <class Accept>
+std::uint32_t find_near(const PointGrid& grid, const std::vector<Vector3d>& points, const Vector3d& p,
+                        double distance, std::uint32_t none, Accept&& accept) {
+  const CellKey c = cell_of(p, distance);
+  for (int dx = -1; dx <= 1; ++dx)
+    for (int dy = -1; dy <= 1; ++dy)
+      for (int dz = -1; dz <= 1; ++dz) {
+        auto it = grid.find({c.x + dx, c.y + dy, c.z + dz});
+        if (it == grid.end()) continue;
+        for (std::uint32_t u : it->second)
+          if ((points[u] - p).norm() <= distance && accept(u)) return u;
+      }
+  return none;
+}
+
 std::uint64_t edge_key(std::uint32_t a, std::uint32_t b) {
   return (static_cast<std::uint64_t>(a) << 32) | b;
 }
@@ -40,7 +59,7 @@ std::uint64_t edge_key(std::uint32_t a, std::uint32_t b) {
 /// Merges vertices closer than `distance` into the first of them, drops collapsed triangles and
 /// unreferenced vertices. Returns the number of merged vertices.
 std::size_t weld(TriangleMesh& mesh, std::vector<TriangleOrigin>& patch_of, double distance) {
-  std::unordered_map<CellKey, std::vector<std::uint32_t>, CellHash> grid;
+  PointGrid grid;
   std::vector<std::uint32_t> target(mesh.vertices.size());
   std::vector<bool> on_border(mesh.vertices.size(), false);
   for (std::size_t t = 0; t < mesh.triangles.size(); ++t)
@@ -52,22 +71,11 @@ std::size_t weld(TriangleMesh& mesh, std::vector<TriangleOrigin>& patch_of, doub
     target[v] = v;
     if (!on_border[v]) continue;  // interior vertices of a patch are never shared
     const Vector3d& p = mesh.vertices[v];
-    const CellKey c = cell_of(p, distance);
-    std::uint32_t found = v;
-    for (int dx = -1; dx <= 1 && found == v; ++dx)
-      for (int dy = -1; dy <= 1 && found == v; ++dy)
-        for (int dz = -1; dz <= 1 && found == v; ++dz) {
-          auto it = grid.find({c.x + dx, c.y + dy, c.z + dz});
-          if (it == grid.end()) continue;
-          for (std::uint32_t u : it->second)
-            if ((mesh.vertices[u] - p).norm() <= distance) {
-              found = u;
-              break;
-            }
-        }
+    const std::uint32_t found =
+        find_near(grid, mesh.vertices, p, distance, v, [](std::uint32_t) { return true; });
     target[v] = found;
     if (found == v) {
-      grid[c].push_back(v);
+      grid[cell_of(p, distance)].push_back(v);
     } else {
       ++merged;
     }
@@ -169,7 +177,7 @@ std::size_t snap_boundary(TriangleMesh& mesh, std::vector<TriangleOrigin>& patch
   std::sort(boundary.begin(), boundary.end());
   std::vector<std::uint32_t> target(mesh.vertices.size());
   for (std::uint32_t v = 0; v < target.size(); ++v) target[v] = v;
-  std::unordered_map<CellKey, std::vector<std::uint32_t>, CellHash> grid;
+  PointGrid grid;
   std::size_t merged = 0;
   auto disjoint = [&](std::uint32_t a, std::uint32_t b) {
     for (std::uint32_t p : patches_of_vertex[a])
@@ -180,21 +188,10 @@ std::size_t snap_boundary(TriangleMesh& mesh, std::vector<TriangleOrigin>& patch
   };
   for (std::uint32_t v : boundary) {
     const Vector3d& p = mesh.vertices[v];
-    const CellKey c = cell_of(p, distance);
-    std::uint32_t found = v;
-    for (int dx = -1; dx <= 1 && found == v; ++dx)
-      for (int dy = -1; dy <= 1 && found == v; ++dy)
-        for (int dz = -1; dz <= 1 && found == v; ++dz) {
-          auto it = grid.find({c.x + dx, c.y + dy, c.z + dz});
-          if (it == grid.end()) continue;
-          for (std::uint32_t u : it->second)
-            if ((mesh.vertices[u] - p).norm() <= distance && disjoint(u, v)) {
-              found = u;
-              break;
-            }
-        }
+    const std::uint32_t found =
+        find_near(grid, mesh.vertices, p, distance, v, [&](std::uint32_t u) { return disjoint(u, v); });
     if (found == v) {
-      grid[c].push_back(v);
+      grid[cell_of(p, distance)].push_back(v);
     } else {
       target[v] = found;
       auto& list = patches_of_vertex[found];
@@ -248,7 +245,7 @@ std::size_t split_pass(TriangleMesh& mesh, std::vector<TriangleOrigin>& patch_of
     }
   if (edges.empty()) return 0;
   const double cell = std::max(options.cell, 4.0 * options.match_distance);
-  std::unordered_map<CellKey, std::vector<std::uint32_t>, CellHash> grid;
+  PointGrid grid;
   std::vector<std::uint32_t> boundary_vertices;
   for (const auto& [v, bv] : info) boundary_vertices.push_back(v);
   std::sort(boundary_vertices.begin(), boundary_vertices.end());

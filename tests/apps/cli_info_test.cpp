@@ -10,6 +10,7 @@
 #include <fstream>
 #include <nlohmann/json.hpp>
 
+#include "apps/command_support.h"
 #include "apps/test_meshes.h"
 
 namespace {
@@ -28,15 +29,8 @@ std::string slurp(const fs::path& file) {
   return std::string((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
 }
 
-class CliInfo : public ::testing::Test {
+class CliInfo : public morphmill_test::ScratchDirTest {
  protected:
-  void SetUp() override {
-    dir_ = fs::temp_directory_path() / ("morphmill_cli_info_" + std::to_string(::getpid()) + "_" +
-                                        ::testing::UnitTest::GetInstance()->current_test_info()->name());
-    fs::create_directories(dir_);
-  }
-  void TearDown() override { fs::remove_all(dir_); }
-
   CommandRun run(const std::string& arguments) const {
     const std::string command = std::string("'") + MORPHMILL_BINARY + "' " + arguments + " > '" +
                                 (dir_ / "out").string() + "' 2> '" + (dir_ / "err").string() + "'";
@@ -47,11 +41,6 @@ class CliInfo : public ::testing::Test {
     r.errors = slurp(dir_ / "err");
     return r;
   }
-  std::string write_text(const std::string& name, const std::string& text) const {
-    std::ofstream((dir_ / name).string()) << text;
-    return (dir_ / name).string();
-  }
-  fs::path dir_;
 };
 
 TEST_F(CliInfo, InfoPrintsTheJobAsUnderstood) {

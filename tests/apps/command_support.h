@@ -1,11 +1,13 @@
 #pragma once
 // Running the morphmill binary from tests: exit code and combined output.
+#include <gtest/gtest.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
 #include <array>
 #include <cstdio>
 #include <filesystem>
+#include <fstream>
 #include <string>
 
 namespace morphmill_test {
@@ -35,5 +37,21 @@ inline std::filesystem::path scratch_dir(const std::string& suite, const std::st
   std::filesystem::create_directories(dir);
   return dir;
 }
+
+/// A fixture giving each test its own empty scratch directory, removed afterwards.
+class ScratchDirTest : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    dir_ = scratch_dir("fixture", ::testing::UnitTest::GetInstance()->current_test_info()->name());
+  }
+  void TearDown() override { std::filesystem::remove_all(dir_); }
+  std::string path(const std::string& name) const { return (dir_ / name).string(); }
+  /// Writes `text` to `name` in the scratch directory and returns its path.
+  std::string write_text(const std::string& name, const std::string& text) const {
+    std::ofstream(path(name), std::ios::binary) << text;
+    return path(name);
+  }
+  std::filesystem::path dir_;
+};
 
 }  // namespace morphmill_test

@@ -10,6 +10,7 @@
 #include <filesystem>
 #include <fstream>
 
+#include "apps/command_support.h"
 #include "apps/test_meshes.h"
 
 namespace {
@@ -20,19 +21,8 @@ using nlohmann::json;
 constexpr double kPi = 3.14159265358979323846;
 const std::string kData = MORPHMILL_TEST_DATA;
 
-class JobIo : public ::testing::Test {
+class JobIo : public morphmill_test::ScratchDirTest {
  protected:
-  void SetUp() override {
-    dir_ = fs::temp_directory_path() / ("morphmill_job_io_" + std::to_string(::getpid()) + "_" +
-                                        ::testing::UnitTest::GetInstance()->current_test_info()->name());
-    fs::create_directories(dir_);
-  }
-  void TearDown() override { fs::remove_all(dir_); }
-  std::string path(const std::string& name) const { return (dir_ / name).string(); }
-  std::string write_text(const std::string& name, const std::string& text) const {
-    std::ofstream(path(name), std::ios::binary) << text;
-    return path(name);
-  }
   /// The job file name used in messages; relative paths resolve next to it.
   std::string job_file() const { return path("t.json"); }
   morph::Job parse(const json& j) const { return morphmill::parse_job(j, job_file()); }
@@ -53,7 +43,6 @@ class JobIo : public ::testing::Test {
     EXPECT_NE(message.find(json_path_and_problem), std::string::npos)
         << "expected '" << json_path_and_problem << "' in: " << message;
   }
-  fs::path dir_;
 };
 
 json minimal() {

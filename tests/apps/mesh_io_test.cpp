@@ -9,6 +9,7 @@
 #include <filesystem>
 #include <fstream>
 
+#include "apps/command_support.h"
 #include "apps/test_meshes.h"
 
 namespace {
@@ -16,20 +17,8 @@ namespace {
 namespace fs = std::filesystem;
 using morph::TriangleMesh;
 
-class MeshIo : public ::testing::Test {
+class MeshIo : public morphmill_test::ScratchDirTest {
  protected:
-  void SetUp() override {
-    dir_ = fs::temp_directory_path() / ("morphmill_mesh_io_" + std::to_string(::getpid()) + "_" +
-                                        ::testing::UnitTest::GetInstance()->current_test_info()->name());
-    fs::create_directories(dir_);
-  }
-  void TearDown() override { fs::remove_all(dir_); }
-  std::string path(const std::string& name) const { return (dir_ / name).string(); }
-  std::string write_text(const std::string& name, const std::string& text) const {
-    std::ofstream(path(name), std::ios::binary) << text;
-    return path(name);
-  }
-  fs::path dir_;
 };
 
 // Positions that no float holds exactly, so a float32 path would show.
