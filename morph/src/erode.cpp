@@ -531,7 +531,11 @@ void finish_patch(Patch& p) {
   const Vector3d xu = evaluate(p, u + h, v) - evaluate(p, u - h, v);
   const Vector3d xv = evaluate(p, u, v + h) - evaluate(p, u, v - h);
   // Each patch bounds a convex solid (tool sweep, tool, box, cylinder) or is a mesh triangle.
-  Vector3d outward = p.has_interior ? Vector3d(evaluate(p, u, v) - p.interior) : p.plane_normal;
+  // A ball end's sphere patch spans its upper half too (trimmed away later), where the tool's
+  // interior point does not see the sphere from inside: the sphere's own normal decides there.
+  Vector3d outward = p.form == Form::Sphere ? solid_normal(p, u, v)
+                     : p.has_interior      ? Vector3d(evaluate(p, u, v) - p.interior)
+                                           : p.plane_normal;
   if (p.sweep) outward = -outward;
   p.flip = xu.cross(xv).dot(outward) < 0.0;
 }
