@@ -5,6 +5,7 @@
 #include <morph/exceptions.h>
 #include <morph/mesh_distance.h>
 #include <morph/sweep_distance.h>
+#include <morph/topology.h>
 
 #include <algorithm>
 #include <array>
@@ -233,27 +234,48 @@ class Trimmer {
             const int js = static_cast<int>(j);
             if (js == patch_.exclude[0] || js == patch_.exclude[1])
               return std::numeric_limits<double>::infinity();
-            return distance(js, x);
+            return distance(js, x, u, v);
           },
           &best, ctx_.max_depth);
       return std::min(g, best);
     }
     for (int j : candidates_) {
       if (ctx_.segments[j].box.exteriorDistance(x) >= g) continue;
-      g = std::min(g, distance(j, x));
+      g = std::min(g, distance(j, x, u, v));
     }
     return g;
   }
 
  private:
   static constexpr std::size_t kListLimit = 64;
-  // Distance to segment j's sweep, shifted by the tie-break: where two patches coincide, the
-  // one of the lower segment is kept (adjacent segments never coincide over an area).
-  double distance(int j, const Vector3d& x) const {
+  // Distance to segment j's sweep, shifted by the tie-break where the patch lies on that sweep's
+  // surface. Facing the same way (a repeated pass; a sweep inside the stock reaching one of its
+  // faces) the surfaces coincide and one of them bounds the result: of two sweeps the lower
+  // segment's, of a sweep and the stock neither (the material up to the face is gone). Facing
+  // each other (two passes touching, a pass grazing a face from outside) the contact is interior
+  // to the union of the sweeps, or to the stock: the sweeps lose it, the stock face keeps it.
+  double distance(int j, const Vector3d& x, double u, double v) const {
     const Segment& s = ctx_.segments[j];
-    const bool lean_keep =
-        !patch_.sweep || j > patch_.owner || j == patch_.adjacent[0] || j == patch_.adjacent[1];
-    return sweep_distance(*s.tool, s.a, s.b, x) + (lean_keep ? ctx_.tie : -ctx_.tie);
+    const double d = sweep_distance(*s.tool, s.a, s.b, x);
+    bool lean_keep = j > patch_.owner || j == patch_.adjacent[0] || j == patch_.adjacent[1];
+    if (std::abs(d) <= 4.0 * ctx_.tie) {
+      const bool same_side = sweep_gradient(s, x).dot(solid_normal(patch_, u, v)) > 0.0;
+      lean_keep = patch_.sweep ? (same_side && lean_keep) : !same_side;
+    } else if (!patch_.sweep) {
+      lean_keep = true;
+    }
+    return d + (lean_keep ? ctx_.tie : -ctx_.tie);
+  }
+  // Outward normal of a segment's sweep near its surface (central differences of the distance,
+  // steps far above rounding and far below the tool's curvature radius).
+  Vector3d sweep_gradient(const Segment& s, const Vector3d& x) const {
+    const double h = 1e-6 * s.tool->radius;
+    Vector3d gradient;
+    for (int k = 0; k < 3; ++k) {
+      const Vector3d step = h * Vector3d::Unit(k);
+      gradient[k] = sweep_distance(*s.tool, s.a, s.b, x + step) - sweep_distance(*s.tool, s.a, s.b, x - step);
+    }
+    return gradient;
   }
   const Context& ctx_;
   const Patch& patch_;
@@ -833,6 +855,83 @@ void add_front_sweep(const Context& ctx, int prev, int next, PatchBuilder& build
   }
 }
 
+/// Removes closed components that enclose no volume: a band of a patch narrower than the
+/// tie-break (a tool surface touching another sweep tangentially keeps a strip about
+/// sqrt(2 r tie) wide) whose two sides the seam weld joined into a flat, doubly covered surface.
+/// No piece of a result is that thin: its mean thickness 2 V / A is below `thickness`.
+std::size_t remove_flat_components(TriangleMesh& mesh, std::vector<detail::TriangleOrigin>& patch_of,
+                                   double thickness) {
+  std::vector<std::uint32_t> component;
+  const std::size_t count = connected_components(mesh, component);
+  if (count < 2) return 0;
+  std::vector<double> volume(count, 0.0), area(count, 0.0);
+  // Volumes about a point of each component: about the origin, rounding far from it would
+  // swamp the volume of a small sliver.
+  std::vector<Vector3d> origin(count, Vector3d::Zero());
+  for (std::size_t i = mesh.triangles.size(); i-- > 0;) origin[component[i]] = mesh.vertices[mesh.triangles[i][0]];
+  std::vector<std::size_t> open(count, 0);
+  std::unordered_map<std::uint64_t, int> edge_use;  // directed edge -> +1, reversed -> -1
+  for (std::size_t i = 0; i < mesh.triangles.size(); ++i) {
+    const Triangle& t = mesh.triangles[i];
+    const Vector3d& o = origin[component[i]];
+    const Vector3d a = mesh.vertices[t[0]] - o, b = mesh.vertices[t[1]] - o, c = mesh.vertices[t[2]] - o;
+    volume[component[i]] += a.dot(b.cross(c)) / 6.0;
+    area[component[i]] += 0.5 * (b - a).cross(c - a).norm();
+    for (int k = 0; k < 3; ++k) {
+      const std::uint32_t u = t[k], v = t[(k + 1) % 3];
+      edge_use[(static_cast<std::uint64_t>(std::min(u, v)) << 32) | std::max(u, v)] += u < v ? 1 : -1;
+    }
+  }
+  for (std::size_t i = 0; i < mesh.triangles.size(); ++i) {
+    const Triangle& t = mesh.triangles[i];
+    for (int k = 0; k < 3; ++k) {
+      const std::uint32_t u = t[k], v = t[(k + 1) % 3];
+      if (edge_use[(static_cast<std::uint64_t>(std::min(u, v)) << 32) | std::max(u, v)] != 0) ++open[component[i]];
+    }
+  }
+  std::vector<bool> drop(count, false);
+  std::size_t dropped = 0;
+  for (std::size_t c = 0; c < count; ++c) {
+    drop[c] = open[c] == 0 && 2.0 * std::abs(volume[c]) < thickness * area[c];
+    dropped += drop[c];
+  }
+  if (dropped == 0) return 0;
+  std::size_t kept = 0;
+  for (std::size_t i = 0; i < mesh.triangles.size(); ++i) {
+    if (drop[component[i]]) continue;
+    mesh.triangles[kept] = mesh.triangles[i];
+    mesh.tags[kept] = mesh.tags[i];
+    patch_of[kept] = patch_of[i];
+    ++kept;
+  }
+  mesh.triangles.resize(kept);
+  mesh.tags.resize(kept);
+  patch_of.resize(kept);
+  std::vector<std::int64_t> new_index(mesh.vertices.size(), -1);
+  std::vector<Vector3d> vertices;
+  for (Triangle& t : mesh.triangles)
+    for (std::uint32_t& v : t) {
+      if (new_index[v] < 0) {
+        new_index[v] = static_cast<std::int64_t>(vertices.size());
+        vertices.push_back(mesh.vertices[v]);
+      }
+      v = static_cast<std::uint32_t>(new_index[v]);
+    }
+  mesh.vertices = std::move(vertices);
+  return dropped;
+}
+
+/// Signed distance to the surface a stock patch lies on (its face's plane, the cylinder's side):
+/// zero on that face only, unlike the stock's distance, which vanishes on every face.
+double stock_face_distance(const Patch& p, const Vector3d& x) {
+  if (p.form == Form::Tube) {
+    const Vector3d axis = p.U.normalized();
+    const Vector3d radial = (x - p.o) - (x - p.o).dot(axis) * axis;
+    return radial.norm() - p.R;
+  }
+  return (x - p.o).dot(p.plane_normal);
+}
+
 void check_job(const Job& job, double tolerance) {
   if (!(tolerance > 0.0) || !std::isfinite(tolerance))
     throw InputError(job.file + ": tolerance must be positive, got " + std::to_string(tolerance));
@@ -977,11 +1076,12 @@ ErodeResult erode(const Job& job, const ErodeOptions& options) {
   const detail::SeamStats seam_stats =
       detail::join_seams(mesh, patch_of_triangle, seam, [&](std::size_t patch, const Vector3d& x) {
         const Patch& p = patches[patch];
-        if (!p.sweep) return ctx.stock_distance(x);
+        if (!p.sweep) return stock_face_distance(p, x);
         const Segment& s = ctx.segments[p.segment];
         if (p.at_vertex) return tool_signed_distance(*s.tool, p.tool_point, x);
         return sweep_distance(*s.tool, s.a, s.b, x);
       });
+  stats.flat_components_removed = remove_flat_components(mesh, patch_of_triangle, 1e-3 * tolerance);
   stats.open_edges = seam_stats.boundary_edges;
   stats.seam_splits = seam_stats.splits;
   stats.corner_holes = seam_stats.holes_filled;

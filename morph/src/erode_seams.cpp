@@ -158,7 +158,8 @@ struct HalfEdges {
 /// Merges boundary vertices of different patches closer than `distance` (points of the same
 /// curve sampled by both sides at nearly the same place, typically near corners) so that no
 /// sliver edges are left for the split pass.
-std::size_t snap_boundary(TriangleMesh& mesh, std::vector<TriangleOrigin>& patch_of, double distance) {
+std::size_t snap_boundary(TriangleMesh& mesh, std::vector<TriangleOrigin>& patch_of, double distance,
+                          double on_surface, const SurfaceFunction& surface) {
   const HalfEdges half(mesh, patch_of);
   std::unordered_map<std::uint32_t, std::vector<std::uint32_t>> patches_of_vertex;
   for (std::uint32_t t = 0; t < mesh.triangles.size(); ++t)
@@ -186,10 +187,19 @@ std::size_t snap_boundary(TriangleMesh& mesh, std::vector<TriangleOrigin>& patch
         return false;
     return true;
   };
+  // Two such points lie on each other's surfaces; near a corner where two trimming curves meet
+  // at an angle, a point of one curve close to a point of the other does not, and merging the
+  // two would fold the faces between them.
+  auto on_surfaces_of = [&](std::uint32_t a, std::uint32_t b) {
+    for (std::uint32_t q : patches_of_vertex[b])
+      if (std::abs(surface(q, mesh.vertices[a])) > on_surface) return false;
+    return true;
+  };
   for (std::uint32_t v : boundary) {
     const Vector3d& p = mesh.vertices[v];
-    const std::uint32_t found =
-        find_near(grid, mesh.vertices, p, distance, v, [&](std::uint32_t u) { return disjoint(u, v); });
+    const std::uint32_t found = find_near(grid, mesh.vertices, p, distance, v, [&](std::uint32_t u) {
+      return disjoint(u, v) && on_surfaces_of(u, v) && on_surfaces_of(v, u);
+    });
     if (found == v) {
       grid[cell_of(p, distance)].push_back(v);
     } else {
@@ -220,8 +230,8 @@ std::size_t snap_boundary(TriangleMesh& mesh, std::vector<TriangleOrigin>& patch
 
 /// One pass of splitting boundary edges at other patches' boundary vertices. Returns the number
 /// of vertices inserted.
-std::size_t split_pass(TriangleMesh& mesh, std::vector<TriangleOrigin>& patch_of,
-                       const SeamOptions& options) {
+std::size_t split_pass(TriangleMesh& mesh, std::vector<TriangleOrigin>& patch_of, const SeamOptions& options,
+                       const SurfaceFunction& surface) {
   const HalfEdges half(mesh, patch_of);
   struct BoundaryVertex {
     Vector3d tangent = Vector3d::Zero();
@@ -300,6 +310,9 @@ std::size_t split_pass(TriangleMesh& mesh, std::vector<TriangleOrigin>& patch_of
       if (distance > options.match_distance || distance > 0.25 * std::sqrt(len2)) continue;
       // The other side runs the curve the opposite way.
       if (bv.tangent.dot(ab) >= 0.0) continue;
+      // And lies on this side's surface: a vertex of another curve meeting this one at a corner
+      // is near the chord without being on the curve.
+      if (std::abs(surface(patch_of[t].patch, pw)) > 1e3 * options.weld_distance) continue;
       matches.push_back({w, patch_of[t].patch, distance, lambda, t, k});
     }
   }
@@ -547,9 +560,10 @@ SeamStats join_seams(TriangleMesh& mesh, std::vector<TriangleOrigin>& patch_of_t
                      const SeamOptions& options, const SurfaceFunction& surface) {
   SeamStats stats;
   stats.welded = weld(mesh, patch_of_triangle, options.weld_distance);
-  stats.welded += snap_boundary(mesh, patch_of_triangle, options.snap_distance);
+  stats.welded +=
+      snap_boundary(mesh, patch_of_triangle, options.snap_distance, 1e3 * options.weld_distance, surface);
   for (int pass = 0; pass < 3; ++pass) {
-    const std::size_t n = split_pass(mesh, patch_of_triangle, options);
+    const std::size_t n = split_pass(mesh, patch_of_triangle, options, surface);
     stats.splits += n;
     if (n == 0) break;
   }

@@ -18,6 +18,7 @@
 
 #include "level_set.h"
 #include "sparse_sampling.h"
+#include "straight_sweep.h"
 
 namespace vdb_ref {
 
@@ -178,21 +179,15 @@ std::vector<std::pair<Eigen::Vector3d, Eigen::Vector3d>> straight_pieces(const m
 
 struct SweepPiece {
   const morph::Tool* tool = nullptr;
-  Eigen::Vector3d a, b;
-  DistanceFunction distance;
+  detail::StraightSweep sweep;
 };
 
 std::vector<SweepPiece> sweep_pieces(const morph::Job& job, double chord_tolerance) {
   std::vector<SweepPiece> out;
   for (const morph::Move* move : job.moves()) {
     const morph::Tool* tool = &job.tool_of(*move);
-    for (const auto& [a, b] : straight_pieces(*move, chord_tolerance)) {
-      SweepPiece piece{tool, a, b, {}};
-      piece.distance = [tool, a = a, b = b](const Eigen::Vector3d& p) {
-        return morph::swept_signed_distance(*tool, a, b, p);
-      };
-      out.push_back(std::move(piece));
-    }
+    for (const auto& [a, b] : straight_pieces(*move, chord_tolerance))
+      out.push_back({tool, detail::StraightSweep(*tool, a, b)});
   }
   return out;
 }
@@ -286,12 +281,15 @@ SweepSamples sample_sweeps(const std::vector<SweepPiece>& pieces, const Eigen::A
       }
       const SweepPiece& piece = pieces[i];
       morph::Move segment;
-      segment.start = piece.a;
-      segment.end = piece.b;
+      segment.start = piece.sweep.start();
+      segment.end = piece.sweep.end();
       const Eigen::AlignedBox3d region = morph::swept_bounds(*piece.tool, segment).intersection(clip);
       if (!region.isEmpty()) {
         const auto [lo, hi] = detail::voxel_range(region, voxel_size, band);
-        detail::enumerate_blocks(piece.distance, lo, hi, voxel_size, band, blocks[i]);
+        const DistanceFunction distance = [&piece](const Eigen::Vector3d& p) {
+          return piece.sweep.distance(p);
+        };
+        detail::enumerate_blocks(distance, lo, hi, voxel_size, band, blocks[i]);
       }
       progress.advance(1);
     });
@@ -326,14 +324,14 @@ SweepSamples sample_sweeps(const std::vector<SweepPiece>& pieces, const Eigen::A
                         stop = true;
                         return;
                       }
-                      std::vector<const DistanceFunction*> functions;
+                      std::vector<const detail::StraightSweep*> sweeps;
                       for (std::size_t g = range.begin(); g < range.end(); ++g) {
-                        functions.clear();
+                        sweeps.clear();
                         for (std::size_t k = group_begin[g]; k < group_begin[g + 1]; ++k)
-                          functions.push_back(&pieces[pairs[k].second].distance);
+                          sweeps.push_back(&pieces[pairs[k].second].sweep);
                         out.field.leaf_origins[g] = pairs[group_begin[g]].first;
-                        detail::sample_leaf(out.field.leaf_origins[g], functions, voxel_size, background,
-                                            out.field.leaf_values[g]);
+                        detail::sample_sweep_leaf(out.field.leaf_origins[g], sweeps, voxel_size, background,
+                                                  out.field.leaf_values[g]);
                       }
                       progress.advance(range.size());
                     });

@@ -88,4 +88,44 @@ void sample_leaf(const VoxelCoord& origin, const std::vector<const DistanceFunct
       }
 }
 
+void sample_sweep_leaf(const VoxelCoord& origin, const std::vector<const StraightSweep*>& sweeps,
+                       double voxel_size, float background, std::array<float, kLeafVoxels>& values) {
+  constexpr int kSub = kLeafDim / 2;
+  constexpr double kSubCentre = 0.5 * (kSub - 1);
+  const double clamp = static_cast<double>(background);
+  // The pruning must never skip a sweep whose computed distance could still win through
+  // rounding: the same slack as the block culling.
+  const double slack = 1e-6 * voxel_size;
+  std::vector<std::pair<double, std::uint32_t>> nearest_first(sweeps.size());
+  for (int sx = 0; sx < kLeafDim; sx += kSub)
+    for (int sy = 0; sy < kLeafDim; sy += kSub)
+      for (int sz = 0; sz < kLeafDim; sz += kSub) {
+        const Eigen::Vector3d centre = (Eigen::Vector3d(origin[0] + sx, origin[1] + sy, origin[2] + sz) +
+                                        Eigen::Vector3d::Constant(kSubCentre)) *
+                                       voxel_size;
+        for (std::size_t k = 0; k < sweeps.size(); ++k)
+          nearest_first[k] = {sweeps[k]->distance(centre), static_cast<std::uint32_t>(k)};
+        std::sort(nearest_first.begin(), nearest_first.end());
+        for (int x = 0; x < kSub; ++x)
+          for (int y = 0; y < kSub; ++y)
+            for (int z = 0; z < kSub; ++z) {
+              const Eigen::Vector3d p =
+                  voxel_centre({origin[0] + sx + x, origin[1] + sy + y, origin[2] + sz + z}, voxel_size);
+              const double reach =
+                  Eigen::Vector3d(x - kSubCentre, y - kSubCentre, z - kSubCentre).norm() * voxel_size + slack;
+              // value = min(clamp, min over sweeps), then clamped below: as sample_leaf.
+              double value = clamp;
+              for (const auto& [centre_distance, k] : nearest_first) {
+                if (centre_distance - reach >= value) break;  // this and every later sweep
+                const double d = sweeps[k]->distance(p);
+                if (d < value) {
+                  value = d;
+                  if (value <= -clamp) break;
+                }
+              }
+              values[leaf_offset(sx + x, sy + y, sz + z)] = static_cast<float>(std::max(value, -clamp));
+            }
+      }
+}
+
 }  // namespace vdb_ref::detail

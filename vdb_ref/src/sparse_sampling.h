@@ -6,6 +6,7 @@
 #include <vector>
 
 #include "level_set.h"
+#include "straight_sweep.h"
 
 namespace vdb_ref::detail {
 
@@ -38,5 +39,13 @@ inline Eigen::Vector3d voxel_centre(const VoxelCoord& c, double voxel_size) {
 /// Samples every voxel of one leaf node: the minimum over `functions`, clamped to +-background.
 void sample_leaf(const VoxelCoord& origin, const std::vector<const DistanceFunction*>& functions,
                  double voxel_size, float background, std::array<float, kLeafVoxels>& values);
+
+/// Samples every voxel of one leaf node of the union of `sweeps`: the same values as sample_leaf
+/// with their distance functions, but a sweep is evaluated at a voxel only while its distance at
+/// the centre of the voxel's 4^3 sub-block, less the voxel's offset from that centre (the distance
+/// is 1-Lipschitz), could still lower the voxel's value below the band's clamp or the minimum so
+/// far. Visiting the sweeps nearest first makes most voxels cost one or two evaluations.
+void sample_sweep_leaf(const VoxelCoord& origin, const std::vector<const StraightSweep*>& sweeps,
+                       double voxel_size, float background, std::array<float, kLeafVoxels>& values);
 
 }  // namespace vdb_ref::detail
