@@ -261,10 +261,22 @@ class Trimmer {
     if (std::abs(d) <= 4.0 * ctx_.tie) {
       const bool same_side = sweep_gradient(s, x).dot(solid_normal(patch_, u, v)) > 0.0;
       lean_keep = patch_.sweep ? (same_side && lean_keep) : !same_side;
+      // The tool at a path vertex touching another move's side from inside (a corner lying on a
+      // later pass) is inside that sweep but for the contact curve: keeping a tie-wide band of
+      // it would leave a sliver. Only another tool position (a repeated corner) ties with it.
+      if (patch_.at_vertex && lean_keep && touches_side_of(s, x)) lean_keep = false;
     } else if (!patch_.sweep) {
       lean_keep = true;
     }
     return d + (lean_keep ? ctx_.tie : -ctx_.tie);
+  }
+  // Whether x is nearest to an inner tool position of the segment rather than to an end.
+  static bool touches_side_of(const Segment& s, const Vector3d& x) {
+    const Vector3d ab = s.b - s.a;
+    const Vector3d lift = s.tool->type == ToolType::BallEnd ? Vector3d(s.tool->radius * Vector3d::UnitZ())
+                                                            : Vector3d::Zero();
+    const double t = (x - s.a - lift).dot(ab) / ab.squaredNorm();
+    return t > 1e-9 && t < 1.0 - 1e-9;
   }
   // Outward normal of a segment's sweep near its surface (central differences of the distance,
   // steps far above rounding and far below the tool's curvature radius).

@@ -1,6 +1,9 @@
 // The level-set reference of one slot job at voxel sizes 0.4, 0.2 and 0.1: active voxels, memory
-// and time should grow like surface area / voxel^2 (x4 per halving), not like volume (x8).
+// and time should grow like surface area / voxel^2 (x4 per halving), not like volume (x8). And a
+// real program: LinuxCNC's 3D_Chips.ngc (4.7k moves of a 10 mm ball end, data/jobs/chips.json) at
+// verify's default voxel (radius / 6) and half of it.
 #include <benchmark/benchmark.h>
+#include <morph/gcode.h>
 #include <vdb_ref/reference.h>
 
 #include "../vdb_ref/job_builders.h"
@@ -25,10 +28,22 @@ morph::Job slot_job() {
   return job;
 }
 
-void BM_ReferenceSlotJob(benchmark::State& state) {
-  const morph::Job job = slot_job();
+// data/jobs/chips.json built in code (the job reader lives in apps): 100 x 100 x 50 block, ball
+// end of radius 5 and length 50, the program as tool 1.
+morph::Job chips_job() {
+  using namespace vdb_ref_test;
+  morph::Job job = box_job(Vector3d(-50, -50, -50), Vector3d(50, 50, 0));
+  job.name = "3D_Chips";
+  add_tool(job, 1, morph::ToolType::BallEnd, 5.0, 50.0);
+  morph::GcodeOptions gcode;
+  gcode.initial_tool = 1;
+  add_path(job, morph::read_gcode(MORPHMILL_TEST_DATA "/gcode/3D_Chips.ngc", gcode).path.moves);
+  return job;
+}
+
+void run_reference(benchmark::State& state, const morph::Job& job, double voxel_size) {
   vdb_ref::ReferenceOptions options;
-  options.voxel_size = static_cast<double>(state.range(0)) / 1000.0;
+  options.voxel_size = voxel_size;
   vdb_ref::ReferenceResult result;
   for (auto _ : state) {
     result = vdb_ref::compute_reference(job, options);
@@ -49,6 +64,16 @@ void BM_ReferenceSlotJob(benchmark::State& state) {
   state.counters["triangles"] = static_cast<double>(result.mesh.triangle_count());
 }
 
+void BM_ReferenceSlotJob(benchmark::State& state) {
+  run_reference(state, slot_job(), static_cast<double>(state.range(0)) / 1000.0);
+}
+
+// Argument: voxels per tool radius (6 is verify's default voxel).
+void BM_ReferenceChips(benchmark::State& state) {
+  run_reference(state, chips_job(), 5.0 / static_cast<double>(state.range(0)));
+}
+
 BENCHMARK(BM_ReferenceSlotJob)->Arg(400)->Arg(200)->Arg(100)->Iterations(1)->Unit(benchmark::kSecond);
+BENCHMARK(BM_ReferenceChips)->Arg(6)->Arg(12)->Iterations(1)->Unit(benchmark::kSecond);
 
 }  // namespace

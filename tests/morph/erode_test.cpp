@@ -276,6 +276,34 @@ TEST(ErodeBallEnd, SlotWithBallCentreInTheTopFaceIsClosedWithExactVolume) {
   EXPECT_LE(largest_field_error(result.mesh, morph::ErosionField(job)), job.tolerance);
 }
 
+// A descending, turning ball-end path whose end ball has its centre exactly in the top face: the
+// front sweeps are spheres whose sampled point may lie on their upper half (trimmed away), where
+// only the sphere's own normal tells outward from inward; a lune wound inward leaves its seams open.
+TEST(ErodeBallEnd, DescendingTurnAndEndInTheTopFaceAreClosed) {
+  const Job job = box_job({0, 0, -20}, {80, 60, 0}, ballend_tool(3.0, 30.0),
+                          {{{20, 30, 1}, {40, 30, -1}, {60, 32, -3}}}, 0.01);
+  const morph::ErodeResult result = morph::erode(job);
+  const morph::TopologyReport topology = morph::topology_report(result.mesh);
+  EXPECT_TRUE(topology.closed_manifold()) << topology.boundary_edges << " open edges";
+  EXPECT_EQ(topology.components, 1u);
+  EXPECT_LE(largest_field_error(result.mesh, morph::ErosionField(job)), job.tolerance);
+}
+
+// Two full-depth ball-end slots exactly 2r apart: their body rulings coincide, facing each other.
+// The wall between them has no thickness, so the block falls into two pieces and the shared
+// plane bounds neither (it is interior to the union of the sweeps).
+TEST(ErodeBallEnd, SlotsTouchingFaceToFaceSplitTheBlockInTwo) {
+  const double r = 2.5, depth = 4.0;
+  const Job job = box_job({0, 0, 0}, {20, 10, depth}, ballend_tool(r, 10.0),
+                          {{{7.5, -4, -r}, {7.5, 14, -r}}, {{12.5, 14, -r}, {12.5, -4, -r}}}, 0.01);
+  const morph::ErodeResult result = morph::erode(job);
+  const morph::TopologyReport topology = morph::topology_report(result.mesh);
+  EXPECT_TRUE(topology.closed_manifold()) << topology.boundary_edges << " open edges";
+  EXPECT_EQ(topology.components, 2u);
+  // The slots' bodies remove the block between x = 5 and x = 15 over its whole height.
+  EXPECT_NEAR(topology.volume, 10.0 * 10.0 * depth, 1e-6 * 10.0 * 10.0 * depth);
+}
+
 // data/jobs/mesh_stock.json built in code: a sphere dragged along a bent groove through a block
 // given as the 12 triangles of data/meshes/block.stl (same vertices, same diagonals). The stock
 // triangles' degenerate apex corners and their long shared diagonals must not leave seams open.

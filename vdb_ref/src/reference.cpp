@@ -217,6 +217,17 @@ double swept_area_estimate(const morph::Tool& tool, const morph::Move& move,
   return (M_PI * r + 2.0 * body + top) * length + 4.0 * M_PI * r * r + 2.0 * M_PI * r * body;
 }
 
+// Voxels of the leaf nodes that cover `box` grown by `margin` (0 for an empty box).
+double box_voxels(const Eigen::AlignedBox3d& box, double voxel_size, double margin) {
+  if (box.isEmpty()) return 0.0;
+  double voxels = 1.0;
+  for (int a = 0; a < 3; ++a) {
+    const double extent = (box.max()[a] - box.min()[a] + 2.0 * margin) / voxel_size + 2.0;
+    voxels *= (std::ceil(extent / detail::kLeafDim) + 1.0) * detail::kLeafDim;
+  }
+  return voxels;
+}
+
 // Stage bracket: begin on construction, end on destruction (also when unwinding).
 class StageScope {
  public:
@@ -418,10 +429,24 @@ std::size_t estimate_reference_memory(const morph::Job& job, const ReferenceOpti
   const double voxel = options.voxel_size;
   const double band = options.half_width_voxels * voxel;
   const Eigen::AlignedBox3d clip = sweep_clip_box(job.stock, band, voxel);
-  double area = stock_area(job.stock);
-  for (const morph::Move* move : job.moves()) area += swept_area_estimate(job.tool_of(*move), *move, clip);
+  const double band_width_voxels = 2.0 * options.half_width_voxels + 1.0;
+  const double stock_surface_area = stock_area(job.stock);
+  double swept_area = 0.0;
+  Eigen::AlignedBox3d swept_region;
+  for (const morph::Move* move : job.moves()) {
+    swept_area += swept_area_estimate(job.tool_of(*move), *move, clip);
+    swept_region.extend(morph::swept_bounds(job.tool_of(*move), *move));
+  }
+  // The sum of the sweeps' areas counts every overlap (a finishing raster overlaps each pass
+  // many times over), but the sweep level set cannot hold more voxels than the box its leaves
+  // lie in: the sweeps' bounds within the clip box, grown by the band and rounded out to leaves.
+  swept_region = swept_region.intersection(clip);
+  const double sweep_region_voxels = box_voxels(swept_region, voxel, band);
+  const double sweep_surface_voxels = std::min(swept_area / (voxel * voxel), sweep_region_voxels);
+  const double area = stock_surface_area + sweep_surface_voxels * voxel * voxel;
   const double surface_voxels = area / (voxel * voxel);
-  const double band_voxels = surface_voxels * (2.0 * options.half_width_voxels + 1.0);
+  const double band_voxels = stock_surface_area / (voxel * voxel) * band_width_voxels +
+                             std::min(sweep_surface_voxels * band_width_voxels, sweep_region_voxels);
   const double bytes =
       band_voxels * kBytesPerBandVoxel * kGridsAtPeak +
       surface_voxels * (kMeshBytesPerSurfaceVoxel + kInternalBytesPerSurfaceVoxel * kGridsAtPeak) +
