@@ -1092,6 +1092,17 @@ ErodeResult erode(const Job& job, const ErodeOptions& options) {
         const Segment& s = ctx.segments[p.segment];
         if (p.at_vertex) return tool_signed_distance(*s.tool, p.tool_point, x);
         return sweep_distance(*s.tool, s.a, s.b, x);
+      },
+      [&](const Vector3d& x) {
+        double nearest = std::numeric_limits<double>::infinity();
+        ctx.tree.nearest(
+            x,
+            [&](std::size_t j) {
+              const Segment& s = ctx.segments[j];
+              return sweep_distance(*s.tool, s.a, s.b, x);
+            },
+            &nearest, ctx.max_depth);
+        return std::max(ctx.stock_distance(x), -nearest);
       });
   stats.flat_components_removed = remove_flat_components(mesh, patch_of_triangle, 1e-3 * tolerance);
   stats.open_edges = seam_stats.boundary_edges;

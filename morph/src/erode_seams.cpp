@@ -453,7 +453,7 @@ Vector3d corner_point(const std::vector<std::uint32_t>& patches, const SurfaceFu
 }
 
 std::size_t fill_holes(TriangleMesh& mesh, std::vector<TriangleOrigin>& patch_of, const SeamOptions& options,
-                       const SurfaceFunction& surface) {
+                       const SurfaceFunction& surface, const FieldFunction& field) {
   const HalfEdges half(mesh, patch_of);
   // Outgoing boundary half-edges per vertex, with their triangle.
   std::unordered_map<std::uint32_t, std::vector<std::pair<std::uint32_t, std::uint32_t>>>
@@ -525,12 +525,45 @@ std::size_t fill_holes(TriangleMesh& mesh, std::vector<TriangleOrigin>& patch_of
     }
     centroid /= static_cast<double>(loop.size());
     if (box.diagonal().norm() > options.hole_diameter) continue;
-    for (std::size_t i = 0; i < loop.size(); ++i) used[edge_key(loop[i], loop[(i + 1) % loop.size()])] = true;
     std::vector<std::uint32_t> patches;
     for (std::uint32_t t : loop_triangles)
       if (std::find(patches.begin(), patches.end(), patch_of[t].patch) == patches.end())
         patches.push_back(patch_of[t].patch);
-    const Vector3d corner = corner_point(patches, surface, centroid, box.diagonal().norm());
+    // The loop vertex nearest to lying on every surface: often the corner itself (a hole left
+    // where a trimming curve ends exactly at a corner), else where the corner search starts, so
+    // that it finds the corner next to the hole, not another point where the same surfaces meet
+    // (which may lie inside a third move's sweep).
+    std::size_t best = 0;
+    double best_residual = std::numeric_limits<double>::infinity();
+    for (std::size_t i = 0; i < loop.size(); ++i) {
+      double residual = 0.0;
+      for (std::uint32_t q : patches) residual = std::max(residual, std::abs(surface(q, mesh.vertices[loop[i]])));
+      if (residual < best_residual) {
+        best_residual = residual;
+        best = i;
+      }
+    }
+    for (std::size_t i = 0; i < loop.size(); ++i) used[edge_key(loop[i], loop[(i + 1) % loop.size()])] = true;
+    if (best_residual <= 1e-7) {
+      for (std::size_t i = 0; i < loop.size(); ++i) {
+        const std::uint32_t va = loop[i], vb = loop[(i + 1) % loop.size()];
+        if (i == best || (i + 1) % loop.size() == best) continue;
+        mesh.triangles.push_back({vb, va, loop[best]});
+        mesh.tags.push_back(mesh.tags[loop_triangles[i]]);
+        patch_of.push_back({patch_of[loop_triangles[i]].patch, 7});
+      }
+      ++filled;
+      continue;
+    }
+    const Vector3d start = mesh.vertices[loop[best]];
+    const Vector3d found = corner_point(patches, surface, start, box.diagonal().norm());
+    // A corner far outside the hole is where the same surfaces meet again, not this corner.
+    Eigen::AlignedBox3d near_box = box;
+    near_box.min().array() -= 0.25 * box.diagonal().norm();
+    near_box.max().array() += 0.25 * box.diagonal().norm();
+    const bool valid = found != start && near_box.contains(found) &&
+                       std::abs(field(found)) <= 1e3 * options.weld_distance;
+    const Vector3d corner = valid ? found : centroid;
     const std::uint32_t c = static_cast<std::uint32_t>(mesh.vertices.size());
     mesh.vertices.push_back(corner);
     for (std::size_t i = 0; i < loop.size(); ++i) {
@@ -557,7 +590,7 @@ std::size_t count_boundary(const TriangleMesh& mesh, const std::vector<TriangleO
 }  // namespace
 
 SeamStats join_seams(TriangleMesh& mesh, std::vector<TriangleOrigin>& patch_of_triangle,
-                     const SeamOptions& options, const SurfaceFunction& surface) {
+                     const SeamOptions& options, const SurfaceFunction& surface, const FieldFunction& field) {
   SeamStats stats;
   stats.welded = weld(mesh, patch_of_triangle, options.weld_distance);
   stats.welded +=
@@ -567,7 +600,7 @@ SeamStats join_seams(TriangleMesh& mesh, std::vector<TriangleOrigin>& patch_of_t
     stats.splits += n;
     if (n == 0) break;
   }
-  stats.holes_filled = fill_holes(mesh, patch_of_triangle, options, surface);
+  stats.holes_filled = fill_holes(mesh, patch_of_triangle, options, surface, field);
   stats.boundary_edges = count_boundary(mesh, patch_of_triangle);
   return stats;
 }

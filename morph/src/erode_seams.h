@@ -37,7 +37,11 @@ using SurfaceFunction = std::function<double(std::size_t patch, const Eigen::Vec
 /// boundary vertices of other patches lying on it (so that both sides of a trimming curve share
 /// the same vertices) and closes the small holes left at corners where three patches meet.
 /// `patch_of_triangle` is kept in step with `mesh.triangles` (and tags).
+/// The exact field of the result (negative inside, zero on its boundary): a corner point off it
+/// lies where the hole's surfaces meet again somewhere the result does not reach.
+using FieldFunction = std::function<double(const Eigen::Vector3d& x)>;
+
 SeamStats join_seams(TriangleMesh& mesh, std::vector<TriangleOrigin>& patch_of_triangle,
-                     const SeamOptions& options, const SurfaceFunction& surface);
+                     const SeamOptions& options, const SurfaceFunction& surface, const FieldFunction& field);
 
 }  // namespace morph::detail

@@ -16,6 +16,7 @@
 #include <optional>
 #include <sstream>
 
+#include "face_tags.h"
 #include "level_set.h"
 #include "sparse_sampling.h"
 #include "straight_sweep.h"
@@ -350,34 +351,6 @@ SweepSamples sample_sweeps(const std::vector<SweepPiece>& pieces, const Eigen::A
   return out;
 }
 
-void tag_faces(const morph::Job& job, morph::TriangleMesh& mesh, morph::Progress& progress) {
-  const morph::ErosionField field(job);
-  const std::vector<const morph::Move*> moves = job.moves();
-  mesh.tags.assign(mesh.triangles.size(), morph::FaceTag{morph::PatchKind::Reference, -1, 0});
-  std::atomic<bool> stop{false};
-  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, mesh.triangles.size(), 256),
-                    [&](const tbb::blocked_range<std::size_t>& range) {
-                      if (stop || progress.interrupted()) {
-                        stop = true;
-                        return;
-                      }
-                      for (std::size_t t = range.begin(); t < range.end(); ++t) {
-                        const morph::Triangle& tri = mesh.triangles[t];
-                        const Eigen::Vector3d centroid =
-                            (mesh.vertices[tri[0]] + mesh.vertices[tri[1]] + mesh.vertices[tri[2]]) / 3.0;
-                        int nearest = -1;
-                        const double sweep = field.sweep_distance(centroid, &nearest);
-                        if (nearest < 0) continue;
-                        if (std::abs(sweep) <= std::abs(field.stock_distance(centroid))) {
-                          mesh.tags[t].source = nearest;
-                          mesh.tags[t].line = moves[static_cast<std::size_t>(nearest)]->line;
-                        }
-                      }
-                      progress.advance(range.size());
-                    });
-  check_interrupted(progress, "mesh");
-}
-
 std::vector<ReferencePiece> assemble_pieces(const std::vector<detail::Segment>& segments) {
   std::vector<ReferencePiece> pieces;
   std::vector<int> piece_of(segments.size(), -1);
@@ -519,7 +492,7 @@ ReferenceResult compute_reference(const morph::Job& job, const ReferenceOptions&
   {
     result.mesh = pipeline.mesh();
     StageScope stage(progress, "mesh", result.mesh.triangle_count());
-    tag_faces(job, result.mesh, progress);
+    detail::tag_faces(job, voxel, result.mesh, progress);
     note_memory(result.mesh.vertices.capacity() * sizeof(Eigen::Vector3d) +
                 result.mesh.triangles.capacity() * sizeof(morph::Triangle) +
                 result.mesh.tags.capacity() * sizeof(morph::FaceTag));
