@@ -17,6 +17,7 @@
 #include <unordered_map>
 
 #include "convex_minimum.h"
+#include "erode_repair.h"
 #include "erode_seams.h"
 
 namespace morph {
@@ -273,8 +274,8 @@ class Trimmer {
   // Whether x is nearest to an inner tool position of the segment rather than to an end.
   static bool touches_side_of(const Segment& s, const Vector3d& x) {
     const Vector3d ab = s.b - s.a;
-    const Vector3d lift = s.tool->type == ToolType::BallEnd ? Vector3d(s.tool->radius * Vector3d::UnitZ())
-                                                            : Vector3d::Zero();
+    const Vector3d lift =
+        s.tool->type == ToolType::BallEnd ? Vector3d(s.tool->radius * Vector3d::UnitZ()) : Vector3d::Zero();
     const double t = (x - s.a - lift).dot(ab) / ab.squaredNorm();
     return t > 1e-9 && t < 1.0 - 1e-9;
   }
@@ -568,8 +569,8 @@ void finish_patch(Patch& p) {
   // A ball end's sphere patch spans its upper half too (trimmed away later), where the tool's
   // interior point does not see the sphere from inside: the sphere's own normal decides there.
   Vector3d outward = p.form == Form::Sphere ? solid_normal(p, u, v)
-                     : p.has_interior      ? Vector3d(evaluate(p, u, v) - p.interior)
-                                           : p.plane_normal;
+                     : p.has_interior       ? Vector3d(evaluate(p, u, v) - p.interior)
+                                            : p.plane_normal;
   if (p.sweep) outward = -outward;
   p.flip = xu.cross(xv).dot(outward) < 0.0;
 }
@@ -880,7 +881,8 @@ std::size_t remove_flat_components(TriangleMesh& mesh, std::vector<detail::Trian
   // Volumes about a point of each component: about the origin, rounding far from it would
   // swamp the volume of a small sliver.
   std::vector<Vector3d> origin(count, Vector3d::Zero());
-  for (std::size_t i = mesh.triangles.size(); i-- > 0;) origin[component[i]] = mesh.vertices[mesh.triangles[i][0]];
+  for (std::size_t i = mesh.triangles.size(); i-- > 0;)
+    origin[component[i]] = mesh.vertices[mesh.triangles[i][0]];
   std::vector<std::size_t> open(count, 0);
   std::unordered_map<std::uint64_t, int> edge_use;  // directed edge -> +1, reversed -> -1
   for (std::size_t i = 0; i < mesh.triangles.size(); ++i) {
@@ -898,7 +900,8 @@ std::size_t remove_flat_components(TriangleMesh& mesh, std::vector<detail::Trian
     const Triangle& t = mesh.triangles[i];
     for (int k = 0; k < 3; ++k) {
       const std::uint32_t u = t[k], v = t[(k + 1) % 3];
-      if (edge_use[(static_cast<std::uint64_t>(std::min(u, v)) << 32) | std::max(u, v)] != 0) ++open[component[i]];
+      if (edge_use[(static_cast<std::uint64_t>(std::min(u, v)) << 32) | std::max(u, v)] != 0)
+        ++open[component[i]];
     }
   }
   std::vector<bool> drop(count, false);
@@ -1085,27 +1088,37 @@ ErodeResult erode(const Job& job, const ErodeOptions& options) {
   seam.match_distance = 0.5 * tolerance;
   seam.cell = budget.cell;
   seam.hole_diameter = 4.0 * budget.cell;
-  const detail::SeamStats seam_stats =
-      detail::join_seams(mesh, patch_of_triangle, seam, [&](std::size_t patch, const Vector3d& x) {
+  const detail::FieldFunction field = [&](const Vector3d& x) {
+    double nearest = std::numeric_limits<double>::infinity();
+    ctx.tree.nearest(
+        x,
+        [&](std::size_t j) {
+          const Segment& s = ctx.segments[j];
+          return sweep_distance(*s.tool, s.a, s.b, x);
+        },
+        &nearest, ctx.max_depth);
+    return std::max(ctx.stock_distance(x), -nearest);
+  };
+  const detail::SeamStats seam_stats = detail::join_seams(
+      mesh, patch_of_triangle, seam,
+      [&](std::size_t patch, const Vector3d& x) {
         const Patch& p = patches[patch];
         if (!p.sweep) return stock_face_distance(p, x);
         const Segment& s = ctx.segments[p.segment];
         if (p.at_vertex) return tool_signed_distance(*s.tool, p.tool_point, x);
         return sweep_distance(*s.tool, s.a, s.b, x);
       },
-      [&](const Vector3d& x) {
-        double nearest = std::numeric_limits<double>::infinity();
-        ctx.tree.nearest(
-            x,
-            [&](std::size_t j) {
-              const Segment& s = ctx.segments[j];
-              return sweep_distance(*s.tool, s.a, s.b, x);
-            },
-            &nearest, ctx.max_depth);
-        return std::max(ctx.stock_distance(x), -nearest);
-      });
+      field);
   stats.flat_components_removed = remove_flat_components(mesh, patch_of_triangle, 1e-3 * tolerance);
-  stats.open_edges = seam_stats.boundary_edges;
+  // Small defects left where several patches meet at a singular contact: replaced by a fan
+  // whose chord error against the tool radius stays within the tessellation budget.
+  detail::RepairOptions repair;
+  repair.max_radius = 2.0 * budget.cell;
+  repair.max_field_error = 0.5 * tolerance;
+  const detail::RepairStats repair_stats =
+      detail::repair_small_defects(mesh, patch_of_triangle, repair, field);
+  stats.defects_repaired = repair_stats.repaired;
+  stats.open_edges = repair_stats.defects == repair_stats.repaired ? 0 : topology_report(mesh).boundary_edges;
   stats.seam_splits = seam_stats.splits;
   stats.corner_holes = seam_stats.holes_filled;
   stats.triangles = mesh.triangles.size();

@@ -537,7 +537,8 @@ std::size_t fill_holes(TriangleMesh& mesh, std::vector<TriangleOrigin>& patch_of
     double best_residual = std::numeric_limits<double>::infinity();
     for (std::size_t i = 0; i < loop.size(); ++i) {
       double residual = 0.0;
-      for (std::uint32_t q : patches) residual = std::max(residual, std::abs(surface(q, mesh.vertices[loop[i]])));
+      for (std::uint32_t q : patches)
+        residual = std::max(residual, std::abs(surface(q, mesh.vertices[loop[i]])));
       if (residual < best_residual) {
         best_residual = residual;
         best = i;
@@ -561,8 +562,8 @@ std::size_t fill_holes(TriangleMesh& mesh, std::vector<TriangleOrigin>& patch_of
     Eigen::AlignedBox3d near_box = box;
     near_box.min().array() -= 0.25 * box.diagonal().norm();
     near_box.max().array() += 0.25 * box.diagonal().norm();
-    const bool valid = found != start && near_box.contains(found) &&
-                       std::abs(field(found)) <= 1e3 * options.weld_distance;
+    const bool valid =
+        found != start && near_box.contains(found) && std::abs(field(found)) <= 1e3 * options.weld_distance;
     const Vector3d corner = valid ? found : centroid;
     const std::uint32_t c = static_cast<std::uint32_t>(mesh.vertices.size());
     mesh.vertices.push_back(corner);

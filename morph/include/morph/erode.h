@@ -41,6 +41,7 @@ struct ErodeStats {
   std::size_t vertices = 0;              ///< output vertices
   std::size_t seam_splits = 0;           ///< boundary edges split at the other side's vertices
   std::size_t corner_holes = 0;          ///< holes closed where three patches meet
+  std::size_t defects_repaired = 0;         ///< small open / non-manifold spots replaced by a fan
   std::size_t flat_components_removed = 0;  ///< closed zero-volume slivers left by tangent contacts
   std::size_t open_edges = 0;            ///< boundary edges left (0 for a closed surface)
   double seconds_setup = 0.0;            ///< segments, patches, spatial index

@@ -1,0 +1,34 @@
+#pragma once
+// Private to the generator: replacing small defects left by the seam work (a few open or
+// non-manifold edges where a tool's contact with another sweep is singular or tangent) with a
+// fan around a point of the exact surface.
+#include <morph/mesh.h>
+
+#include <cstddef>
+#include <vector>
+
+#include "erode_seams.h"
+
+namespace morph::detail {
+
+struct RepairOptions {
+  double max_radius = 0.1;        ///< largest ball (job units) whose triangles may be replaced
+  double max_field_error = 0.01;  ///< every replacement triangle stays this close to the exact surface
+};
+
+struct RepairStats {
+  std::size_t defects = 0;   ///< clusters of open / non-manifold edges and vertices found
+  std::size_t repaired = 0;  ///< of which replaced by a fan
+};
+
+/// Finds clusters of open edges, non-manifold or inconsistently oriented edges and non-manifold
+/// vertices; for each cluster smaller than `max_radius`, removes the triangles with a vertex in
+/// the smallest ball about it whose removal leaves one simple hole in an otherwise manifold
+/// ring, and closes that hole with a fan around the nearest point of the exact surface (`field`
+/// is zero there), provided every fan triangle's centroid and edge midpoints stay within
+/// `max_field_error` of it. Larger or unrepairable defects are left as they are.
+/// `patch_of_triangle` is kept in step with `mesh.triangles` (and tags).
+RepairStats repair_small_defects(TriangleMesh& mesh, std::vector<TriangleOrigin>& patch_of_triangle,
+                                 const RepairOptions& options, const FieldFunction& field);
+
+}  // namespace morph::detail
