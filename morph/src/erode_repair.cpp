@@ -117,11 +117,13 @@ class Repairer {
   /// Vertices of bad edges and non-manifold vertices, grouped by proximity (max_radius).
   std::vector<std::vector<std::uint32_t>> defect_clusters() const {
     std::vector<std::uint32_t> bad;
+    std::vector<std::pair<std::uint32_t, std::uint32_t>> bad_edges;
     for (const auto& [key, list] : triangles_of_edge_) {
       const auto a = static_cast<std::uint32_t>(key >> 32), b = static_cast<std::uint32_t>(key & 0xffffffffu);
       if (!manifold_edge(a, b)) {
         bad.push_back(a);
         bad.push_back(b);
+        bad_edges.emplace_back(a, b);
       }
     }
     for (std::uint32_t v = 0; v < mesh_.vertices.size(); ++v)
@@ -155,6 +157,12 @@ class Repairer {
               if ((mesh_.vertices[bad[j]] - p).norm() <= cell) parent[find(i)] = find(j);
           }
       grid[key_of(cx, cy, cz)].push_back(i);
+    }
+    // The two ends of a bad edge are one defect, however long the edge.
+    for (const auto& [a, b] : bad_edges) {
+      const auto ia = static_cast<std::uint32_t>(std::lower_bound(bad.begin(), bad.end(), a) - bad.begin());
+      const auto ib = static_cast<std::uint32_t>(std::lower_bound(bad.begin(), bad.end(), b) - bad.begin());
+      parent[find(ia)] = find(ib);
     }
     std::unordered_map<std::uint32_t, std::size_t> index_of_root;
     std::vector<std::vector<std::uint32_t>> clusters;
@@ -363,7 +371,8 @@ class Repairer {
                                        .cross(mesh_.vertices[owner[2]] - mesh_.vertices[owner[0]]);
       const Vector3d normal = (b - a).cross(c - a);
       if (normal.norm() <= 1e-12 * std::max(1.0, ring_normal.norm())) return false;
-      if (normal.dot(ring_normal) < 0.0) return false;
+      // Folded back against the ring (a crease inside the hole may turn it by up to a right angle).
+      if (normal.dot(ring_normal) < -0.5 * normal.norm() * ring_normal.norm()) return false;
     }
     return true;
   }

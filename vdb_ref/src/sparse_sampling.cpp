@@ -117,7 +117,7 @@ void sample_sweep_leaf(const VoxelCoord& origin, const std::vector<const Straigh
               double value = clamp;
               for (const auto& [centre_distance, k] : nearest_first) {
                 if (centre_distance - reach >= value) break;  // this and every later sweep
-                const double d = sweeps[k]->distance(p);
+                const double d = sweeps[k]->distance_within(p, -clamp, value);
                 if (d < value) {
                   value = d;
                   if (value <= -clamp) break;

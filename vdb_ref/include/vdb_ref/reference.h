@@ -78,9 +78,10 @@ struct ReferenceStats {
 /// The reference surface and its measures.
 struct ReferenceResult {
   /// Closed triangle mesh of the erosion's boundary, outward winding. Every face is tagged
-  /// PatchKind::Reference with source = nearest move (global index) and line = its G-code line
-  /// when the face centroid lies on a sweep (|sweep distance| <= |stock distance|), else
-  /// source = -1 and line = 0 (a stock face).
+  /// PatchKind::Reference with source = nearest move (global index; of moves whose distances
+  /// tie within 1e-9 units, as consecutive moves do where they meet, the earliest) and line = its
+  /// G-code line when the face centroid lies on a sweep (|sweep distance| <= |stock distance|),
+  /// else source = -1 and line = 0 (a stock face).
   morph::TriangleMesh mesh;
   /// Connected solid pieces, largest volume first (ties broken by bounds), deterministic.
   std::vector<ReferencePiece> pieces;
