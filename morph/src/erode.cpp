@@ -214,22 +214,36 @@ class Trimmer {
     std::sort(candidates_.begin(), candidates_.end());
   }
 
-  double operator()(double u, double v) const {
+  /// Terms of g: the stock, the patch's own rules, and the sweep of segment j >= 0.
+  static constexpr int kStockTerm = -1;
+  static constexpr int kRuleTerm = -2;  // rule r is kRuleTerm - r
+  static constexpr int kNoTerm = std::numeric_limits<int>::min();
+
+  double operator()(double u, double v) const { return evaluate_with_term(u, v, nullptr); }
+
+  /// g and, if `term` is given, which term attains it (the trimming curve through a root of g
+  /// lies on that term's surface).
+  double evaluate_with_term(double u, double v, int* term) const {
     const Vector3d x = evaluate(patch_, u, v);
     double g = std::numeric_limits<double>::infinity();
+    int active = kNoTerm;
     if (patch_.sweep) {
       g = -ctx_.stock_distance(x) - ctx_.tie;
+      active = kStockTerm;
       for (int r = 0; r < patch_.rule_count; ++r) {
-        const OwnRule& rule = patch_.rules[r];
-        const double value = rule.position ? (x - patch_.rule_centre).dot(rule.dir) / patch_.rule_radius
-                                           : solid_normal(patch_, u, v).dot(rule.dir);
-        g = std::min(g, value);
+        const double value = rule_value(r, x, u, v);
+        if (value < g) {
+          g = value;
+          active = kRuleTerm - r;
+        }
       }
-      if (g <= 0.0) return g;
+      // Clearly removed by the stock or a rule: no need for the sweeps. Near zero they decide
+      // (a root of the stock's term inside another sweep is no root of g).
+      if (g < -1e3 * ctx_.tie && !term) return g;
     }
     if (use_tree_) {
       double best = std::numeric_limits<double>::infinity();
-      ctx_.tree.nearest(
+      const std::int64_t item = ctx_.tree.nearest(
           x,
           [&](std::size_t j) {
             const int js = static_cast<int>(j);
@@ -238,17 +252,42 @@ class Trimmer {
             return distance(js, x, u, v);
           },
           &best, ctx_.max_depth);
-      return std::min(g, best);
+      if (best < g) {
+        g = best;
+        active = static_cast<int>(item);
+      }
+    } else {
+      for (int j : candidates_) {
+        // Inside its bounds a sweep may be nearer than any bound says (down to -max_depth):
+        // skipping it there would make g's zero set that of a shallower sweep.
+        const double outside = ctx_.segments[j].box.exteriorDistance(x);
+        if ((outside > 0.0 ? outside : -ctx_.max_depth) >= g) continue;
+        const double d = distance(j, x, u, v);
+        if (d < g) {
+          g = d;
+          active = j;
+        }
+      }
     }
-    for (int j : candidates_) {
-      if (ctx_.segments[j].box.exteriorDistance(x) >= g) continue;
-      g = std::min(g, distance(j, x, u, v));
-    }
+    if (term) *term = active;
     return g;
+  }
+
+  /// The value of one term of g at (u, v).
+  double term_value(int term, double u, double v) const {
+    const Vector3d x = evaluate(patch_, u, v);
+    if (term == kStockTerm) return -ctx_.stock_distance(x) - ctx_.tie;
+    if (term <= kRuleTerm) return rule_value(kRuleTerm - term, x, u, v);
+    return distance(term, x, u, v);
   }
 
  private:
   static constexpr std::size_t kListLimit = 64;
+  double rule_value(int r, const Vector3d& x, double u, double v) const {
+    const OwnRule& rule = patch_.rules[r];
+    return rule.position ? (x - patch_.rule_centre).dot(rule.dir) / patch_.rule_radius
+                         : solid_normal(patch_, u, v).dot(rule.dir);
+  }
   // Distance to segment j's sweep, shifted by the tie-break where the patch lies on that sweep's
   // surface. Facing the same way (a repeated pass; a sweep inside the stock reaching one of its
   // faces) the surfaces coincide and one of them bounds the result: of two sweeps the lower
@@ -426,6 +465,11 @@ PatchMesh trim_patch(const Context& ctx, const Patch& patch) {
   };
   // Crossing vertices on grid edges, cached so neighbouring cells share them.
   std::unordered_map<std::uint64_t, std::uint32_t> crossing;
+  struct CrossingInfo {
+    double u, v;
+    int term;
+  };
+  std::unordered_map<std::uint32_t, CrossingInfo> crossing_at;
   auto edge = [&](int i0, int j0, int i1, int j1) {
     // Canonical key: the lower node and the direction.
     const bool along_u = j0 == j1;
@@ -451,9 +495,56 @@ PatchMesh trim_patch(const Context& ctx, const Patch& patch) {
       id = node(ib, jb);
     } else {
       id = static_cast<std::uint32_t>(out.vertices.size());
-      out.vertices.push_back(evaluate(patch, pu(ia) + t * (pu(ib) - pu(ia)), pv(ja) + t * (pv(jb) - pv(ja))));
+      const double u = pu(ia) + t * (pu(ib) - pu(ia)), v = pv(ja) + t * (pv(jb) - pv(ja));
+      out.vertices.push_back(evaluate(patch, u, v));
+      int term = Trimmer::kNoTerm;
+      g.evaluate_with_term(u, v, &term);
+      crossing_at.emplace(id, CrossingInfo{u, v, term});
     }
     crossing.emplace(key, id);
+    return id;
+  };
+  // Where the contour leaves a cell through one term's curve and enters through another's, the
+  // kept region has a corner inside the cell (two trimming curves meeting, e.g. two passes and
+  // a stock face): marching squares would cut it off by a chord. The corner, found by Newton's
+  // method on the two terms, is inserted; the patch on the other side finds the same point.
+  auto corner_between = [&](std::uint32_t leave, std::uint32_t enter, int i, int j) -> std::int64_t {
+    const auto a = crossing_at.find(leave), b = crossing_at.find(enter);
+    if (a == crossing_at.end() || b == crossing_at.end()) return -1;
+    const int ta = a->second.term, tb = b->second.term;
+    if (ta == tb || ta == Trimmer::kNoTerm || tb == Trimmer::kNoTerm) return -1;
+    const double du = pu(i + 1) - pu(i), dv = pv(j + 1) - pv(j);
+    double u = 0.5 * (a->second.u + b->second.u), v = 0.5 * (a->second.v + b->second.v);
+    const double hu = 1e-7 * du, hv = 1e-7 * dv;
+    bool converged = false;
+    for (int it = 0; it < 30 && !converged; ++it) {
+      const double fa = g.term_value(ta, u, v), fb = g.term_value(tb, u, v);
+      if (std::abs(fa) < 1e-3 * ctx.tie && std::abs(fb) < 1e-3 * ctx.tie) {
+        converged = true;
+        break;
+      }
+      const double a11 = (g.term_value(ta, u + hu, v) - g.term_value(ta, u - hu, v)) / (2 * hu);
+      const double a12 = (g.term_value(ta, u, v + hv) - g.term_value(ta, u, v - hv)) / (2 * hv);
+      const double a21 = (g.term_value(tb, u + hu, v) - g.term_value(tb, u - hu, v)) / (2 * hu);
+      const double a22 = (g.term_value(tb, u, v + hv) - g.term_value(tb, u, v - hv)) / (2 * hv);
+      const double det = a11 * a22 - a12 * a21;
+      if (!(std::abs(det) > 0.0)) break;
+      u -= (a22 * fa - a12 * fb) / det;
+      v -= (a11 * fb - a21 * fa) / det;
+      if (!(u > pu(i) - 0.25 * du && u < pu(i + 1) + 0.25 * du && v > pv(j) - 0.25 * dv &&
+            v < pv(j + 1) + 0.25 * dv))
+        break;
+    }
+    // Short of full precision, a point within the weld distance of both curves will do: the ball
+    // end's body distance is itself a numerical minimisation.
+    if (!converged && !(std::abs(g.term_value(ta, u, v)) < 100.0 * ctx.tie &&
+                        std::abs(g.term_value(tb, u, v)) < 100.0 * ctx.tie && u > pu(i) - 0.25 * du &&
+                        u < pu(i + 1) + 0.25 * du && v > pv(j) - 0.25 * dv && v < pv(j + 1) + 0.25 * dv))
+      return -1;
+    // No third term may cut the corner off.
+    if (g(u, v) < -100.0 * ctx.tie) return -1;
+    const auto id = static_cast<std::int64_t>(out.vertices.size());
+    out.vertices.push_back(evaluate(patch, u, v));
     return id;
   };
 
@@ -495,10 +586,21 @@ PatchMesh trim_patch(const Context& ctx, const Patch& patch) {
         continue;
       }
       poly.clear();
+      std::size_t leave_at = 0;
       for (int k = 0; k < 4; ++k) {
         const int kn = (k + 1) % 4;
         if (in[k]) poly.push_back(node(ci[k], cj[k]));
-        if (in[k] != in[kn]) poly.push_back(edge(ci[k], cj[k], ci[kn], cj[kn]));
+        if (in[k] != in[kn]) {
+          poly.push_back(edge(ci[k], cj[k], ci[kn], cj[kn]));
+          if (in[k]) leave_at = poly.size() - 1;
+        }
+      }
+      const std::uint32_t leave = poly[leave_at], enter = poly[(leave_at + 1) % poly.size()];
+      const std::int64_t corner = saddle ? -1 : corner_between(leave, enter, i, j);
+      if (corner >= 0) {
+        // Fanned from the corner, which sees the whole cell polygon.
+        std::rotate(poly.begin(), poly.begin() + static_cast<std::ptrdiff_t>(leave_at + 1), poly.end());
+        poly.insert(poly.begin(), static_cast<std::uint32_t>(corner));
       }
       emit(poly);
     }

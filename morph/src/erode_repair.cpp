@@ -117,13 +117,11 @@ class Repairer {
   /// Vertices of bad edges and non-manifold vertices, grouped by proximity (max_radius).
   std::vector<std::vector<std::uint32_t>> defect_clusters() const {
     std::vector<std::uint32_t> bad;
-    std::vector<std::pair<std::uint32_t, std::uint32_t>> bad_edges;
     for (const auto& [key, list] : triangles_of_edge_) {
       const auto a = static_cast<std::uint32_t>(key >> 32), b = static_cast<std::uint32_t>(key & 0xffffffffu);
       if (!manifold_edge(a, b)) {
         bad.push_back(a);
         bad.push_back(b);
-        bad_edges.emplace_back(a, b);
       }
     }
     for (std::uint32_t v = 0; v < mesh_.vertices.size(); ++v)
@@ -157,12 +155,6 @@ class Repairer {
               if ((mesh_.vertices[bad[j]] - p).norm() <= cell) parent[find(i)] = find(j);
           }
       grid[key_of(cx, cy, cz)].push_back(i);
-    }
-    // The two ends of a bad edge are one defect, however long the edge.
-    for (const auto& [a, b] : bad_edges) {
-      const auto ia = static_cast<std::uint32_t>(std::lower_bound(bad.begin(), bad.end(), a) - bad.begin());
-      const auto ib = static_cast<std::uint32_t>(std::lower_bound(bad.begin(), bad.end(), b) - bad.begin());
-      parent[find(ia)] = find(ib);
     }
     std::unordered_map<std::uint32_t, std::size_t> index_of_root;
     std::vector<std::vector<std::uint32_t>> clusters;
