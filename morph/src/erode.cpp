@@ -189,8 +189,9 @@ struct Context {
   AabbTree tree;
   std::optional<MeshDistance> stock_mesh;
   Eigen::AlignedBox3d stock_box;
-  double tie = 1e-9;       // coincident-surface tie-break distance
-  double max_depth = 0.0;  // deepest possible sweep distance (largest radius + tie)
+  double tie = 1e-9;            // coincident-surface tie-break distance
+  double max_depth = 0.0;       // deepest possible sweep distance (largest radius + tie)
+  double trim_tolerance = 0.0;  // the job's tolerance: scale of the features worth resolving
 
   double stock_distance(const Vector3d& x) const {
     if (stock_mesh) return stock_mesh->signed_distance(x);
@@ -385,16 +386,60 @@ double edge_root(const Trimmer& g, double g0, double g1, At&& at) {
 }
 
 /// Marching squares over the patch's grid: keeps the part where g > 0.
+/// Largest speed of the patch's parametrisation along u and along v (job units per unit of
+/// parameter): a grid edge's image is no longer than its parameter length times this.
+std::array<double, 2> parameter_speeds(const Patch& p) {
+  switch (p.form) {
+    case Form::Plane:
+      return {p.U.norm(), p.V.norm()};
+    case Form::Tube:
+      return {p.U.norm(), p.R * std::abs(p.t1 - p.t0)};
+    case Form::Sphere:
+      return {p.R * std::abs(p.f1 - p.f0), p.R * std::abs(p.t1 - p.t0)};
+    case Form::Disc:
+      return {p.R, 2.0 * M_PI * p.R};
+    case Form::Triangle:
+      return {p.U.norm() + p.V.norm(), p.V.norm()};
+  }
+  return {0.0, 0.0};
+}
+
+PatchMesh trim_on_grid(const Context& ctx, const Patch& patch, const Trimmer& g,
+                       const std::vector<double>& us, const std::vector<double>& vs,
+                       std::vector<double>* extra_u, std::vector<double>* extra_v);
+
+/// Marching squares over the patch's grid: keeps the part where g > 0. The grid starts uniform;
+/// where a kept strip narrower than a cell slips between the nodes (a pass grazing a face or an
+/// edge keeps a sliver of its sweep), a grid line is added through it and the patch redone.
 PatchMesh trim_patch(const Context& ctx, const Patch& patch) {
-  PatchMesh out;
   const Trimmer g(ctx, patch);
-  const int nu = patch.nu, nv = patch.nv;
+  std::vector<double> us(patch.nu + 1), vs(patch.nv + 1);
+  for (int i = 0; i <= patch.nu; ++i) us[i] = static_cast<double>(i) / patch.nu;
+  for (int j = 0; j <= patch.nv; ++j) vs[j] = static_cast<double>(j) / patch.nv;
+  for (int round = 0;; ++round) {
+    std::vector<double> extra_u, extra_v;
+    PatchMesh out = trim_on_grid(ctx, patch, g, us, vs, round < 3 ? &extra_u : nullptr, &extra_v);
+    if (extra_u.empty() && extra_v.empty()) return out;
+    us.insert(us.end(), extra_u.begin(), extra_u.end());
+    vs.insert(vs.end(), extra_v.begin(), extra_v.end());
+    std::sort(us.begin(), us.end());
+    std::sort(vs.begin(), vs.end());
+    us.erase(std::unique(us.begin(), us.end()), us.end());
+    vs.erase(std::unique(vs.begin(), vs.end()), vs.end());
+  }
+}
+
+PatchMesh trim_on_grid(const Context& ctx, const Patch& patch, const Trimmer& g,
+                       const std::vector<double>& us, const std::vector<double>& vs,
+                       std::vector<double>* extra_u, std::vector<double>* extra_v) {
+  PatchMesh out;
+  const int nu = static_cast<int>(us.size()) - 1, nv = static_cast<int>(vs.size()) - 1;
   const int su = patch.periodic_u ? nu : nu + 1;  // distinct node columns
   const int sv = patch.periodic_v ? nv : nv + 1;
   auto wrap_u = [&](int i) { return patch.periodic_u ? i % nu : i; };
   auto wrap_v = [&](int j) { return patch.periodic_v ? j % nv : j; };
-  auto pu = [&](int i) { return static_cast<double>(i) / nu; };
-  auto pv = [&](int j) { return static_cast<double>(j) / nv; };
+  auto pu = [&](int i) { return us[static_cast<std::size_t>(i)]; };
+  auto pv = [&](int j) { return vs[static_cast<std::size_t>(j)]; };
 
   // Node values, evaluated lazily (the quadtree of large flat patches never visits most nodes).
   std::vector<double> value(static_cast<std::size_t>(su) * sv, std::numeric_limits<double>::quiet_NaN());
@@ -449,9 +494,64 @@ PatchMesh trim_patch(const Context& ctx, const Patch& patch) {
     bool any_in = false;
     for (int i = 0; i < su && !any_in; ++i)
       for (int j = 0; j < sv && !any_in; ++j) any_in = val(i, j) > 0.0;
-    if (!any_in) return out;
+    // Without a kept node the patch is gone, unless a strip hides between its nodes.
+    if (!any_in && !extra_u) return out;
     for (int i = 0; i < nu; ++i)
       for (int j = 0; j < nv; ++j) fine_cells.push_back({i, j});
+  }
+
+  if (extra_u) {
+    // Hidden strips: along a grid edge whose ends are both removed, g (L-Lipschitz in space) can
+    // still rise above zero if (g0 + g1 + L length) / 2 > 0; bisect such edges down to a small
+    // fraction of the tolerance budget and put a grid line through any kept point found.
+    const double lipschitz = patch.rule_count > 0 ? std::max(1.0, 1.0 / patch.rule_radius) : 1.0;
+    const std::array<double, 2> speed = parameter_speeds(patch);
+    const double shortest = 1e3 * ctx.tie + 0.02 * ctx.trim_tolerance;
+    std::unordered_map<std::uint64_t, bool> scanned;
+    auto scan = [&](int i0, int j0, bool along_u) {
+      const std::uint64_t key = (static_cast<std::uint64_t>(wrap_u(i0)) << 33) |
+                                (static_cast<std::uint64_t>(wrap_v(j0)) << 1) | (along_u ? 1u : 0u);
+      if (!scanned.emplace(key, true).second) return;
+      const int i1 = along_u ? i0 + 1 : i0, j1 = along_u ? j0 : j0 + 1;
+      const double g0 = val(i0, j0), g1 = val(i1, j1);
+      if (g0 > 0.0 || g1 > 0.0) return;
+      const double p0 = along_u ? pu(i0) : pv(j0), p1 = along_u ? pu(i1) : pv(j1);
+      const double length = (p1 - p0) * speed[along_u ? 0 : 1];
+      // Bisection, most promising span first (largest bound), a bounded number of samples: where
+      // g hugs zero all along (a tangent contact, a tie) no strip worth a grid line is there.
+      struct Span {
+        double a, b, ga, gb, bound;
+        bool operator<(const Span& o) const { return bound < o.bound; }
+      };
+      auto make_span = [&](double a, double b, double ga, double gb) {
+        const double span_length = length * (b - a) / (p1 - p0);
+        return Span{a, b, ga, gb, span_length < shortest ? -1.0 : 0.5 * (ga + gb + lipschitz * span_length)};
+      };
+      std::vector<Span> heap{make_span(p0, p1, g0, g1)};
+      for (int samples = 0; samples < 24 && !heap.empty(); ++samples) {
+        std::pop_heap(heap.begin(), heap.end());
+        const Span sp = heap.back();
+        heap.pop_back();
+        if (sp.bound <= 0.0) break;
+        const double m = 0.5 * (sp.a + sp.b);
+        const double gm = along_u ? g(m, pv(j0)) : g(pu(i0), m);
+        if (gm > 0.0) {
+          (along_u ? *extra_u : *extra_v).push_back(m);
+          return;
+        }
+        heap.push_back(make_span(sp.a, m, sp.ga, gm));
+        std::push_heap(heap.begin(), heap.end());
+        heap.push_back(make_span(m, sp.b, gm, sp.gb));
+        std::push_heap(heap.begin(), heap.end());
+      }
+    };
+    for (const auto& [i, j] : fine_cells) {
+      scan(i, j, true);
+      scan(i, j + 1, true);
+      scan(i, j, false);
+      scan(i + 1, j, false);
+    }
+    if (!extra_u->empty() || !extra_v->empty()) return out;
   }
 
   std::vector<std::int32_t> node_id(value.size(), -1);
@@ -1080,6 +1180,7 @@ ErodeResult erode(const Job& job, const ErodeOptions& options) {
   if (job.stock.type == StockType::Mesh) ctx.stock_mesh.emplace(job.stock.mesh);
   const double scale = std::max(1.0, ctx.stock_box.sizes().maxCoeff());
   ctx.tie = 1e-11 * scale;
+  ctx.trim_tolerance = tolerance;
 
   // Budget: arcs' chords 0.3, tessellation 0.35, trimming curves 0.35 of the tolerance.
   const double arc_chord = 0.3 * tolerance;

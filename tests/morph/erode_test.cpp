@@ -304,6 +304,44 @@ TEST(ErodeBallEnd, SlotsTouchingFaceToFaceSplitTheBlockInTwo) {
   EXPECT_NEAR(topology.volume, 10.0 * 10.0 * depth, 1e-6 * 10.0 * 10.0 * depth);
 }
 
+// A sphere grazing the top front edge of the block, half a tolerance deep, all along it: what
+// is left of its sweep is a strip about 0.035 wide, far narrower than a grid cell of the tube;
+// unless a grid line is put through it, the tube loses it and the faces' cuts stay open.
+TEST(ErodeSphere, GrazingAnEdgeKeepsTheStripAndIsClosed) {
+  const double r = 3.0, tolerance = 0.05, depth = 0.5 * tolerance;
+  const double offset = (r - depth) / std::sqrt(2.0);
+  const Job job = box_job({0, 0, 0}, {19, 19, 5}, sphere_tool(r),
+                          {{{-3, -offset, 5 + offset}, {22, -offset, 5 + offset}}}, tolerance);
+  const morph::ErodeResult result = morph::erode(job);
+  const morph::TopologyReport topology = morph::topology_report(result.mesh);
+  EXPECT_TRUE(topology.closed_manifold())
+      << topology.boundary_edges << " open, " << topology.non_manifold_edges << " non-manifold edges";
+  EXPECT_EQ(topology.components, 1u);
+  EXPECT_LE(largest_field_error(result.mesh, morph::ErosionField(job)), job.tolerance);
+  // The strip is there: some faces lie on the sweep.
+  std::size_t swept = 0;
+  for (const morph::FaceTag& tag : result.mesh.tags) swept += tag.kind == PatchKind::SideSweep;
+  EXPECT_GT(swept, 0u);
+}
+
+// An 11-gon ring cut full depth around an island with a ball end: the island's corners are where
+// two passes' body rulings meet on the top and bottom faces. A grid cell holding such a corner
+// must put a vertex on it (a chord across it was 3 tolerances off) and must see every pass that
+// covers its nodes (a pass skipped inside its bounds made a false root).
+TEST(ErodeBallEnd, IslandCornersAreExact) {
+  std::vector<Vector3d> ring;
+  for (int k = 0; k <= 11; ++k) {
+    const double angle = 2.0 * M_PI * (k % 11) / 11.0 + 0.3;
+    ring.push_back({8.0 * std::cos(angle), 8.0 * std::sin(angle), -3.381});
+  }
+  const Job job = box_job({-15, -15, 0}, {14, 14, 4.618}, ballend_tool(2.492, 14.618), {ring}, 0.02);
+  const morph::ErodeResult result = morph::erode(job);
+  const morph::TopologyReport topology = morph::topology_report(result.mesh);
+  EXPECT_TRUE(topology.closed_manifold()) << topology.boundary_edges << " open edges";
+  EXPECT_EQ(topology.components, 2u);
+  EXPECT_LE(largest_field_error(result.mesh, morph::ErosionField(job)), job.tolerance);
+}
+
 // data/jobs/mesh_stock.json built in code: a sphere dragged along a bent groove through a block
 // given as the 12 triangles of data/meshes/block.stl (same vertices, same diagonals). The stock
 // triangles' degenerate apex corners and their long shared diagonals must not leave seams open.
