@@ -416,11 +416,14 @@ void removed_piece(CaseRandom& rng, Builder& b) {
   slots.insert(slots.end(), more.begin(), more.end());
   b.box(Vector3d(0, 0, 0), Vector3d(length, width, f.height));
   slots_along_y(b, slots, -over, width + over, f.tool_z, rng.chance(0.5));
-  // Pocket passes from the removed piece's start until they reach its end.
+  // Pocket passes from the removed piece's start until they overlap the next slot's cut at the
+  // faces, where a sphere's cut is narrowest (reaching only the piece's end would leave a strip
+  // r - half width thick at each face).
   std::vector<double> pocket;
+  const double next_slot = removed_to + r;
   for (double p = removed_from;; p += step) {
     pocket.push_back(p);
-    if (p + f.half_width_at_faces >= removed_to) break;
+    if (p + f.half_width_at_faces >= next_slot - f.half_width_at_faces) break;
   }
   slots_along_y(b, pocket, -over, width + over, f.tool_z, true);
   const int pieces = (interior ? 2 : 1) + extra;
