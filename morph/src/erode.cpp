@@ -1318,8 +1318,13 @@ ErodeResult erode(const Job& job, const ErodeOptions& options) {
   detail::RepairOptions repair;
   repair.max_radius = 2.0 * budget.cell;
   repair.max_field_error = 0.5 * tolerance;
-  const detail::RepairStats repair_stats =
-      detail::repair_small_defects(mesh, patch_of_triangle, repair, field);
+  detail::RepairStats repair_stats = detail::repair_small_defects(mesh, patch_of_triangle, repair, field);
+  // A second pass sees the spots whose ring was itself defective until a neighbour was mended.
+  if (repair_stats.repaired > 0 && repair_stats.repaired < repair_stats.defects) {
+    const detail::RepairStats again = detail::repair_small_defects(mesh, patch_of_triangle, repair, field);
+    repair_stats.repaired += again.repaired;
+    repair_stats.defects = repair_stats.repaired + (again.defects - again.repaired);
+  }
   stats.defects_repaired = repair_stats.repaired;
   stats.open_edges = repair_stats.defects == repair_stats.repaired ? 0 : topology_report(mesh).boundary_edges;
   stats.seam_splits = seam_stats.splits;

@@ -363,6 +363,9 @@ class Repairer {
                                        .cross(mesh_.vertices[owner[2]] - mesh_.vertices[owner[0]]);
       const Vector3d normal = (b - a).cross(c - a);
       if (normal.norm() <= 1e-12 * std::max(1.0, ring_normal.norm())) return false;
+      // Not a needle (a loop along a sliver would be closed by the sliver turned over).
+      const double longest = std::max({(b - a).squaredNorm(), (c - b).squaredNorm(), (a - c).squaredNorm()});
+      if (normal.norm() < 1e-3 * longest) return false;
       // Folded back against the ring (a crease inside the hole may turn it by up to a right angle).
       if (normal.dot(ring_normal) < -0.5 * normal.norm() * ring_normal.norm()) return false;
     }
