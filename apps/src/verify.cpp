@@ -188,19 +188,20 @@ std::vector<bool> resolvable_samples(const std::vector<raytest::SurfaceSample>& 
           p, surface.vertices[tri[0]], surface.vertices[tri[1]], surface.vertices[tri[2]]);
       if ((q - p).norm() <= radius) near.push_back(t);
     });
-    // On a wedge's edge the sample normal is the bisector; compare the nearby faces with the one
-    // that turns furthest from it, so two faces facing against each other are found in one pass.
-    Eigen::Vector3d extreme = samples[i].normal;
-    double lowest = 2.0;
+    // Any two nearby faces facing more than ~96 degrees apart, over the distinct directions
+    // (a handful near an edge or corner); a sliver triangle has no normal to speak of.
+    std::vector<Eigen::Vector3d> directions;
     for (std::uint32_t t : near) {
-      const double d = normals[t].dot(samples[i].normal);
-      if (d < lowest) {
-        lowest = d;
-        extreme = normals[t];
-      }
+      const Eigen::Vector3d& n = normals[t];
+      if (!n.allFinite() || n.squaredNorm() < 0.5) continue;
+      bool seen = false;
+      for (const Eigen::Vector3d& d : directions) seen = seen || d.dot(n) > 0.995;
+      if (!seen) directions.push_back(n);
     }
     bool facing_against = false;
-    for (std::uint32_t t : near) facing_against = facing_against || normals[t].dot(extreme) < -0.1;
+    for (std::size_t a = 0; a < directions.size() && !facing_against; ++a)
+      for (std::size_t b = a + 1; b < directions.size() && !facing_against; ++b)
+        facing_against = directions[a].dot(directions[b]) < -0.1;
     flags[i] = facing_against ? 0 : 1;
   });
   for (std::size_t i = 0; i < samples.size(); ++i) resolvable[i] = flags[i] != 0;
