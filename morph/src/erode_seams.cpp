@@ -564,7 +564,28 @@ std::size_t fill_holes(TriangleMesh& mesh, std::vector<TriangleOrigin>& patch_of
     near_box.max().array() += 0.25 * box.diagonal().norm();
     const bool valid =
         found != start && near_box.contains(found) && std::abs(field(found)) <= 1e3 * options.weld_distance;
-    const Vector3d corner = valid ? found : centroid;
+    // Otherwise the centroid moved onto the exact surface (Newton steps along the field's
+    // gradient); a hole where even that fails is left to the local repair, which checks its fans.
+    Vector3d corner = found;
+    if (!valid) {
+      corner = centroid;
+      for (int it = 0; it < 20; ++it) {
+        const double f = field(corner);
+        if (std::abs(f) <= 1e-3 * options.weld_distance) break;
+        Vector3d gradient;
+        const double h = 1e-7 * std::max(1.0, box.diagonal().norm());
+        for (int k = 0; k < 3; ++k)
+          gradient[k] =
+              (field(corner + h * Vector3d::Unit(k)) - field(corner - h * Vector3d::Unit(k))) / (2 * h);
+        if (gradient.squaredNorm() < 1e-12) break;
+        corner -= f * gradient / gradient.squaredNorm();
+      }
+      if (!(std::abs(field(corner)) <= 1e3 * options.weld_distance) || !near_box.contains(corner)) {
+        for (std::size_t i = 0; i < loop.size(); ++i)
+          used.erase(edge_key(loop[i], loop[(i + 1) % loop.size()]));
+        continue;
+      }
+    }
     const std::uint32_t c = static_cast<std::uint32_t>(mesh.vertices.size());
     mesh.vertices.push_back(corner);
     for (std::size_t i = 0; i < loop.size(); ++i) {
