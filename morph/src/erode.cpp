@@ -676,7 +676,7 @@ PatchMesh trim_on_grid(const Context& ctx, const Patch& patch, const Trimmer& g,
         continue;
       }
       const bool saddle = count == 2 && in[0] == in[2];
-      if (saddle && g(pu(i) + 0.5 / nu, pv(j) + 0.5 / nv) <= 0.0) {
+      if (saddle && g(0.5 * (pu(i) + pu(i + 1)), 0.5 * (pv(j) + pv(j + 1))) <= 0.0) {
         // Two separate corners.
         for (int k = 0; k < 4; ++k) {
           if (!in[k]) continue;
