@@ -1070,12 +1070,12 @@ void add_front_sweep(const Context& ctx, int prev, int next, PatchBuilder& build
   }
 }
 
-/// Removes closed components that enclose no volume: a band of a patch narrower than the
-/// tie-break (a tool surface touching another sweep tangentially keeps a strip about
-/// sqrt(2 r tie) wide) whose two sides the seam weld joined into a flat, doubly covered surface.
-/// No piece of a result is that thin: its mean thickness 2 V / A is below `thickness`.
+/// Removes closed components that enclose no volume, and tiny open fragments: a band of a patch narrower than
+/// the tie-break (a tool surface touching another sweep tangentially keeps a strip about sqrt(2 r tie) wide)
+/// whose two sides the seam weld joined into a flat, doubly covered surface. No piece of a result is that
+/// thin: its mean thickness 2 V / A is below `thickness`.
 std::size_t remove_flat_components(TriangleMesh& mesh, std::vector<detail::TriangleOrigin>& patch_of,
-                                   double thickness) {
+                                   double thickness, double small_area) {
   std::vector<std::uint32_t> component;
   const std::size_t count = connected_components(mesh, component);
   if (count < 2) return 0;
@@ -1109,7 +1109,12 @@ std::size_t remove_flat_components(TriangleMesh& mesh, std::vector<detail::Trian
   std::vector<bool> drop(count, false);
   std::size_t dropped = 0;
   for (std::size_t c = 0; c < count; ++c) {
-    drop[c] = open[c] == 0 && 2.0 * std::abs(volume[c]) < thickness * area[c];
+    // An open fragment smaller than a hundred tolerance squares is debris of the same kind
+    // that did not close up: the piece of a solid it would bound is below the tolerance.
+    // A closed one turned inside out that small is no void either: a void is the tool's size.
+    const bool tiny = area[c] < small_area;
+    drop[c] =
+        open[c] == 0 ? 2.0 * std::abs(volume[c]) < thickness * area[c] || (tiny && volume[c] < 0.0) : tiny;
     dropped += drop[c];
   }
   if (dropped == 0) return 0;
@@ -1312,9 +1317,8 @@ ErodeResult erode(const Job& job, const ErodeOptions& options) {
         return sweep_distance(*s.tool, s.a, s.b, x);
       },
       field);
-  stats.flat_components_removed = remove_flat_components(mesh, patch_of_triangle, 1e-3 * tolerance);
   // Small defects left where several patches meet at a singular contact: replaced by a fan
-  // whose chord error against the tool radius stays within the tessellation budget.
+  // whose every triangle is checked against the exact field.
   detail::RepairOptions repair;
   repair.max_radius = 2.0 * budget.cell;
   repair.max_field_error = 0.5 * tolerance;
@@ -1326,6 +1330,8 @@ ErodeResult erode(const Job& job, const ErodeOptions& options) {
     repair_stats.defects = repair_stats.repaired + (again.defects - again.repaired);
   }
   stats.defects_repaired = repair_stats.repaired;
+  stats.flat_components_removed =
+      remove_flat_components(mesh, patch_of_triangle, 1e-3 * tolerance, 100.0 * tolerance * tolerance);
   stats.open_edges = repair_stats.defects == repair_stats.repaired ? 0 : topology_report(mesh).boundary_edges;
   stats.seam_splits = seam_stats.splits;
   stats.corner_holes = seam_stats.holes_filled;
