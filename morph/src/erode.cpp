@@ -1118,28 +1118,9 @@ std::size_t remove_flat_components(TriangleMesh& mesh, std::vector<detail::Trian
     dropped += drop[c];
   }
   if (dropped == 0) return 0;
-  std::size_t kept = 0;
-  for (std::size_t i = 0; i < mesh.triangles.size(); ++i) {
-    if (drop[component[i]]) continue;
-    mesh.triangles[kept] = mesh.triangles[i];
-    mesh.tags[kept] = mesh.tags[i];
-    patch_of[kept] = patch_of[i];
-    ++kept;
-  }
-  mesh.triangles.resize(kept);
-  mesh.tags.resize(kept);
-  patch_of.resize(kept);
-  std::vector<std::int64_t> new_index(mesh.vertices.size(), -1);
-  std::vector<Vector3d> vertices;
-  for (Triangle& t : mesh.triangles)
-    for (std::uint32_t& v : t) {
-      if (new_index[v] < 0) {
-        new_index[v] = static_cast<std::int64_t>(vertices.size());
-        vertices.push_back(mesh.vertices[v]);
-      }
-      v = static_cast<std::uint32_t>(new_index[v]);
-    }
-  mesh.vertices = std::move(vertices);
+  std::vector<bool> remove(mesh.triangles.size());
+  for (std::size_t i = 0; i < mesh.triangles.size(); ++i) remove[i] = drop[component[i]];
+  detail::remove_triangles(mesh, patch_of, remove);
   return dropped;
 }
 

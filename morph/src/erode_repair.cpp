@@ -396,32 +396,7 @@ class Repairer {
     return true;
   }
 
-  void compact() {
-    std::size_t kept = 0;
-    for (std::size_t t = 0; t < mesh_.triangles.size(); ++t) {
-      if (deleted_[t]) continue;
-      mesh_.triangles[kept] = mesh_.triangles[t];
-      mesh_.tags[kept] = mesh_.tags[t];
-      patch_of_[kept] = patch_of_[t];
-      ++kept;
-    }
-    mesh_.triangles.resize(kept);
-    mesh_.tags.resize(kept);
-    patch_of_.resize(kept);
-    std::vector<std::int64_t> new_index(mesh_.vertices.size(), -1);
-    std::vector<Vector3d> vertices;
-    vertices.reserve(mesh_.vertices.size());
-    for (std::uint32_t v = 0; v < mesh_.vertices.size(); ++v) {
-      bool used = false;
-      for (std::uint32_t t : triangles_of_vertex_[v]) used = used || !deleted_[t];
-      if (!used) continue;
-      new_index[v] = static_cast<std::int64_t>(vertices.size());
-      vertices.push_back(mesh_.vertices[v]);
-    }
-    for (Triangle& tri : mesh_.triangles)
-      for (std::uint32_t& v : tri) v = static_cast<std::uint32_t>(new_index[v]);
-    mesh_.vertices = std::move(vertices);
-  }
+  void compact() { remove_triangles(mesh_, patch_of_, deleted_); }
 
   TriangleMesh& mesh_;
   std::vector<TriangleOrigin>& patch_of_;
@@ -434,6 +409,33 @@ class Repairer {
 };
 
 }  // namespace
+
+void remove_triangles(TriangleMesh& mesh, std::vector<TriangleOrigin>& patch_of_triangle,
+                      const std::vector<bool>& remove) {
+  std::vector<bool> used(mesh.vertices.size(), false);
+  std::size_t kept = 0;
+  for (std::size_t t = 0; t < mesh.triangles.size(); ++t) {
+    if (remove[t]) continue;
+    for (std::uint32_t v : mesh.triangles[t]) used[v] = true;
+    mesh.triangles[kept] = mesh.triangles[t];
+    mesh.tags[kept] = mesh.tags[t];
+    patch_of_triangle[kept] = patch_of_triangle[t];
+    ++kept;
+  }
+  mesh.triangles.resize(kept);
+  mesh.tags.resize(kept);
+  patch_of_triangle.resize(kept);
+  std::vector<std::uint32_t> new_index(mesh.vertices.size(), 0);
+  std::vector<Vector3d> vertices;
+  for (std::uint32_t v = 0; v < mesh.vertices.size(); ++v) {
+    if (!used[v]) continue;
+    new_index[v] = static_cast<std::uint32_t>(vertices.size());
+    vertices.push_back(mesh.vertices[v]);
+  }
+  for (Triangle& tri : mesh.triangles)
+    for (std::uint32_t& v : tri) v = new_index[v];
+  mesh.vertices = std::move(vertices);
+}
 
 RepairStats repair_small_defects(TriangleMesh& mesh, std::vector<TriangleOrigin>& patch_of_triangle,
                                  const RepairOptions& options, const FieldFunction& field) {

@@ -28,6 +28,11 @@ struct RepairStats {
 /// is zero there), provided every fan triangle's centroid and edge midpoints stay within
 /// `max_field_error` of it. Larger or unrepairable defects are left as they are.
 /// `patch_of_triangle` is kept in step with `mesh.triangles` (and tags).
+/// Removes the triangles flagged in `remove` (one flag per triangle) and the vertices no triangle
+/// uses any more, keeping the order of what stays.
+void remove_triangles(TriangleMesh& mesh, std::vector<TriangleOrigin>& patch_of_triangle,
+                      const std::vector<bool>& remove);
+
 RepairStats repair_small_defects(TriangleMesh& mesh, std::vector<TriangleOrigin>& patch_of_triangle,
                                  const RepairOptions& options, const FieldFunction& field);
 
