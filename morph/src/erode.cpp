@@ -274,6 +274,28 @@ class Trimmer {
     return g;
   }
 
+  /// Lipschitz constant in space of the exact minimum of g's terms on the patch: the distances
+  /// are 1-Lipschitz, position rules |dir| / rule_radius, normal rules |dir| / R on spheres and
+  /// right tubes (constant on flat patches). Infinity where no bound is known (normal rules on
+  /// oblique tubes): then no block is proven.
+  double lipschitz() const {
+    double l = 1.0;
+    for (int r = 0; r < patch_.rule_count; ++r) {
+      const OwnRule& rule = patch_.rules[r];
+      const double length = rule.dir.norm();
+      if (rule.position) {
+        l = std::max(l, length / patch_.rule_radius);
+      } else if (patch_.form == Form::Sphere ||
+                 (patch_.form == Form::Tube && std::abs(patch_.U.dot(patch_.e1)) <= 1e-12 * patch_.U.norm() &&
+                  std::abs(patch_.U.dot(patch_.e2)) <= 1e-12 * patch_.U.norm())) {
+        l = std::max(l, length / patch_.R);
+      } else if (patch_.form == Form::Tube) {
+        l = std::numeric_limits<double>::infinity();
+      }
+    }
+    return l;
+  }
+
   /// The value of one term of g at (u, v).
   double term_value(int term, double u, double v) const {
     const Vector3d x = evaluate(patch_, u, v);
@@ -404,6 +426,51 @@ std::array<double, 2> parameter_speeds(const Patch& p) {
   return {0.0, 0.0};
 }
 
+/// Upper bound of |X(u, v) - X(centre)| over the parameter block [u0, u1] x [v0, v1], X = the
+/// patch's parametrisation. Curved images are not in the convex hull of the corners' images, so
+/// the bounds come from the parametrisation: chords of the arcs, the ruling's length.
+double block_radius(const Patch& p, double u0, double u1, double v0, double v1) {
+  const double hu = 0.5 * (u1 - u0), hv = 0.5 * (v1 - v0);
+  // Chord of a circular arc of the given radius and angle (the longest one if angle >= pi).
+  auto chord = [](double radius, double angle) {
+    return 2.0 * radius * std::sin(0.5 * std::min(angle, M_PI));
+  };
+  switch (p.form) {
+    case Form::Plane:  // a parallelogram: farthest at a corner
+      return std::max((hu * p.U + hv * p.V).norm(), (hu * p.U - hv * p.V).norm());
+    case Form::Triangle: {  // bilinear: inside the convex hull of the corners' images
+      const Vector3d centre = evaluate(p, u0 + hu, v0 + hv);
+      double radius = 0.0;
+      for (double u : {u0, u1})
+        for (double v : {v0, v1}) radius = std::max(radius, (evaluate(p, u, v) - centre).norm());
+      return radius;
+    }
+    case Form::Tube: {
+      // Displacement a + b: a along the axis U, b a chord of the circle (in the e1-e2 plane);
+      // a.b <= |a||b| times the cosine between U and that plane.
+      const double length = p.U.norm();
+      const double along = length * hu;
+      const double across = chord(p.R, std::abs(p.t1 - p.t0) * hv);
+      const double in_plane =
+          length > 0.0 ? std::min(1.0, std::hypot(p.U.dot(p.e1), p.U.dot(p.e2)) / length) : 0.0;
+      return std::sqrt(along * along + across * across + 2.0 * in_plane * along * across);
+    }
+    case Form::Sphere: {
+      // Along the meridian to the polar angle, then along that parallel: an arc no longer than
+      // the polar half-range plus the azimuth half-range times the largest sin on the block.
+      const double pa = p.t0 + v0 * (p.t1 - p.t0), pb = p.t0 + v1 * (p.t1 - p.t0);
+      const double lo = std::min(pa, pb), hi = std::max(pa, pb);
+      double max_sin = 1.0;
+      if (lo >= 0.0 && hi <= M_PI && !(lo <= 0.5 * M_PI && hi >= 0.5 * M_PI))
+        max_sin = std::max(std::sin(lo), std::sin(hi));
+      return chord(p.R, std::abs(p.t1 - p.t0) * hv + max_sin * std::abs(p.f1 - p.f0) * hu);
+    }
+    case Form::Disc:  // radially, then along the circle (of radius at most u1 R)
+      return p.R * hu + chord(p.R * u1, 2.0 * M_PI * hv);
+  }
+  return std::numeric_limits<double>::infinity();
+}
+
 PatchMesh trim_on_grid(const Context& ctx, const Patch& patch, const Trimmer& g,
                        const std::vector<double>& us, const std::vector<double>& vs,
                        std::vector<double>* extra_u, std::vector<double>* extra_v);
@@ -458,6 +525,12 @@ PatchMesh trim_on_grid(const Context& ctx, const Patch& patch, const Trimmer& g,
   };
   std::vector<Block> kept_blocks;
   std::vector<std::array<int, 2>> fine_cells;
+  // Other patches: per cell, proven entirely kept or removed, or open (evaluated); empty: all open.
+  constexpr std::uint8_t kRemoved = 0, kKept = 1, kOpen = 2;
+  std::vector<std::uint8_t> cell_state;
+  auto cell_state_at = [&](int i, int j) -> std::uint8_t {
+    return cell_state.empty() ? kOpen : cell_state[static_cast<std::size_t>(i) * nv + j];
+  };
   if (quadtree) {
     std::vector<Block> stack{{0, nu, 0, nv}};
     while (!stack.empty()) {
@@ -491,9 +564,50 @@ PatchMesh trim_on_grid(const Context& ctx, const Patch& patch, const Trimmer& g,
     }
     if (kept_blocks.empty() && fine_cells.empty()) return out;
   } else {
+    // Blocks that g's Lipschitz bound proves entirely kept or removed need no node values: g at
+    // a block's centre is exact where it is positive and an upper bound of the exact minimum of
+    // its terms where not (the early return), and within L times the block's radius (plus a
+    // relative and a tie margin: the tie shift jumps by two ties, the distances are exact to far
+    // less) of that minimum all over the block. Every other cell evaluates exactly as before.
+    const double lipschitz = g.lipschitz();
+    if (std::isfinite(lipschitz)) {
+      cell_state.assign(static_cast<std::size_t>(nu) * nv, kOpen);
+      const double margin = 100.0 * ctx.tie + 1e-12;
+      std::vector<Block> stack{{0, nu, 0, nv}};
+      while (!stack.empty()) {
+        const Block b = stack.back();
+        stack.pop_back();
+        // A single cell's centre costs about what its nodes do, which neighbours share.
+        if (b.i1 - b.i0 == 1 && b.j1 - b.j0 == 1) continue;
+        const double uc = 0.5 * (pu(b.i0) + pu(b.i1)), vc = 0.5 * (pv(b.j0) + pv(b.j1));
+        const double reach =
+            lipschitz * (1.001 * block_radius(patch, pu(b.i0), pu(b.i1), pv(b.j0), pv(b.j1)) + margin);
+        const double gc = g(uc, vc);
+        if (gc < -reach || gc > reach) {
+          for (int i = b.i0; i < b.i1; ++i)
+            for (int j = b.j0; j < b.j1; ++j)
+              cell_state[static_cast<std::size_t>(i) * nv + j] = gc > 0.0 ? kKept : kRemoved;
+          continue;
+        }
+        if (b.i1 - b.i0 >= b.j1 - b.j0) {
+          const int im = (b.i0 + b.i1) / 2;
+          stack.push_back({im, b.i1, b.j0, b.j1});
+          stack.push_back({b.i0, im, b.j0, b.j1});
+        } else {
+          const int jm = (b.j0 + b.j1) / 2;
+          stack.push_back({b.i0, b.i1, jm, b.j1});
+          stack.push_back({b.i0, b.i1, b.j0, jm});
+        }
+      }
+    }
+    // A kept cell has kept nodes; a node of removed cells only is removed.
     bool any_in = false;
-    for (int i = 0; i < su && !any_in; ++i)
-      for (int j = 0; j < sv && !any_in; ++j) any_in = val(i, j) > 0.0;
+    for (int i = 0; i < nu && !any_in; ++i)
+      for (int j = 0; j < nv && !any_in; ++j) {
+        if (cell_state_at(i, j) == kKept) any_in = true;
+        if (cell_state_at(i, j) != kOpen) continue;
+        for (int k = 0; k < 4 && !any_in; ++k) any_in = val(i + (k & 1), j + (k >> 1)) > 0.0;
+      }
     // Without a kept node the patch is gone, unless a strip hides between its nodes.
     if (!any_in && !extra_u) return out;
     for (int i = 0; i < nu; ++i)
@@ -546,6 +660,9 @@ PatchMesh trim_on_grid(const Context& ctx, const Patch& patch, const Trimmer& g,
       }
     };
     for (const auto& [i, j] : fine_cells) {
+      // A proven cell's edges need no scan: kept, one of their ends is kept; removed, g < 0 all
+      // along them. Open cells scan their edges, shared ones too, from exact values.
+      if (cell_state_at(i, j) != kOpen) continue;
       scan(i, j, true);
       scan(i, j + 1, true);
       scan(i, j, false);
@@ -669,7 +786,10 @@ PatchMesh trim_on_grid(const Context& ctx, const Patch& patch, const Trimmer& g,
       const int cj[4] = {j, j, j + 1, j + 1};
       bool in[4];
       int count = 0;
-      for (int k = 0; k < 4; ++k) count += (in[k] = val(ci[k], cj[k]) > 0.0);
+      // Proven cells: the node signs without their values (all kept or all removed).
+      const auto proven = cell_state_at(i, j);
+      for (int k = 0; k < 4; ++k)
+        count += (in[k] = proven == kOpen ? val(ci[k], cj[k]) > 0.0 : proven == kKept);
       if (count == 0) continue;
       if (count == 4) {
         emit({node(ci[0], cj[0]), node(ci[1], cj[1]), node(ci[2], cj[2]), node(ci[3], cj[3])});
