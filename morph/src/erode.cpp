@@ -618,7 +618,10 @@ PatchMesh trim_on_grid(const Context& ctx, const Patch& patch, const Trimmer& g,
     // Hidden strips: along a grid edge whose ends are both removed, g (L-Lipschitz in space) can
     // still rise above zero if (g0 + g1 + L length) / 2 > 0; bisect such edges down to a small
     // fraction of the tolerance budget and put a grid line through any kept point found.
-    const double lipschitz = patch.rule_count > 0 ? std::max(1.0, 1.0 / patch.rule_radius) : 1.0;
+    // The same bound as the block proofs (a ball end's sphere rule varies as 1/r, not 1/rule_radius).
+    const double lipschitz = std::isfinite(g.lipschitz())
+                                 ? g.lipschitz()
+                                 : (patch.rule_count > 0 ? std::max(1.0, 1.0 / patch.rule_radius) : 1.0);
     const std::array<double, 2> speed = parameter_speeds(patch);
     const double shortest = 1e3 * ctx.tie + 0.02 * ctx.trim_tolerance;
     std::unordered_map<std::uint64_t, bool> scanned;
