@@ -16,7 +16,7 @@
 #include <optional>
 #include <unordered_map>
 
-#include "convex_minimum.h"
+#include <morph/convex_minimum.h>
 #include "erode_repair.h"
 #include "erode_seams.h"
 

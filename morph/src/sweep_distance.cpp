@@ -2,7 +2,7 @@
 #include <morph/mesh_distance.h>
 #include <morph/sweep_distance.h>
 
-#include "convex_minimum.h"
+#include <morph/convex_minimum.h>
 
 #include <algorithm>
 #include <cmath>

@@ -1,7 +1,7 @@
 #include <morph/exceptions.h>
 #include <morph/tool.h>
 
-#include "convex_minimum.h"
+#include <morph/convex_minimum.h>
 
 #include <algorithm>
 #include <cmath>

@@ -1,51 +1,12 @@
 #include "straight_sweep.h"
 
+#include <morph/convex_minimum.h>
+
 #include <algorithm>
 #include <cmath>
 #include <limits>
 
 namespace vdb_ref::detail {
-
-namespace {
-
-// Signed distance to the vertical capped cylinder of radius r around the z axis between heights
-// 0 and top, q relative to the bottom centre.
-// (Plain square roots, not std::hypot: job coordinates are far from overflow, and hypot's
-// extra care costs more than the rest of the evaluation.)
-double capped_cylinder_distance(const Eigen::Vector3d& q, double r, double top) {
-  const double dr = std::sqrt(q.x() * q.x() + q.y() * q.y()) - r;
-  const double dz = std::max(-q.z(), q.z() - top);
-  const double out_r = std::max(dr, 0.0), out_z = std::max(dz, 0.0);
-  return std::sqrt(out_r * out_r + out_z * out_z) + std::min(std::max(dr, dz), 0.0);
-}
-
-// Minimum value of a convex function over [0, 1] by golden section to 1e-14 in the argument,
-// the ends included (the same search as morph's, so the same value).
-template <class F>
-double golden_minimum_value(F&& f) {
-  constexpr double kInvPhi = 0.6180339887498949;
-  double lo = 0.0, hi = 1.0;
-  double x1 = hi - kInvPhi * (hi - lo), x2 = lo + kInvPhi * (hi - lo);
-  double f1 = f(x1), f2 = f(x2);
-  for (int i = 0; i < 64 && hi - lo > 1e-14; ++i) {
-    if (f1 < f2) {
-      hi = x2;
-      x2 = x1;
-      f2 = f1;
-      x1 = hi - kInvPhi * (hi - lo);
-      f1 = f(x1);
-    } else {
-      lo = x1;
-      x1 = x2;
-      f1 = f2;
-      x2 = lo + kInvPhi * (hi - lo);
-      f2 = f(x2);
-    }
-  }
-  return std::min({f1, f2, f(lo), f(hi)});
-}
-
-}  // namespace
 
 StraightSweep::StraightSweep(const morph::Tool& tool, const Eigen::Vector3d& a, const Eigen::Vector3d& b)
     : ball_end_(tool.type == morph::ToolType::BallEnd),
@@ -85,7 +46,9 @@ double StraightSweep::distance_within(const Eigen::Vector3d& p, double floor, do
 }
 
 double StraightSweep::body_distance(const Eigen::Vector3d& p) const {
-  auto body = [&](double t) { return capped_cylinder_distance(p - (centre_ + t * d_), radius_, length_); };
+  auto body = [&](double t) {
+    return morph::detail::capped_cylinder_distance(p - (centre_ + t * d_), radius_, 0.0, length_);
+  };
   // The body distance is convex in t. Beside the body it is the horizontal distance to the centre
   // at the parameter nearest horizontally, within the parameters whose body spans p's height: try
   // that parameter and accept it if it is a local (hence global) minimum.
@@ -103,7 +66,7 @@ double StraightSweep::body_distance(const Eigen::Vector3d& p) const {
     const double f = body(t), h = 1e-9;
     if ((t - h < 0.0 || body(t - h) >= f) && (t + h > 1.0 || body(t + h) >= f)) return f;
   }
-  return golden_minimum_value(body);
+  return morph::detail::golden_minimum(body, 0.0, 1.0).second;
 }
 
 }  // namespace vdb_ref::detail

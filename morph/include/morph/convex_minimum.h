@@ -1,5 +1,7 @@
 #pragma once
-// Private to morph: the pieces every exact tool-sweep distance is built from.
+/// \file convex_minimum.h
+/// The pieces every exact tool-sweep distance is built from (the generator's, the reference's):
+/// a golden-section minimum of a convex function and the exact capped-cylinder distance.
 #include <Eigen/Core>
 
 #include <algorithm>
