@@ -218,36 +218,48 @@ class Repairer {
       for (std::uint32_t t : triangles_of_vertex_[v])
         if (!deleted_[t] && removed.insert(t).second) removed_order.push_back(t);
     if (removed.empty()) return false;
-    std::sort(removed_order.begin(), removed_order.end());
-    // The ring: live triangles sharing a vertex with a removed one.
-    std::vector<std::uint32_t> ring;
-    {
-      std::unordered_set<std::uint32_t> in_ring;
-      for (std::uint32_t t : removed_order)
-        for (std::uint32_t v : mesh_.triangles[t])
-          for (std::uint32_t s : triangles_of_vertex_[v])
-            if (!deleted_[s] && !removed.count(s) && in_ring.insert(s).second) ring.push_back(s);
-      std::sort(ring.begin(), ring.end());
-    }
-    if (ring.empty()) return false;
-    // Every ring edge must be manifold once the ball is removed, or open towards the ball.
+    // The ring around what is removed must be manifold and open towards it along one loop. Where
+    // the loop would pass a vertex twice (two kept corners touching at a point), the triangles
+    // around that vertex go too, and the ring is taken again.
     std::unordered_map<std::uint32_t, std::uint32_t> loop_next;  // a -> b for open edges a -> b
     std::unordered_map<std::uint32_t, std::uint32_t> loop_triangle;
-    std::unordered_map<std::uint32_t, int> incoming;
-    for (std::uint32_t t : ring) {
-      const Triangle& tri = mesh_.triangles[t];
-      for (int k = 0; k < 3; ++k) {
-        const std::uint32_t a = tri[k], b = tri[(k + 1) % 3];
-        const auto after = uses(a, b, removed);
-        if (after.size() == 2 && after[0].second != after[1].second) continue;
-        if (after.size() != 1) return false;
-        // Open only because its partner went with the ball, not a defect outside it.
-        const auto before = uses(a, b, {});
-        if (before.size() != 2 || before[0].second == before[1].second) return false;
-        if (!loop_next.emplace(a, b).second) return false;
-        loop_triangle[a] = t;
-        if (++incoming[b] > 1) return false;
+    for (int attempt = 0;; ++attempt) {
+      std::sort(removed_order.begin(), removed_order.end());
+      std::vector<std::uint32_t> ring;
+      {
+        std::unordered_set<std::uint32_t> in_ring;
+        for (std::uint32_t t : removed_order)
+          for (std::uint32_t v : mesh_.triangles[t])
+            for (std::uint32_t s : triangles_of_vertex_[v])
+              if (!deleted_[s] && !removed.count(s) && in_ring.insert(s).second) ring.push_back(s);
+        std::sort(ring.begin(), ring.end());
       }
+      if (ring.empty()) return false;
+      loop_next.clear();
+      loop_triangle.clear();
+      std::unordered_map<std::uint32_t, int> incoming;
+      std::vector<std::uint32_t> pinched;
+      for (std::uint32_t t : ring) {
+        const Triangle& tri = mesh_.triangles[t];
+        for (int k = 0; k < 3; ++k) {
+          const std::uint32_t a = tri[k], b = tri[(k + 1) % 3];
+          const auto after = uses(a, b, removed);
+          if (after.size() == 2 && after[0].second != after[1].second) continue;
+          if (after.size() != 1) return false;
+          // Open only because its partner went with the ball, not a defect outside it.
+          const auto before = uses(a, b, {});
+          if (before.size() != 2 || before[0].second == before[1].second) return false;
+          if (!loop_next.emplace(a, b).second) pinched.push_back(a);
+          loop_triangle.try_emplace(a, t);
+          if (++incoming[b] > 1) pinched.push_back(b);
+        }
+      }
+      if (pinched.empty()) break;
+      if (attempt == 2) return false;
+      std::sort(pinched.begin(), pinched.end());
+      for (std::uint32_t v : pinched)
+        for (std::uint32_t t : triangles_of_vertex_[v])
+          if (!deleted_[t] && removed.insert(t).second) removed_order.push_back(t);
     }
     if (loop_next.size() < 3) return false;
     std::vector<std::uint32_t> loop;
