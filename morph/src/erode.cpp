@@ -523,6 +523,18 @@ PatchMesh trim_on_grid(const Context& ctx, const Patch& patch, const Trimmer& g,
   struct Block {
     int i0, i1, j0, j1;
   };
+  // Halves the block across its longer side, the lower half popped first.
+  auto split = [](const Block& b, std::vector<Block>& stack) {
+    if (b.i1 - b.i0 >= b.j1 - b.j0) {
+      const int im = (b.i0 + b.i1) / 2;
+      stack.push_back({im, b.i1, b.j0, b.j1});
+      stack.push_back({b.i0, im, b.j0, b.j1});
+    } else {
+      const int jm = (b.j0 + b.j1) / 2;
+      stack.push_back({b.i0, b.i1, jm, b.j1});
+      stack.push_back({b.i0, b.i1, b.j0, jm});
+    }
+  };
   std::vector<Block> kept_blocks;
   std::vector<std::array<int, 2>> fine_cells;
   // Other patches: per cell, proven entirely kept or removed, or open (evaluated); empty: all open.
@@ -552,15 +564,7 @@ PatchMesh trim_on_grid(const Context& ctx, const Patch& patch, const Trimmer& g,
         continue;
       }
       if (gc < -1.0001 * radius - 1e-12) continue;
-      if (b.i1 - b.i0 >= b.j1 - b.j0) {
-        const int im = (b.i0 + b.i1) / 2;
-        stack.push_back({im, b.i1, b.j0, b.j1});
-        stack.push_back({b.i0, im, b.j0, b.j1});
-      } else {
-        const int jm = (b.j0 + b.j1) / 2;
-        stack.push_back({b.i0, b.i1, jm, b.j1});
-        stack.push_back({b.i0, b.i1, b.j0, jm});
-      }
+      split(b, stack);
     }
     if (kept_blocks.empty() && fine_cells.empty()) return out;
   } else {
@@ -589,15 +593,7 @@ PatchMesh trim_on_grid(const Context& ctx, const Patch& patch, const Trimmer& g,
               cell_state[static_cast<std::size_t>(i) * nv + j] = gc > 0.0 ? kKept : kRemoved;
           continue;
         }
-        if (b.i1 - b.i0 >= b.j1 - b.j0) {
-          const int im = (b.i0 + b.i1) / 2;
-          stack.push_back({im, b.i1, b.j0, b.j1});
-          stack.push_back({b.i0, im, b.j0, b.j1});
-        } else {
-          const int jm = (b.j0 + b.j1) / 2;
-          stack.push_back({b.i0, b.i1, jm, b.j1});
-          stack.push_back({b.i0, b.i1, b.j0, jm});
-        }
+        split(b, stack);
       }
     }
     // A kept cell has kept nodes; a node of removed cells only is removed.
