@@ -212,11 +212,17 @@ std::vector<double> slot_positions(CaseRandom& rng, int count, double radius, do
 
 /// Straight passes along y at the given x centres, from y0 to y1, joined into one zigzag path
 /// (joins outside the stock) or given as separate paths.
-void slots_along_y(Builder& b, const std::vector<double>& xs, double y0, double y1, double z, bool one_path) {
+/// Straight passes at the given positions from `from` to `to` along y (or along x), alternating
+/// direction; as one zigzag path or as separate paths.
+void slots_along(Builder& b, bool along_y, const std::vector<double>& positions, double from, double to,
+                 double z, bool one_path) {
+  auto point = [&](double position, double along) {
+    return along_y ? Vector3d(position, along, z) : Vector3d(along, position, z);
+  };
   std::vector<Vector3d> zigzag;
-  for (std::size_t i = 0; i < xs.size(); ++i) {
+  for (std::size_t i = 0; i < positions.size(); ++i) {
     const bool forward = i % 2 == 0;
-    const Vector3d p(xs[i], forward ? y0 : y1, z), q(xs[i], forward ? y1 : y0, z);
+    const Vector3d p = point(positions[i], forward ? from : to), q = point(positions[i], forward ? to : from);
     if (one_path) {
       zigzag.push_back(p);
       zigzag.push_back(q);
@@ -227,19 +233,12 @@ void slots_along_y(Builder& b, const std::vector<double>& xs, double y0, double 
   if (one_path) b.path(zigzag);
 }
 
+void slots_along_y(Builder& b, const std::vector<double>& xs, double y0, double y1, double z, bool one_path) {
+  slots_along(b, true, xs, y0, y1, z, one_path);
+}
+
 void slots_along_x(Builder& b, const std::vector<double>& ys, double x0, double x1, double z, bool one_path) {
-  std::vector<Vector3d> zigzag;
-  for (std::size_t i = 0; i < ys.size(); ++i) {
-    const bool forward = i % 2 == 0;
-    const Vector3d p(forward ? x0 : x1, ys[i], z), q(forward ? x1 : x0, ys[i], z);
-    if (one_path) {
-      zigzag.push_back(p);
-      zigzag.push_back(q);
-    } else {
-      b.path({p, q});
-    }
-  }
-  if (one_path) b.path(zigzag);
+  slots_along(b, false, ys, x0, x1, z, one_path);
 }
 
 const char* tool_word(bool sphere) {

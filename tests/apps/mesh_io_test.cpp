@@ -10,7 +10,7 @@
 #include <fstream>
 
 #include "apps/command_support.h"
-#include "apps/test_meshes.h"
+#include "common/test_meshes.h"
 
 namespace {
 

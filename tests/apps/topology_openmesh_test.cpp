@@ -14,7 +14,7 @@
 #include <queue>
 #include <string>
 
-#include "apps/test_meshes.h"
+#include "common/test_meshes.h"
 
 namespace {
 

@@ -11,11 +11,13 @@
 namespace {
 
 /// A ball-end raster over a wavy surface: rows 1 mm apart, each split into moves_per_row moves.
-morph::Job raster_job(int moves) {
+/// A box stock from (0, 0, -20) to (size, size, 0) cut by bear.nc's 1/8 in ball end (tool 1), at
+/// tolerance 0.01 mm; no paths yet.
+morph::Job ball_end_box_job(const char* name, double size) {
   morph::Job job;
-  job.name = "raster";
+  job.name = name;
   job.stock.type = morph::StockType::Box;
-  job.stock.box = Eigen::AlignedBox3d(Eigen::Vector3d(0, 0, -20), Eigen::Vector3d(100, 100, 0));
+  job.stock.box = Eigen::AlignedBox3d(Eigen::Vector3d(0, 0, -20), Eigen::Vector3d(size, size, 0));
   morph::Tool tool;
   tool.number = 1;
   tool.type = morph::ToolType::BallEnd;
@@ -23,6 +25,11 @@ morph::Job raster_job(int moves) {
   tool.length = 25.4;
   job.tools[1] = tool;
   job.tolerance = 0.01;
+  return job;
+}
+
+morph::Job raster_job(int moves) {
+  morph::Job job = ball_end_box_job("raster", 100.0);
   const int rows = 100;
   const int per_row = std::max(1, moves / rows);
   morph::Path path;
@@ -79,19 +86,9 @@ void BM_ErodeBear(benchmark::State& state) {
   morph::GcodeOptions options;
   options.initial_tool = 1;
   morph::GcodeResult program = morph::read_gcode(path, options);
-  morph::Job job;
-  job.name = "bear";
-  job.stock.type = morph::StockType::Box;
-  job.stock.box = Eigen::AlignedBox3d(Eigen::Vector3d(0, 0, -20), Eigen::Vector3d(80, 80, 0));
-  morph::Tool tool;
-  tool.number = 1;
-  tool.type = morph::ToolType::BallEnd;
-  tool.radius = 1.5875;
-  tool.length = 25.4;
-  job.tools[1] = tool;
+  morph::Job job = ball_end_box_job("bear", 80.0);
   for (morph::Move& m : program.path.moves) m.tool = 1;
   job.paths.push_back(program.path);
-  job.tolerance = 0.01;
   for (auto _ : state) {
     const morph::ErodeResult result = morph::erode(job);
     benchmark::DoNotOptimize(result.mesh.triangles.data());

@@ -5,26 +5,16 @@
 
 #include <cmath>
 
+#include "common/test_meshes.h"
+
 namespace {
 
 using morph::Triangle;
 using morph::TriangleMesh;
+using morphmill_test::box;
+using morphmill_test::torus;
 
 constexpr double kPi = 3.14159265358979323846;
-
-// Axis-aligned box, 8 vertices (index = x + 2y + 4z bits), 12 triangles wound outward.
-TriangleMesh box(const Eigen::Vector3d& lo, const Eigen::Vector3d& hi) {
-  TriangleMesh mesh;
-  for (int i = 0; i < 8; ++i)
-    mesh.vertices.emplace_back(i & 1 ? hi.x() : lo.x(), i & 2 ? hi.y() : lo.y(), i & 4 ? hi.z() : lo.z());
-  const int quads[6][4] = {{0, 2, 3, 1}, {4, 5, 7, 6}, {0, 1, 5, 4},
-                           {2, 6, 7, 3}, {0, 4, 6, 2}, {1, 3, 7, 5}};
-  for (const auto& q : quads) {
-    mesh.triangles.push_back({std::uint32_t(q[0]), std::uint32_t(q[1]), std::uint32_t(q[2])});
-    mesh.triangles.push_back({std::uint32_t(q[0]), std::uint32_t(q[2]), std::uint32_t(q[3])});
-  }
-  return mesh;
-}
 
 TriangleMesh unit_cube() {
   return box(Eigen::Vector3d::Zero(), Eigen::Vector3d::Ones());
@@ -35,32 +25,6 @@ TriangleMesh tetrahedron() {
   TriangleMesh mesh;
   mesh.vertices = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {0, 0, 1}};
   mesh.triangles = {{0, 2, 1}, {0, 1, 3}, {0, 3, 2}, {1, 2, 3}};
-  return mesh;
-}
-
-// Torus of revolution with a regular `minor_segments`-gon cross-section of circumradius r around
-// the circle of radius R, revolved in `major_segments` steps. Every quad is a planar isosceles
-// trapezoid, so the polyhedron's volume is exactly
-//   n sin(2 pi / n) * R * (m / 2) r^2 sin(2 pi / m)
-// (each horizontal slice of a sector is the region between two chords of the wedge).
-TriangleMesh torus(double R, double r, int major_segments, int minor_segments) {
-  TriangleMesh mesh;
-  const int n = major_segments, m = minor_segments;
-  for (int i = 0; i < n; ++i) {
-    const double theta = 2 * kPi * i / n;
-    for (int j = 0; j < m; ++j) {
-      const double phi = 2 * kPi * j / m;
-      const double rho = R + r * std::cos(phi);
-      mesh.vertices.emplace_back(rho * std::cos(theta), rho * std::sin(theta), r * std::sin(phi));
-    }
-  }
-  auto id = [&](int i, int j) { return std::uint32_t(((i % n) * m) + (j % m)); };
-  for (int i = 0; i < n; ++i)
-    for (int j = 0; j < m; ++j) {
-      // (i,j) -> (i+1,j) runs along +theta, then +phi: the normal points away from the tube axis.
-      mesh.triangles.push_back({id(i, j), id(i + 1, j), id(i + 1, j + 1)});
-      mesh.triangles.push_back({id(i, j), id(i + 1, j + 1), id(i, j + 1)});
-    }
   return mesh;
 }
 

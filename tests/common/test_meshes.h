@@ -1,5 +1,5 @@
 #pragma once
-// Meshes with known topology and geometry for the apps tests.
+// Meshes with known topology and geometry, shared by the morph and apps tests.
 #include <morph/mesh.h>
 
 #include <cmath>
@@ -21,7 +21,11 @@ inline morph::TriangleMesh box(const Eigen::Vector3d& lo, const Eigen::Vector3d&
   return mesh;
 }
 
-/// Torus of revolution (R around z, tube radius r) with n x m vertices; chi = 0.
+/// Torus of revolution with a regular m-gon cross-section of circumradius r around
+/// the circle of radius R, revolved in n steps. Every quad is a planar isosceles
+/// trapezoid, so the polyhedron's volume is exactly
+///   n sin(2 pi / n) * R * (m / 2) r^2 sin(2 pi / m)
+/// (each horizontal slice of a sector is the region between two chords of the wedge).
 inline morph::TriangleMesh torus(double R, double r, int n, int m) {
   const double pi = 3.14159265358979323846;
   morph::TriangleMesh mesh;
