@@ -6,30 +6,13 @@
 
 #include <cmath>
 
+#include "raytest/raytest_support.h"
+
 namespace {
 
-// UV sphere (same layout as ../shared/peers/make_meshes.py): 2 * nlon * (nlat - 1) triangles.
-morph::TriangleMesh uv_sphere(double r, int nlat, int nlon) {
-  morph::TriangleMesh mesh;
-  mesh.vertices.push_back(Eigen::Vector3d(0, 0, r));
-  for (int i = 1; i < nlat; ++i)
-    for (int j = 0; j < nlon; ++j) {
-      const double theta = M_PI * i / nlat, phi = 2 * M_PI * j / nlon;
-      mesh.vertices.push_back(r * Eigen::Vector3d(std::sin(theta) * std::cos(phi),
-                                                  std::sin(theta) * std::sin(phi), std::cos(theta)));
-    }
-  mesh.vertices.push_back(Eigen::Vector3d(0, 0, -r));
-  const auto ring = [&](int i, int j) { return static_cast<std::uint32_t>(1 + i * nlon + (j % nlon)); };
-  const auto south = static_cast<std::uint32_t>(mesh.vertices.size() - 1);
-  for (int j = 0; j < nlon; ++j) mesh.triangles.push_back({0, ring(0, j), ring(0, j + 1)});
-  for (int i = 0; i + 2 < nlat; ++i)
-    for (int j = 0; j < nlon; ++j) {
-      mesh.triangles.push_back({ring(i, j), ring(i + 1, j), ring(i + 1, j + 1)});
-      mesh.triangles.push_back({ring(i, j), ring(i + 1, j + 1), ring(i, j + 1)});
-    }
-  for (int j = 0; j < nlon; ++j) mesh.triangles.push_back({south, ring(nlat - 2, j + 1), ring(nlat - 2, j)});
-  return mesh;
-}
+// The UV sphere of the raytest tests (same layout as ../shared/peers/make_meshes.py):
+// 2 * nlon * (nlat - 1) triangles.
+using raytest_test::uv_sphere;
 
 const morph::TriangleMesh& sphere_1m() {
   static const morph::TriangleMesh mesh = uv_sphere(1.01, 500, 1000);  // 998,000 triangles
