@@ -10,6 +10,8 @@
 #include <iostream>
 #include <random>
 
+#include "common/test_tools.h"
+
 namespace {
 
 using Eigen::Vector3d;
@@ -18,22 +20,8 @@ using morph::PatchKind;
 using morph::Tool;
 using morph::ToolType;
 
-Tool sphere_tool(double radius) {
-  Tool t;
-  t.number = 1;
-  t.type = ToolType::Sphere;
-  t.radius = radius;
-  return t;
-}
-
-Tool ballend_tool(double radius, double length) {
-  Tool t;
-  t.number = 1;
-  t.type = ToolType::BallEnd;
-  t.radius = radius;
-  t.length = length;
-  return t;
-}
+using morphmill_test::ballend_tool;
+using morphmill_test::sphere_tool;
 
 Job box_job(const Vector3d& lo, const Vector3d& hi, const Tool& tool,
             const std::vector<std::vector<Vector3d>>& polylines, double tolerance) {

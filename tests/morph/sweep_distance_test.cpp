@@ -5,6 +5,8 @@
 #include <cmath>
 #include <random>
 
+#include "common/test_tools.h"
+
 using Eigen::Vector3d;
 using morph::Move;
 using morph::MoveKind;
@@ -14,20 +16,10 @@ using morph::ToolType;
 namespace {
 
 Tool sphere(double r) {
-  Tool t;
-  t.number = 1;
-  t.type = ToolType::Sphere;
-  t.radius = r;
-  return t;
+  return morphmill_test::sphere_tool(r);
 }
-
 Tool ballend(double r, double length) {
-  Tool t;
-  t.number = 1;
-  t.type = ToolType::BallEnd;
-  t.radius = r;
-  t.length = length;
-  return t;
+  return morphmill_test::ballend_tool(r, length);
 }
 
 Move line(const Vector3d& a, const Vector3d& b) {
