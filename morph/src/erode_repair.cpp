@@ -32,8 +32,6 @@ class Repairer {
     deleted_.assign(mesh_.triangles.size(), false);
     triangles_of_vertex_.resize(mesh_.vertices.size());
     for (std::uint32_t t = 0; t < mesh_.triangles.size(); ++t) add_triangle_to_maps(t);
-    for (std::uint32_t v = 0; v < mesh_.vertices.size(); ++v)
-      vertex_grid_[cell_key(mesh_.vertices[v])].push_back(v);
   }
 
   RepairStats run() {
@@ -46,16 +44,8 @@ class Repairer {
   }
 
  private:
-  std::int64_t cell_index(double x) const {
-    return static_cast<std::int64_t>(std::floor(x / options_.max_radius));
-  }
-  static std::uint64_t pack(std::int64_t x, std::int64_t y, std::int64_t z) {
-    return (static_cast<std::uint64_t>(x & 0x1fffff) << 42) |
-           (static_cast<std::uint64_t>(y & 0x1fffff) << 21) | static_cast<std::uint64_t>(z & 0x1fffff);
-  }
-  std::uint64_t cell_key(const Vector3d& p) const {
-    return pack(cell_index(p.x()), cell_index(p.y()), cell_index(p.z()));
-  }
+  static constexpr int kMaxMerges = 4;
+  static constexpr std::size_t kMaxTriangulatedLoop = 200;
 
   void add_triangle_to_maps(std::uint32_t t) {
     const Triangle& tri = mesh_.triangles[t];
@@ -185,34 +175,58 @@ class Repairer {
 
   bool within_field(const Vector3d& p) const { return std::abs(field_(p)) <= options_.max_field_error; }
 
-  std::size_t repair(const std::vector<std::uint32_t>& cluster) {
-    Vector3d centre = Vector3d::Zero();
-    for (std::uint32_t v : cluster) centre += mesh_.vertices[v];
-    centre /= static_cast<double>(cluster.size());
-    double spread = 0.0;
-    for (std::uint32_t v : cluster) spread = std::max(spread, (mesh_.vertices[v] - centre).norm());
-    if (spread > options_.max_radius) return 0;
-    for (double radius = std::max(1.5 * spread, 0.05 * options_.max_radius); radius <= options_.max_radius;
-         radius *= 1.5)
-      if (try_ball(centre, radius)) return 1;
+  std::size_t repair(std::vector<std::uint32_t> cluster) {
+    // Defects closer than a ball apart are one defect: a ball whose ring meets another defect
+    // takes that defect's vertices into the cluster, and the balls grow again from its centre.
+    for (int merge = 0; merge <= kMaxMerges; ++merge) {
+      Vector3d centre = Vector3d::Zero();
+      for (std::uint32_t v : cluster) centre += mesh_.vertices[v];
+      centre /= static_cast<double>(cluster.size());
+      double spread = 0.0;
+      for (std::uint32_t v : cluster) spread = std::max(spread, (mesh_.vertices[v] - centre).norm());
+      if (spread > options_.max_radius) return 0;
+      std::vector<std::uint32_t> met;
+      for (double radius = std::max(1.5 * spread, 0.05 * options_.max_radius); radius <= options_.max_radius;
+           radius *= 1.5) {
+        if (try_ball(cluster, centre, radius, met)) return 1;
+        if (!met.empty()) break;
+      }
+      if (met.empty()) return 0;
+      const std::size_t before = cluster.size();
+      cluster.insert(cluster.end(), met.begin(), met.end());
+      std::sort(cluster.begin(), cluster.end());
+      cluster.erase(std::unique(cluster.begin(), cluster.end()), cluster.end());
+      if (cluster.size() == before) return 0;
+    }
     return 0;
   }
 
-  bool try_ball(const Vector3d& centre, double radius) {
-    // Triangles with a vertex in the ball, found from the triangles around nearby vertices.
+  /// `met` receives the vertices of a defect the ball's ring runs into (then the ball fails).
+  bool try_ball(const std::vector<std::uint32_t>& cluster, const Vector3d& centre, double radius,
+                std::vector<std::uint32_t>& met) {
+    // Triangles with a vertex in the ball, reached over the surface from the defect: a ball
+    // reaching through a thin wall must not take the other side's triangles with it.
     std::unordered_set<std::uint32_t> removed;
     std::vector<std::uint32_t> removed_order;
     std::vector<std::uint32_t> stack;
-    const std::int64_t cx = cell_index(centre.x()), cy = cell_index(centre.y()), cz = cell_index(centre.z());
-    for (int dx = -1; dx <= 1; ++dx)
-      for (int dy = -1; dy <= 1; ++dy)
-        for (int dz = -1; dz <= 1; ++dz) {
-          auto it = vertex_grid_.find(pack(cx + dx, cy + dy, cz + dz));
-          if (it == vertex_grid_.end()) continue;
-          for (std::uint32_t v : it->second)
-            if ((mesh_.vertices[v] - centre).norm() <= radius && !triangles_of_vertex_[v].empty())
-              stack.push_back(v);
+    {
+      std::unordered_set<std::uint32_t> reached;
+      std::vector<std::uint32_t> front;
+      for (std::uint32_t v : cluster)
+        if ((mesh_.vertices[v] - centre).norm() <= radius && reached.insert(v).second) front.push_back(v);
+      while (!front.empty()) {
+        const std::uint32_t v = front.back();
+        front.pop_back();
+        bool live = false;
+        for (std::uint32_t t : triangles_of_vertex_[v]) {
+          if (deleted_[t]) continue;
+          live = true;
+          for (std::uint32_t w : mesh_.triangles[t])
+            if ((mesh_.vertices[w] - centre).norm() <= radius && reached.insert(w).second) front.push_back(w);
         }
+        if (live) stack.push_back(v);
+      }
+    }
     std::sort(stack.begin(), stack.end());
     for (std::uint32_t v : stack)
       for (std::uint32_t t : triangles_of_vertex_[v])
@@ -245,10 +259,16 @@ class Repairer {
           const std::uint32_t a = tri[k], b = tri[(k + 1) % 3];
           const auto after = uses(a, b, removed);
           if (after.size() == 2 && after[0].second != after[1].second) continue;
-          if (after.size() != 1) return false;
+          if (after.size() != 1) {
+            met = {a, b};
+            return false;
+          }
           // Open only because its partner went with the ball, not a defect outside it.
           const auto before = uses(a, b, {});
-          if (before.size() != 2 || before[0].second == before[1].second) return false;
+          if (before.size() != 2 || before[0].second == before[1].second) {
+            met = {a, b};
+            return false;
+          }
           if (!loop_next.emplace(a, b).second) pinched.push_back(a);
           loop_triangle.try_emplace(a, t);
           if (++incoming[b] > 1) pinched.push_back(b);
@@ -287,6 +307,11 @@ class Repairer {
     }
     for (std::size_t k = 0; k < loop.size(); ++k) {
       const Fan fan = vertex_fan(loop, loop_triangle, k);
+      if (fits(fan, removed)) return emit(fan, removed_order);
+    }
+    // A long narrow hole (a gap along a seam) has no centre a fan could use without needles.
+    if (loop.size() <= kMaxTriangulatedLoop) {
+      const Fan fan = least_area_triangulation(loop, loop_triangle);
       if (fits(fan, removed)) return emit(fan, removed_order);
     }
     return false;
@@ -345,6 +370,47 @@ class Repairer {
     return fan;
   }
 
+  /// The loop's triangulation of least total area, over its own vertices only (dynamic
+  /// programming over sub-polygons).
+  Fan least_area_triangulation(const std::vector<std::uint32_t>& loop,
+                               const std::unordered_map<std::uint32_t, std::uint32_t>& loop_triangle) const {
+    const std::size_t n = loop.size();
+    auto area = [&](std::size_t i, std::size_t k, std::size_t j) {
+      const Vector3d& a = mesh_.vertices[loop[i]];
+      return (mesh_.vertices[loop[k]] - a).cross(mesh_.vertices[loop[j]] - a).norm();
+    };
+    // best[i * n + j]: least area of the polygon loop[i..j]; split[i * n + j]: its apex.
+    std::vector<double> best(n * n, 0.0);
+    std::vector<std::size_t> split(n * n, 0);
+    for (std::size_t gap = 2; gap < n; ++gap)
+      for (std::size_t i = 0; i + gap < n; ++i) {
+        const std::size_t j = i + gap;
+        double least = std::numeric_limits<double>::infinity();
+        for (std::size_t k = i + 1; k < j; ++k) {
+          const double total = best[i * n + k] + best[k * n + j] + area(i, k, j);
+          if (total < least) {
+            least = total;
+            split[i * n + j] = k;
+          }
+        }
+        best[i * n + j] = least;
+      }
+    Fan fan;
+    std::vector<std::pair<std::size_t, std::size_t>> pending{{0, n - 1}};
+    while (!pending.empty()) {
+      const auto [i, j] = pending.back();
+      pending.pop_back();
+      if (j < i + 2) continue;
+      const std::size_t k = split[i * n + j];
+      // Against the loop's direction, as the fans are: the loop runs along the ring's open edges.
+      fan.triangles.push_back({loop[j], loop[k], loop[i]});
+      fan.ring_triangle.push_back(loop_triangle.at(loop[i]));
+      pending.push_back({i, k});
+      pending.push_back({k, j});
+    }
+    return fan;
+  }
+
   Vector3d point_of(const Fan& fan, std::int64_t index) const {
     return index >= 0 ? mesh_.vertices[static_cast<std::size_t>(index)]
                       : fan.points[static_cast<std::size_t>(-1 - index)];
@@ -388,7 +454,6 @@ class Repairer {
     for (std::uint32_t t : removed_order) deleted_[t] = true;
     const auto first_new = static_cast<std::int64_t>(mesh_.vertices.size());
     for (const Vector3d& p : fan.points) {
-      vertex_grid_[cell_key(p)].push_back(static_cast<std::uint32_t>(mesh_.vertices.size()));
       mesh_.vertices.push_back(p);
       triangles_of_vertex_.emplace_back();
     }
@@ -417,7 +482,6 @@ class Repairer {
   std::vector<bool> deleted_;
   std::vector<std::vector<std::uint32_t>> triangles_of_vertex_;
   std::unordered_map<std::uint64_t, std::vector<std::uint32_t>> triangles_of_edge_;
-  std::unordered_map<std::uint64_t, std::vector<std::uint32_t>> vertex_grid_;
 };
 
 }  // namespace
@@ -447,6 +511,125 @@ void remove_triangles(TriangleMesh& mesh, std::vector<TriangleOrigin>& patch_of_
   for (Triangle& tri : mesh.triangles)
     for (std::uint32_t& v : tri) v = new_index[v];
   mesh.vertices = std::move(vertices);
+}
+
+std::size_t weld_near_defects(TriangleMesh& mesh, std::vector<TriangleOrigin>& patch_of_triangle,
+                              double distance) {
+  // Directed edges, sorted: an undirected edge is sound when used once each way.
+  struct Use {
+    std::uint64_t edge;
+    int direction;
+  };
+  std::vector<Use> uses;
+  uses.reserve(3 * mesh.triangles.size());
+  for (const Triangle& t : mesh.triangles)
+    for (int k = 0; k < 3; ++k) {
+      const std::uint32_t a = t[k], b = t[(k + 1) % 3];
+      uses.push_back({undirected(a, b), a < b ? 1 : -1});
+    }
+  std::sort(uses.begin(), uses.end(), [](const Use& x, const Use& y) {
+    return x.edge != y.edge ? x.edge < y.edge : x.direction < y.direction;
+  });
+  std::vector<std::uint32_t> defect;
+  for (std::size_t i = 0; i < uses.size();) {
+    std::size_t j = i;
+    while (j < uses.size() && uses[j].edge == uses[i].edge) ++j;
+    if (j - i != 2 || uses[i].direction == uses[i + 1].direction) {
+      defect.push_back(static_cast<std::uint32_t>(uses[i].edge >> 32));
+      defect.push_back(static_cast<std::uint32_t>(uses[i].edge & 0xffffffffu));
+    }
+    i = j;
+  }
+  if (defect.empty()) return 0;
+  std::sort(defect.begin(), defect.end());
+  defect.erase(std::unique(defect.begin(), defect.end()), defect.end());
+  // Every vertex within `distance` of a defect's vertex becomes that vertex (the lowest index of
+  // a group keeps its position).
+  auto cell_of = [&](const Vector3d& p) {
+    return std::array<std::int64_t, 3>{static_cast<std::int64_t>(std::floor(p.x() / distance)),
+                                       static_cast<std::int64_t>(std::floor(p.y() / distance)),
+                                       static_cast<std::int64_t>(std::floor(p.z() / distance))};
+  };
+  auto pack = [](std::int64_t x, std::int64_t y, std::int64_t z) {
+    return (static_cast<std::uint64_t>(x & 0x1fffff) << 42) |
+           (static_cast<std::uint64_t>(y & 0x1fffff) << 21) | static_cast<std::uint64_t>(z & 0x1fffff);
+  };
+  std::unordered_map<std::uint64_t, std::vector<std::uint32_t>> near_defects;
+  for (std::uint32_t v : defect) {
+    const auto c = cell_of(mesh.vertices[v]);
+    near_defects[pack(c[0], c[1], c[2])];
+  }
+  for (std::uint32_t v = 0; v < mesh.vertices.size(); ++v) {
+    const auto c = cell_of(mesh.vertices[v]);
+    auto it = near_defects.find(pack(c[0], c[1], c[2]));
+    if (it != near_defects.end()) it->second.push_back(v);
+  }
+  std::vector<std::uint32_t> parent(mesh.vertices.size());
+  std::iota(parent.begin(), parent.end(), 0u);
+  auto find = [&](std::uint32_t x) {
+    while (parent[x] != x) x = parent[x] = parent[parent[x]];
+    return x;
+  };
+  std::size_t merged = 0;
+  for (std::uint32_t v : defect) {
+    const auto c = cell_of(mesh.vertices[v]);
+    for (int dx = -1; dx <= 1; ++dx)
+      for (int dy = -1; dy <= 1; ++dy)
+        for (int dz = -1; dz <= 1; ++dz) {
+          auto it = near_defects.find(pack(c[0] + dx, c[1] + dy, c[2] + dz));
+          if (it == near_defects.end()) continue;
+          for (std::uint32_t w : it->second) {
+            if ((mesh.vertices[w] - mesh.vertices[v]).norm() > distance) continue;
+            const std::uint32_t rv = find(v), rw = find(w);
+            if (rv == rw) continue;
+            parent[std::max(rv, rw)] = std::min(rv, rw);
+            ++merged;
+          }
+        }
+  }
+  if (merged == 0) return 0;
+  for (Triangle& t : mesh.triangles)
+    for (std::uint32_t& v : t) v = find(v);
+  // Triangles the welds made degenerate go, and so do pairs of one triangle and its reverse (a
+  // sliver folded flat); of equal triangles one stays.
+  std::vector<bool> remove(mesh.triangles.size(), false);
+  std::vector<std::pair<Triangle, std::uint32_t>> sorted;
+  for (std::uint32_t i = 0; i < mesh.triangles.size(); ++i) {
+    Triangle t = mesh.triangles[i];
+    if (t[0] == t[1] || t[1] == t[2] || t[2] == t[0]) {
+      remove[i] = true;
+      continue;
+    }
+    std::sort(t.begin(), t.end());
+    sorted.push_back({t, i});
+  }
+  std::sort(sorted.begin(), sorted.end());
+  auto orientation = [&](std::uint32_t i) {
+    const Triangle& t = mesh.triangles[i];
+    // Even rotations of the sorted order are one orientation.
+    const std::size_t first = static_cast<std::size_t>(std::min_element(t.begin(), t.end()) - t.begin());
+    return t[(first + 1) % 3] < t[(first + 2) % 3];
+  };
+  for (std::size_t i = 0; i < sorted.size();) {
+    std::size_t j = i;
+    while (j < sorted.size() && sorted[j].first == sorted[i].first) ++j;
+    int forward = 0, backward = 0;
+    for (std::size_t k = i; k < j; ++k) (orientation(sorted[k].second) ? forward : backward)++;
+    // Keep the surplus of one orientation over the other, the first ones of it.
+    int keep_forward = std::max(0, forward - backward), keep_backward = std::max(0, backward - forward);
+    keep_forward = std::min(keep_forward, 1);
+    keep_backward = std::min(keep_backward, 1);
+    for (std::size_t k = i; k < j; ++k) {
+      int& budget = orientation(sorted[k].second) ? keep_forward : keep_backward;
+      if (budget > 0)
+        --budget;
+      else
+        remove[sorted[k].second] = true;
+    }
+    i = j;
+  }
+  remove_triangles(mesh, patch_of_triangle, remove);
+  return merged;
 }
 
 RepairStats repair_small_defects(TriangleMesh& mesh, std::vector<TriangleOrigin>& patch_of_triangle,

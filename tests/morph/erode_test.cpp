@@ -292,6 +292,45 @@ TEST(ErodeBallEnd, SlotsTouchingFaceToFaceSplitTheBlockInTwo) {
   EXPECT_NEAR(topology.volume, 10.0 * 10.0 * depth, 1e-6 * 10.0 * 10.0 * depth);
 }
 
+// A stretch of the bundled crossing_rose path: a descending S-curve cut as a closed tunnel below
+// the top face. Where consecutive moves turn by about a degree the lune between their tubes is
+// far thinner than a grid cell near its poles, at the tunnel's ceiling; the seams there leave
+// gaps of a few micrometres whose repair balls meet each other.
+TEST(ErodeSphere, ThinLunesOfATunnelCeilingAreClosed) {
+  const Job job =
+      box_job({0, 0, 0}, {100, 100, 20}, sphere_tool(2.5),
+              {{{50, 71.2132, 17},           {49.8157, 70.5356, 16.9971}, {49.6439, 69.8362, 16.9943},
+                {49.4851, 69.1158, 16.9914}, {49.34, 68.3754, 16.9886},   {49.2089, 67.6158, 16.9857},
+                {49.0923, 66.8381, 16.9829}, {48.9907, 66.0431, 16.98},   {48.9043, 65.2319, 16.9771},
+                {48.8337, 64.4055, 16.9743}, {48.7791, 63.5649, 16.9714}, {48.7409, 62.7112, 16.9686},
+                {48.7192, 61.8454, 16.9657}, {48.7143, 60.9686, 16.9629}, {48.7263, 60.082, 16.96},
+                {48.7556, 59.1866, 16.9571}, {48.8021, 58.2836, 16.9543}, {48.866, 57.374, 16.9514},
+                {48.9472, 56.4591, 16.9486}, {49.0459, 55.5399, 16.9457}, {49.162, 54.6176, 16.9429},
+                {49.2954, 53.6934, 16.94},   {49.4461, 52.7684, 16.9371}, {49.6139, 51.8437, 16.9343},
+                {49.7986, 50.9205, 16.9314}}},
+              0.01);
+  const morph::ErodeResult result = morph::erode(job);
+  const morph::TopologyReport topology = morph::topology_report(result.mesh);
+  EXPECT_TRUE(topology.closed_manifold())
+      << topology.boundary_edges << " open, " << topology.non_manifold_edges << " non-manifold edges";
+  EXPECT_EQ(topology.components, 2u);  // the block's outside and the tunnel
+  EXPECT_LE(largest_field_error(result.mesh, morph::ErosionField(job)), job.tolerance);
+}
+
+// A ball end plunging and then cutting a level slot from the plunge: the slot's body ruling is
+// tangent to the plunge's body cylinder along a vertical line, and the tie band of the tangent
+// contact leaves a strip under a tenth of a micrometre wide that no fan closes.
+TEST(ErodeBallEnd, SlotLeavingAPlungeTangentiallyIsClosed) {
+  const Job job = box_job({0, 0, 0}, {100, 60, 20}, ballend_tool(3.0, 40.0),
+                          {{{30, 8, 25}, {30, 8, 16}, {70, 8, 16}}}, 0.01);
+  const morph::ErodeResult result = morph::erode(job);
+  const morph::TopologyReport topology = morph::topology_report(result.mesh);
+  EXPECT_TRUE(topology.closed_manifold())
+      << topology.boundary_edges << " open, " << topology.non_manifold_edges << " non-manifold edges";
+  EXPECT_EQ(topology.components, 1u);
+  EXPECT_LE(largest_field_error(result.mesh, morph::ErosionField(job)), job.tolerance);
+}
+
 // A sphere grazing the top front edge of the block, half a tolerance deep, all along it: what
 // is left of its sweep is a strip about 0.035 wide, far narrower than a grid cell of the tube;
 // unless a grid line is put through it, the tube loses it and the faces' cuts stay open.
