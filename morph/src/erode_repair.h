@@ -23,10 +23,12 @@ struct RepairStats {
 
 /// Finds clusters of open edges, non-manifold or inconsistently oriented edges and non-manifold
 /// vertices; for each cluster smaller than `max_radius`, removes the triangles with a vertex in
-/// the smallest ball about it whose removal leaves one simple hole in an otherwise manifold
-/// ring, and closes that hole with a fan around the nearest point of the exact surface (`field`
-/// is zero there), provided every fan triangle's centroid and edge midpoints stay within
-/// `max_field_error` of it. Larger or unrepairable defects are left as they are.
+/// the smallest ball about it (reached over the surface from the cluster) whose removal leaves
+/// one simple hole in an otherwise manifold ring, and closes that hole with a fan around the
+/// nearest point of the exact surface (`field` is zero there), a fan from one of the hole's
+/// vertices, or the hole's least-area triangulation, provided every new triangle's centroid and
+/// edge midpoints stay within `max_field_error` of it. A ball whose ring meets another cluster
+/// takes that cluster in. Larger or unrepairable defects are left as they are.
 /// `patch_of_triangle` is kept in step with `mesh.triangles` (and tags).
 /// Removes the triangles flagged in `remove` (one flag per triangle) and the vertices no triangle
 /// uses any more, keeping the order of what stays.
