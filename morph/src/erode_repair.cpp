@@ -46,6 +46,7 @@ class Repairer {
  private:
   static constexpr int kMaxMerges = 4;
   static constexpr std::size_t kMaxTriangulatedLoop = 200;
+  static constexpr std::size_t kInnerApexCandidates = 8;
 
   void add_triangle_to_maps(std::uint32_t t) {
     const Triangle& tri = mesh_.triangles[t];
@@ -308,6 +309,22 @@ class Repairer {
     for (std::size_t k = 0; k < loop.size(); ++k) {
       const Fan fan = vertex_fan(loop, loop_triangle, k);
       if (fits(fan, removed)) return emit(fan, removed_order);
+    }
+    // Where creases cross inside the hole (two equal tools crossing at one depth touch at a
+    // point, and four seams leave it) the crossing is no point Newton's method finds from the
+    // centroid, but the patches' own corner there is: a vertex of what was removed.
+    {
+      std::vector<std::pair<double, std::uint32_t>> inner;
+      for (std::uint32_t t : removed_order)
+        for (std::uint32_t v : mesh_.triangles[t])
+          if (!loop_next.count(v)) inner.push_back({(mesh_.vertices[v] - centroid).norm(), v});
+      std::sort(inner.begin(), inner.end());
+      inner.erase(std::unique(inner.begin(), inner.end()), inner.end());
+      for (std::size_t i = 0; i < std::min<std::size_t>(inner.size(), kInnerApexCandidates); ++i)
+        for (int levels = 1; levels <= 2; ++levels) {
+          const Fan fan = ringed_fan(loop, loop_triangle, mesh_.vertices[inner[i].second], levels, radius);
+          if (fits(fan, removed)) return emit(fan, removed_order);
+        }
     }
     // A long narrow hole (a gap along a seam) has no centre a fan could use without needles.
     if (loop.size() <= kMaxTriangulatedLoop) {

@@ -545,7 +545,19 @@ std::size_t fill_holes(TriangleMesh& mesh, std::vector<TriangleOrigin>& patch_of
       }
     }
     for (std::size_t i = 0; i < loop.size(); ++i) used[edge_key(loop[i], loop[(i + 1) % loop.size()])] = true;
-    if (best_residual <= 1e-7) {
+    // A fan whose triangles leave the exact surface (a loop doubling back along a sliver fanned
+    // into a fin) is no fill; the local repair, which checks more, gets the hole instead.
+    auto fan_fits = [&](const Vector3d& apex, std::size_t skip) {
+      for (std::size_t i = 0; i < loop.size(); ++i) {
+        if (i == skip || (i + 1) % loop.size() == skip) continue;
+        const Vector3d &a = mesh.vertices[loop[i]], &b = mesh.vertices[loop[(i + 1) % loop.size()]];
+        for (const Vector3d& p :
+             {Vector3d((a + b + apex) / 3.0), Vector3d(0.5 * (a + apex)), Vector3d(0.5 * (b + apex))})
+          if (std::abs(field(p)) > 2.0 * options.match_distance) return false;
+      }
+      return true;
+    };
+    if (best_residual <= 1e-7 && fan_fits(mesh.vertices[loop[best]], best)) {
       for (std::size_t i = 0; i < loop.size(); ++i) {
         const std::uint32_t va = loop[i], vb = loop[(i + 1) % loop.size()];
         if (i == best || (i + 1) % loop.size() == best) continue;
@@ -585,6 +597,11 @@ std::size_t fill_holes(TriangleMesh& mesh, std::vector<TriangleOrigin>& patch_of
           used.erase(edge_key(loop[i], loop[(i + 1) % loop.size()]));
         continue;
       }
+    }
+    if (!fan_fits(corner, loop.size())) {
+      for (std::size_t i = 0; i < loop.size(); ++i)
+        used.erase(edge_key(loop[i], loop[(i + 1) % loop.size()]));
+      continue;
     }
     const std::uint32_t c = static_cast<std::uint32_t>(mesh.vertices.size());
     mesh.vertices.push_back(corner);
