@@ -6,6 +6,8 @@
 #include <morph/mesh_distance.h>
 #include <morph/sweep_distance.h>
 #include <morph/topology.h>
+#include <tbb/parallel_for.h>
+#include <tbb/parallel_sort.h>
 
 #include <algorithm>
 #include <array>
@@ -14,6 +16,7 @@
 #include <cstring>
 #include <limits>
 #include <optional>
+#include <tuple>
 #include <unordered_map>
 
 #include <morph/convex_minimum.h>
@@ -1204,26 +1207,41 @@ std::size_t remove_flat_components(TriangleMesh& mesh, std::vector<detail::Trian
   std::vector<Vector3d> origin(count, Vector3d::Zero());
   for (std::size_t i = mesh.triangles.size(); i-- > 0;)
     origin[component[i]] = mesh.vertices[mesh.triangles[i][0]];
-  std::vector<std::size_t> open(count, 0);
-  std::unordered_map<std::uint64_t, int> edge_use;  // directed edge -> +1, reversed -> -1
   for (std::size_t i = 0; i < mesh.triangles.size(); ++i) {
     const Triangle& t = mesh.triangles[i];
     const Vector3d& o = origin[component[i]];
     const Vector3d a = mesh.vertices[t[0]] - o, b = mesh.vertices[t[1]] - o, c = mesh.vertices[t[2]] - o;
     volume[component[i]] += a.dot(b.cross(c)) / 6.0;
     area[component[i]] += 0.5 * (b - a).cross(c - a).norm();
-    for (int k = 0; k < 3; ++k) {
-      const std::uint32_t u = t[k], v = t[(k + 1) % 3];
-      edge_use[(static_cast<std::uint64_t>(std::min(u, v)) << 32) | std::max(u, v)] += u < v ? 1 : -1;
-    }
   }
-  for (std::size_t i = 0; i < mesh.triangles.size(); ++i) {
+  // A component is open where the uses of one of its edges do not cancel (+1 for each use
+  // min -> max, -1 for each max -> min). The uses, sorted by edge, lie together.
+  struct EdgeUse {
+    std::uint64_t edge;
+    std::uint32_t triangle;
+    std::int32_t direction;
+    bool operator<(const EdgeUse& o) const {
+      return std::tie(edge, triangle, direction) < std::tie(o.edge, o.triangle, o.direction);
+    }
+  };
+  std::vector<EdgeUse> uses(3 * mesh.triangles.size());
+  tbb::parallel_for(std::size_t{0}, mesh.triangles.size(), [&](std::size_t i) {
     const Triangle& t = mesh.triangles[i];
     for (int k = 0; k < 3; ++k) {
       const std::uint32_t u = t[k], v = t[(k + 1) % 3];
-      if (edge_use[(static_cast<std::uint64_t>(std::min(u, v)) << 32) | std::max(u, v)] != 0)
-        ++open[component[i]];
+      uses[3 * i + k] = {(static_cast<std::uint64_t>(std::min(u, v)) << 32) | std::max(u, v),
+                         static_cast<std::uint32_t>(i), u < v ? 1 : -1};
     }
+  });
+  tbb::parallel_sort(uses.begin(), uses.end());
+  std::vector<bool> open(count, false);
+  for (std::size_t begin = 0; begin < uses.size();) {
+    std::size_t end = begin;
+    int sum = 0;
+    for (; end < uses.size() && uses[end].edge == uses[begin].edge; ++end) sum += uses[end].direction;
+    if (sum != 0)
+      for (std::size_t i = begin; i < end; ++i) open[component[uses[i].triangle]] = true;
+    begin = end;
   }
   std::vector<bool> drop(count, false);
   std::size_t dropped = 0;
@@ -1232,8 +1250,7 @@ std::size_t remove_flat_components(TriangleMesh& mesh, std::vector<detail::Trian
     // that did not close up: the piece of a solid it would bound is below the tolerance.
     // A closed one turned inside out that small is no void either: a void is the tool's size.
     const bool tiny = area[c] < small_area;
-    drop[c] =
-        open[c] == 0 ? 2.0 * std::abs(volume[c]) < thickness * area[c] || (tiny && volume[c] < 0.0) : tiny;
+    drop[c] = !open[c] ? 2.0 * std::abs(volume[c]) < thickness * area[c] || (tiny && volume[c] < 0.0) : tiny;
     dropped += drop[c];
   }
   if (dropped == 0) return 0;

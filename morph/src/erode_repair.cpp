@@ -14,6 +14,9 @@
 #include <unordered_map>
 #include <unordered_set>
 
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+
 namespace morph::detail {
 
 namespace {
@@ -24,15 +27,53 @@ std::uint64_t undirected(std::uint32_t a, std::uint32_t b) {
   return (static_cast<std::uint64_t>(std::min(a, b)) << 32) | std::max(a, b);
 }
 
+/// The triangles around each vertex, a triangle listed once per corner it has there (twice at
+/// the doubled corner of a collapsed one), in triangle order: compressed rows for the mesh as
+/// given, which is large, and a list per vertex for the few fans added since.
+class VertexTriangles {
+ public:
+  explicit VertexTriangles(const TriangleMesh& mesh) : row_start_(mesh.vertices.size() + 1, 0) {
+    for (const Triangle& tri : mesh.triangles)
+      for (std::uint32_t v : tri) ++row_start_[v + 1];
+    std::partial_sum(row_start_.begin(), row_start_.end(), row_start_.begin());
+    entries_.resize(row_start_.back());
+    std::vector<std::uint32_t> fill(row_start_.begin(), row_start_.end() - 1);
+    for (std::uint32_t t = 0; t < mesh.triangles.size(); ++t)
+      for (std::uint32_t v : mesh.triangles[t]) entries_[fill[v]++] = t;
+  }
+
+  void add(std::uint32_t v, std::uint32_t t) { added_[v].push_back(t); }
+
+  bool empty(std::uint32_t v) const {
+    return (v + 1 >= row_start_.size() || row_start_[v] == row_start_[v + 1]) && added_.count(v) == 0;
+  }
+
+  template <class F>
+  void for_each(std::uint32_t v, F&& f) const {
+    if (v + 1 < row_start_.size())
+      for (std::uint32_t i = row_start_[v]; i < row_start_[v + 1]; ++i) f(entries_[i]);
+    if (added_.empty()) return;
+    auto it = added_.find(v);
+    if (it != added_.end())
+      for (std::uint32_t t : it->second) f(t);
+  }
+
+ private:
+  std::vector<std::uint32_t> row_start_;
+  std::vector<std::uint32_t> entries_;
+  std::unordered_map<std::uint32_t, std::vector<std::uint32_t>> added_;
+};
+
 class Repairer {
  public:
   Repairer(TriangleMesh& mesh, std::vector<TriangleOrigin>& patch_of, const RepairOptions& options,
            const FieldFunction& field)
-      : mesh_(mesh), patch_of_(patch_of), options_(options), field_(field) {
-    deleted_.assign(mesh_.triangles.size(), false);
-    triangles_of_vertex_.resize(mesh_.vertices.size());
-    for (std::uint32_t t = 0; t < mesh_.triangles.size(); ++t) add_triangle_to_maps(t);
-  }
+      : mesh_(mesh),
+        patch_of_(patch_of),
+        options_(options),
+        field_(field),
+        deleted_(mesh.triangles.size(), false),
+        triangles_of_vertex_(mesh) {}
 
   RepairStats run() {
     RepairStats stats;
@@ -49,76 +90,127 @@ class Repairer {
   static constexpr std::size_t kInnerApexCandidates = 8;
 
   void add_triangle_to_maps(std::uint32_t t) {
-    const Triangle& tri = mesh_.triangles[t];
-    for (int k = 0; k < 3; ++k) {
-      triangles_of_vertex_[tri[k]].push_back(t);
-      triangles_of_edge_[undirected(tri[k], tri[(k + 1) % 3])].push_back(t);
-    }
+    for (std::uint32_t v : mesh_.triangles[t]) triangles_of_vertex_.add(v, t);
+  }
+
+  /// Calls f(t, +1) for every live triangle t using the edge as a->b and f(t, -1) for b->a, not
+  /// counting those in `removed` (if given). A triangle is reported once per edge of it joining
+  /// a and b, and that as often as such edges join them (which matters only for a collapsed
+  /// triangle, whose doubled uses make the edge non-manifold).
+  template <class F>
+  void for_each_use(std::uint32_t a, std::uint32_t b, const std::unordered_set<std::uint32_t>* removed,
+                    F&& f) const {
+    const std::uint64_t key = undirected(a, b);
+    std::uint32_t previous = UINT32_MAX;
+    triangles_of_vertex_.for_each(a, [&](std::uint32_t t) {
+      if (t == previous) return;  // the same triangle at its other corner at a
+      previous = t;
+      const Triangle& tri = mesh_.triangles[t];
+      int edges_joining = 0;
+      for (int k = 0; k < 3; ++k) edges_joining += undirected(tri[k], tri[(k + 1) % 3]) == key;
+      if (edges_joining == 0 || deleted_[t] || (removed && removed->count(t))) return;
+      for (int repeat = 0; repeat < edges_joining; ++repeat)
+        for (int k = 0; k < 3; ++k)
+          if (tri[k] == a && tri[(k + 1) % 3] == b)
+            f(t, +1);
+          else if (tri[k] == b && tri[(k + 1) % 3] == a)
+            f(t, -1);
+    });
   }
 
   /// Live triangles using the edge, with +1 for a->b and -1 for b->a.
   std::vector<std::pair<std::uint32_t, int>> uses(std::uint32_t a, std::uint32_t b,
                                                   const std::unordered_set<std::uint32_t>& removed) const {
     std::vector<std::pair<std::uint32_t, int>> result;
-    auto it = triangles_of_edge_.find(undirected(a, b));
-    if (it == triangles_of_edge_.end()) return result;
-    for (std::uint32_t t : it->second) {
-      if (deleted_[t] || removed.count(t)) continue;
-      const Triangle& tri = mesh_.triangles[t];
-      for (int k = 0; k < 3; ++k)
-        if (tri[k] == a && tri[(k + 1) % 3] == b)
-          result.push_back({t, +1});
-        else if (tri[k] == b && tri[(k + 1) % 3] == a)
-          result.push_back({t, -1});
-    }
+    for_each_use(a, b, &removed, [&](std::uint32_t t, int sign) { result.push_back({t, sign}); });
     return result;
   }
 
   bool manifold_edge(std::uint32_t a, std::uint32_t b) const {
-    const auto u = uses(a, b, {});
-    return u.size() == 2 && u[0].second != u[1].second;
+    int count = 0, first_sign = 0;
+    bool opposite = false;
+    for_each_use(a, b, nullptr, [&](std::uint32_t, int sign) {
+      if (count == 0) first_sign = sign;
+      if (count == 1) opposite = sign != first_sign;
+      ++count;
+    });
+    return count == 2 && opposite;
   }
 
-  /// Whether the triangles around v form one fan (a disc or, at a border, a half disc).
-  bool manifold_vertex(std::uint32_t v) const {
-    std::vector<std::uint32_t> around;
-    for (std::uint32_t t : triangles_of_vertex_[v])
+  /// Scratch space of `manifold_vertex`, reused from vertex to vertex.
+  struct FanScratch {
+    std::vector<std::uint32_t> around, parent, link;
+  };
+
+  /// Whether the triangles around v form one fan (a disc or, at a border, a half disc): joined
+  /// across the manifold edges at v, they form one piece.
+  bool manifold_vertex(std::uint32_t v, FanScratch& scratch) const {
+    std::vector<std::uint32_t>& around = scratch.around;
+    around.clear();
+    triangles_of_vertex_.for_each(v, [&](std::uint32_t t) {
       if (!deleted_[t]) around.push_back(t);
+    });
     if (around.empty()) return true;
-    std::vector<std::uint32_t> parent(around.size());
+    std::vector<std::uint32_t>& parent = scratch.parent;
+    parent.resize(around.size());
     std::iota(parent.begin(), parent.end(), 0u);
     auto find = [&](std::uint32_t x) {
       while (parent[x] != x) x = parent[x] = parent[parent[x]];
       return x;
     };
-    for (std::size_t i = 0; i < around.size(); ++i)
-      for (std::size_t j = i + 1; j < around.size(); ++j) {
-        const Triangle &p = mesh_.triangles[around[i]], &q = mesh_.triangles[around[j]];
-        for (std::uint32_t w : p) {
-          if (w == v || std::find(q.begin(), q.end(), w) == q.end()) continue;
-          if (manifold_edge(v, w))
-            parent[find(static_cast<std::uint32_t>(i))] = find(static_cast<std::uint32_t>(j));
-        }
+    std::vector<std::uint32_t>& link = scratch.link;
+    link.clear();
+    for (std::uint32_t t : around)
+      for (std::uint32_t w : mesh_.triangles[t])
+        if (w != v) link.push_back(w);
+    std::sort(link.begin(), link.end());
+    link.erase(std::unique(link.begin(), link.end()), link.end());
+    for (std::uint32_t w : link) {
+      if (!manifold_edge(v, w)) continue;
+      // Every triangle with the edge v-w joins the first of them.
+      std::uint32_t first = UINT32_MAX;
+      for (std::uint32_t i = 0; i < around.size(); ++i) {
+        const Triangle& tri = mesh_.triangles[around[i]];
+        if (std::find(tri.begin(), tri.end(), w) == tri.end()) continue;
+        if (first == UINT32_MAX)
+          first = i;
+        else
+          parent[find(i)] = find(first);
       }
+    }
     std::size_t fans = 0;
-    for (std::size_t i = 0; i < around.size(); ++i) fans += find(static_cast<std::uint32_t>(i)) == i;
+    for (std::uint32_t i = 0; i < around.size(); ++i) fans += find(i) == i;
     return fans == 1;
+  }
+
+  /// Whether v is on a non-manifold or open edge or is a non-manifold vertex itself.
+  bool defective_vertex(std::uint32_t v, FanScratch& scratch) const {
+    if (triangles_of_vertex_.empty(v)) return false;
+    bool bad_edge = false;
+    triangles_of_vertex_.for_each(v, [&](std::uint32_t t) {
+      if (bad_edge) return;
+      const Triangle& tri = mesh_.triangles[t];
+      for (int k = 0; k < 3 && !bad_edge; ++k) {
+        const std::uint32_t a = tri[k], b = tri[(k + 1) % 3];
+        if ((a == v || b == v) && !manifold_edge(a, b)) bad_edge = true;
+      }
+    });
+    return bad_edge || !manifold_vertex(v, scratch);
   }
 
   /// Vertices of bad edges and non-manifold vertices, grouped by proximity (max_radius).
   std::vector<std::vector<std::uint32_t>> defect_clusters() const {
+    // Each vertex is judged by its own fan alone, so the whole mesh is scanned in parallel.
+    std::vector<char> defective(mesh_.vertices.size(), 0);
+    tbb::parallel_for(tbb::blocked_range<std::uint32_t>(0, static_cast<std::uint32_t>(mesh_.vertices.size())),
+                      [&](const tbb::blocked_range<std::uint32_t>& range) {
+                        FanScratch scratch;
+                        for (std::uint32_t v = range.begin(); v != range.end(); ++v)
+                          defective[v] = defective_vertex(v, scratch);
+                      });
     std::vector<std::uint32_t> bad;
-    for (const auto& [key, list] : triangles_of_edge_) {
-      const auto a = static_cast<std::uint32_t>(key >> 32), b = static_cast<std::uint32_t>(key & 0xffffffffu);
-      if (!manifold_edge(a, b)) {
-        bad.push_back(a);
-        bad.push_back(b);
-      }
-    }
     for (std::uint32_t v = 0; v < mesh_.vertices.size(); ++v)
-      if (!triangles_of_vertex_[v].empty() && !manifold_vertex(v)) bad.push_back(v);
-    std::sort(bad.begin(), bad.end());
-    bad.erase(std::unique(bad.begin(), bad.end()), bad.end());
+      if (defective[v]) bad.push_back(v);
     std::vector<std::uint32_t> parent(bad.size());
     std::iota(parent.begin(), parent.end(), 0u);
     auto find = [&](std::uint32_t x) {
@@ -219,19 +311,20 @@ class Repairer {
         const std::uint32_t v = front.back();
         front.pop_back();
         bool live = false;
-        for (std::uint32_t t : triangles_of_vertex_[v]) {
-          if (deleted_[t]) continue;
+        triangles_of_vertex_.for_each(v, [&](std::uint32_t t) {
+          if (deleted_[t]) return;
           live = true;
           for (std::uint32_t w : mesh_.triangles[t])
             if ((mesh_.vertices[w] - centre).norm() <= radius && reached.insert(w).second) front.push_back(w);
-        }
+        });
         if (live) stack.push_back(v);
       }
     }
     std::sort(stack.begin(), stack.end());
     for (std::uint32_t v : stack)
-      for (std::uint32_t t : triangles_of_vertex_[v])
+      triangles_of_vertex_.for_each(v, [&](std::uint32_t t) {
         if (!deleted_[t] && removed.insert(t).second) removed_order.push_back(t);
+      });
     if (removed.empty()) return false;
     // The ring around what is removed must be manifold and open towards it along one loop. Where
     // the loop would pass a vertex twice (two kept corners touching at a point), the triangles
@@ -245,8 +338,9 @@ class Repairer {
         std::unordered_set<std::uint32_t> in_ring;
         for (std::uint32_t t : removed_order)
           for (std::uint32_t v : mesh_.triangles[t])
-            for (std::uint32_t s : triangles_of_vertex_[v])
+            triangles_of_vertex_.for_each(v, [&](std::uint32_t s) {
               if (!deleted_[s] && !removed.count(s) && in_ring.insert(s).second) ring.push_back(s);
+            });
         std::sort(ring.begin(), ring.end());
       }
       if (ring.empty()) return false;
@@ -279,8 +373,9 @@ class Repairer {
       if (attempt == 2) return false;
       std::sort(pinched.begin(), pinched.end());
       for (std::uint32_t v : pinched)
-        for (std::uint32_t t : triangles_of_vertex_[v])
+        triangles_of_vertex_.for_each(v, [&](std::uint32_t t) {
           if (!deleted_[t] && removed.insert(t).second) removed_order.push_back(t);
+        });
     }
     if (loop_next.size() < 3) return false;
     std::vector<std::uint32_t> loop;
@@ -472,7 +567,6 @@ class Repairer {
     const auto first_new = static_cast<std::int64_t>(mesh_.vertices.size());
     for (const Vector3d& p : fan.points) {
       mesh_.vertices.push_back(p);
-      triangles_of_vertex_.emplace_back();
     }
     for (std::size_t t = 0; t < fan.triangles.size(); ++t) {
       Triangle tri;
@@ -497,8 +591,7 @@ class Repairer {
   const RepairOptions& options_;
   const FieldFunction& field_;
   std::vector<bool> deleted_;
-  std::vector<std::vector<std::uint32_t>> triangles_of_vertex_;
-  std::unordered_map<std::uint64_t, std::vector<std::uint32_t>> triangles_of_edge_;
+  VertexTriangles triangles_of_vertex_;
 };
 
 }  // namespace

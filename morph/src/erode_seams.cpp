@@ -8,7 +8,11 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <tuple>
 #include <unordered_map>
+
+#include <tbb/parallel_for.h>
+#include <tbb/parallel_sort.h>
 
 #include "erode_seams.h"
 
@@ -33,21 +37,82 @@ CellKey cell_of(const Vector3d& p, double cell) {
           static_cast<std::int64_t>(std::floor(p.z() / cell))};
 }
 
-using PointGrid = std::unordered_map<CellKey, std::vector<std::uint32_t>, CellHash>;
+/// Points bucketed by grid cell, built once: the points of a cell lie together in increasing
+/// index, and a flat hash table (linear probing) finds a cell's range. Far cheaper than a map of
+/// vectors over hundreds of thousands of points.
+class CellIndex {
+ public:
+  CellIndex(const std::vector<Vector3d>& points, const std::vector<std::uint32_t>& members, double cell)
+      : cell_(cell), entries_(members.size()) {
+    tbb::parallel_for(std::size_t{0}, members.size(), [&](std::size_t i) {
+      entries_[i] = {cell_of(points[members[i]], cell), members[i]};
+    });
+    // (cell, point) is unique, so the order does not depend on how the sort is split up.
+    tbb::parallel_sort(entries_.begin(), entries_.end(), [](const Entry& a, const Entry& b) {
+      return std::tie(a.cell.x, a.cell.y, a.cell.z, a.point) <
+             std::tie(b.cell.x, b.cell.y, b.cell.z, b.point);
+    });
+    std::size_t cells = 0;
+    for (std::size_t i = 0; i < entries_.size(); ++i)
+      cells += i == 0 || !(entries_[i].cell == entries_[i - 1].cell);
+    std::size_t size = 16;
+    while (size < 2 * cells) size *= 2;
+    slots_.assign(size, Slot{});
+    for (std::size_t begin = 0; begin < entries_.size();) {
+      std::size_t end = begin + 1;
+      while (end < entries_.size() && entries_[end].cell == entries_[begin].cell) ++end;
+      std::size_t slot = CellHash()(entries_[begin].cell) & (size - 1);
+      while (slots_[slot].end != 0) slot = (slot + 1) & (size - 1);
+      slots_[slot] = {entries_[begin].cell, static_cast<std::uint32_t>(begin),
+                      static_cast<std::uint32_t>(end)};
+      begin = end;
+    }
+  }
 
-/// The first point of `grid` (cells of edge `distance`) within `distance` of p that `accept`s,
-/// searching the 27 cells around p in a fixed order; `none` if there is none.
-template <class Accept>
-std::uint32_t find_near(const PointGrid& grid, const std::vector<Vector3d>& points, const Vector3d& p,
-                        double distance, std::uint32_t none, Accept&& accept) {
+  double cell() const { return cell_; }
+
+  /// Calls f(point) for the points in cell c, in increasing index.
+  template <class F>
+  void for_each_in(const CellKey& c, F&& f) const {
+    if (slots_.empty()) return;
+    for (std::size_t slot = CellHash()(c) & (slots_.size() - 1); slots_[slot].end != 0;
+         slot = (slot + 1) & (slots_.size() - 1))
+      if (slots_[slot].cell == c) {
+        for (std::uint32_t i = slots_[slot].begin; i < slots_[slot].end; ++i) f(entries_[i].point);
+        return;
+      }
+  }
+
+ private:
+  struct Entry {
+    CellKey cell;
+    std::uint32_t point;
+  };
+  struct Slot {
+    CellKey cell{0, 0, 0};
+    std::uint32_t begin = 0, end = 0;  // end 0: empty
+  };
+  double cell_;
+  std::vector<Entry> entries_;
+  std::vector<Slot> slots_;
+};
+
+/// The first point of `index` (cells of edge `distance`) within `distance` of p that is
+/// `present` (already entered, in the order the caller enters points) and that `accept`s,
+/// searching the 27 cells around p in a fixed order and each cell in increasing index: the
+/// first point a grid filled in increasing index would give. `none` if there is none.
+template <class Present, class Accept>
+std::uint32_t find_near(const CellIndex& index, const std::vector<Vector3d>& points, const Vector3d& p,
+                        double distance, std::uint32_t none, Present&& present, Accept&& accept) {
   const CellKey c = cell_of(p, distance);
+  std::uint32_t found = none;
   for (int dx = -1; dx <= 1; ++dx)
     for (int dy = -1; dy <= 1; ++dy)
       for (int dz = -1; dz <= 1; ++dz) {
-        auto it = grid.find({c.x + dx, c.y + dy, c.z + dz});
-        if (it == grid.end()) continue;
-        for (std::uint32_t u : it->second)
-          if ((points[u] - p).norm() <= distance && accept(u)) return u;
+        index.for_each_in({c.x + dx, c.y + dy, c.z + dz}, [&](std::uint32_t u) {
+          if (found == none && present(u) && (points[u] - p).norm() <= distance && accept(u)) found = u;
+        });
+        if (found != none) return found;
       }
   return none;
 }
@@ -59,26 +124,26 @@ std::uint64_t edge_key(std::uint32_t a, std::uint32_t b) {
 /// Merges vertices closer than `distance` into the first of them, drops collapsed triangles and
 /// unreferenced vertices. Returns the number of merged vertices.
 std::size_t weld(TriangleMesh& mesh, std::vector<TriangleOrigin>& patch_of, double distance) {
-  PointGrid grid;
   std::vector<std::uint32_t> target(mesh.vertices.size());
   std::vector<bool> on_border(mesh.vertices.size(), false);
   for (std::size_t t = 0; t < mesh.triangles.size(); ++t)
     for (int k = 0; k < 3; ++k)
       if (patch_of[t].border & (1u << k))
         on_border[mesh.triangles[t][k]] = on_border[mesh.triangles[t][(k + 1) % 3]] = true;
+  // Interior vertices of a patch are never shared.
+  std::vector<std::uint32_t> border_vertices;
+  for (std::uint32_t v = 0; v < mesh.vertices.size(); ++v)
+    if (on_border[v]) border_vertices.push_back(v);
+  const CellIndex index(mesh.vertices, border_vertices, distance);
   std::size_t merged = 0;
-  for (std::uint32_t v = 0; v < mesh.vertices.size(); ++v) {
-    target[v] = v;
-    if (!on_border[v]) continue;  // interior vertices of a patch are never shared
-    const Vector3d& p = mesh.vertices[v];
-    const std::uint32_t found =
-        find_near(grid, mesh.vertices, p, distance, v, [](std::uint32_t) { return true; });
+  for (std::uint32_t v = 0; v < mesh.vertices.size(); ++v) target[v] = v;
+  // In increasing index, each vertex merges into the first earlier one kept.
+  for (std::uint32_t v : border_vertices) {
+    const std::uint32_t found = find_near(
+        index, mesh.vertices, mesh.vertices[v], distance, v,
+        [&](std::uint32_t u) { return u < v && target[u] == u; }, [](std::uint32_t) { return true; });
     target[v] = found;
-    if (found == v) {
-      grid[cell_of(p, distance)].push_back(v);
-    } else {
-      ++merged;
-    }
+    merged += found != v;
   }
   // Compact.
   std::vector<std::uint32_t> new_index(mesh.vertices.size(), UINT32_MAX);
@@ -86,6 +151,10 @@ std::size_t weld(TriangleMesh& mesh, std::vector<TriangleOrigin>& patch_of, doub
   std::vector<Triangle> triangles;
   std::vector<FaceTag> tags;
   std::vector<TriangleOrigin> patches;
+  vertices.reserve(mesh.vertices.size());
+  triangles.reserve(mesh.triangles.size());
+  tags.reserve(mesh.triangles.size());
+  patches.reserve(mesh.triangles.size());
   std::vector<std::uint32_t> collapsed_patches;
   for (std::size_t t = 0; t < mesh.triangles.size(); ++t) {
     Triangle tri;
@@ -125,33 +194,35 @@ std::size_t weld(TriangleMesh& mesh, std::vector<TriangleOrigin>& patch_of, doub
       if (affected(patch_of[t].patch))
         for (int k = 0; k < 3; ++k)
           keys.push_back({patch_of[t].patch, mesh.triangles[t][k], mesh.triangles[t][(k + 1) % 3]});
-    std::sort(keys.begin(), keys.end());
-    for (std::size_t t = 0; t < mesh.triangles.size(); ++t) {
-      if (!affected(patch_of[t].patch)) continue;
+    tbb::parallel_sort(keys.begin(), keys.end());
+    tbb::parallel_for(std::size_t{0}, mesh.triangles.size(), [&](std::size_t t) {
+      if (!affected(patch_of[t].patch)) return;
       const Triangle& tri = mesh.triangles[t];
       for (int k = 0; k < 3; ++k) {
         const std::array<std::uint32_t, 3> reverse{patch_of[t].patch, tri[(k + 1) % 3], tri[k]};
         if (!std::binary_search(keys.begin(), keys.end(), reverse)) patch_of[t].border |= 1u << k;
       }
-    }
+    });
   }
   return merged;
 }
 
 /// Directed edges on patch borders (interior edges of a patch are always paired within it).
 struct HalfEdges {
-  std::unordered_map<std::uint64_t, std::uint32_t> count;
+  std::vector<std::uint64_t> sorted;  // edge_key(from, to), once per use
   HalfEdges(const TriangleMesh& mesh, const std::vector<TriangleOrigin>& origin) {
     for (std::size_t i = 0; i < mesh.triangles.size(); ++i) {
       if (!origin[i].border) continue;
       const Triangle& t = mesh.triangles[i];
       for (int k = 0; k < 3; ++k)
-        if (origin[i].border & (1u << k)) ++count[edge_key(t[k], t[(k + 1) % 3])];
+        if (origin[i].border & (1u << k)) sorted.push_back(edge_key(t[k], t[(k + 1) % 3]));
     }
+    tbb::parallel_sort(sorted.begin(), sorted.end());
   }
+  /// Used once as a->b and never as b->a.
   bool boundary(std::uint32_t a, std::uint32_t b) const {
-    auto it = count.find(edge_key(a, b));
-    return it != count.end() && it->second == 1 && count.find(edge_key(b, a)) == count.end();
+    const auto [first, last] = std::equal_range(sorted.begin(), sorted.end(), edge_key(a, b));
+    return last - first == 1 && !std::binary_search(sorted.begin(), sorted.end(), edge_key(b, a));
   }
 };
 
@@ -178,7 +249,7 @@ std::size_t snap_boundary(TriangleMesh& mesh, std::vector<TriangleOrigin>& patch
   std::sort(boundary.begin(), boundary.end());
   std::vector<std::uint32_t> target(mesh.vertices.size());
   for (std::uint32_t v = 0; v < target.size(); ++v) target[v] = v;
-  PointGrid grid;
+  const CellIndex index(mesh.vertices, boundary, distance);
   std::size_t merged = 0;
   auto disjoint = [&](std::uint32_t a, std::uint32_t b) {
     for (std::uint32_t p : patches_of_vertex[a])
@@ -195,14 +266,13 @@ std::size_t snap_boundary(TriangleMesh& mesh, std::vector<TriangleOrigin>& patch
       if (std::abs(surface(q, mesh.vertices[a])) > on_surface) return false;
     return true;
   };
+  // In increasing index, each vertex merges into the first earlier one kept that qualifies.
   for (std::uint32_t v : boundary) {
-    const Vector3d& p = mesh.vertices[v];
-    const std::uint32_t found = find_near(grid, mesh.vertices, p, distance, v, [&](std::uint32_t u) {
-      return disjoint(u, v) && on_surfaces_of(u, v) && on_surfaces_of(v, u);
-    });
-    if (found == v) {
-      grid[cell_of(p, distance)].push_back(v);
-    } else {
+    const std::uint32_t found = find_near(
+        index, mesh.vertices, mesh.vertices[v], distance, v,
+        [&](std::uint32_t u) { return u < v && target[u] == u; },
+        [&](std::uint32_t u) { return disjoint(u, v) && on_surfaces_of(u, v) && on_surfaces_of(v, u); });
+    if (found != v) {
       target[v] = found;
       auto& list = patches_of_vertex[found];
       for (std::uint32_t q : patches_of_vertex[v])
@@ -214,6 +284,9 @@ std::size_t snap_boundary(TriangleMesh& mesh, std::vector<TriangleOrigin>& patch
   std::vector<Triangle> triangles;
   std::vector<FaceTag> tags;
   std::vector<TriangleOrigin> patches;
+  triangles.reserve(mesh.triangles.size());
+  tags.reserve(mesh.triangles.size());
+  patches.reserve(mesh.triangles.size());
   for (std::size_t t = 0; t < mesh.triangles.size(); ++t) {
     Triangle tri;
     for (int k = 0; k < 3; ++k) tri[k] = target[mesh.triangles[t][k]];
@@ -255,11 +328,10 @@ std::size_t split_pass(TriangleMesh& mesh, std::vector<TriangleOrigin>& patch_of
     }
   if (edges.empty()) return 0;
   const double cell = std::max(options.cell, 4.0 * options.match_distance);
-  PointGrid grid;
   std::vector<std::uint32_t> boundary_vertices;
   for (const auto& [v, bv] : info) boundary_vertices.push_back(v);
   std::sort(boundary_vertices.begin(), boundary_vertices.end());
-  for (std::uint32_t v : boundary_vertices) grid[cell_of(mesh.vertices[v], cell)].push_back(v);
+  const CellIndex index(mesh.vertices, boundary_vertices, cell);
 
   // Candidate (vertex, edge) matches; a vertex goes into at most one edge of each other patch
   // (the nearest), so that near corners it is not inserted into two consecutive edges.
@@ -292,8 +364,7 @@ std::size_t split_pass(TriangleMesh& mesh, std::vector<TriangleOrigin>& patch_of
       for (std::int64_t x = lo.x; x <= hi.x; ++x)
         for (std::int64_t y = lo.y; y <= hi.y; ++y)
           for (std::int64_t z = lo.z; z <= hi.z; ++z) {
-            auto it = grid.find({x, y, z});
-            if (it != grid.end()) near.insert(near.end(), it->second.begin(), it->second.end());
+            index.for_each_in({x, y, z}, [&](std::uint32_t w) { near.push_back(w); });
           }
     }
     std::sort(near.begin(), near.end());
@@ -338,6 +409,8 @@ std::size_t split_pass(TriangleMesh& mesh, std::vector<TriangleOrigin>& patch_of
   std::vector<FaceTag> tags;
   std::vector<TriangleOrigin> patches;
   triangles.reserve(mesh.triangles.size() + inserted * 2);
+  tags.reserve(mesh.triangles.size() + inserted * 2);
+  patches.reserve(mesh.triangles.size() + inserted * 2);
   for (std::uint32_t t = 0; t < mesh.triangles.size(); ++t) {
     const Triangle tri = mesh.triangles[t];
     const std::vector<std::pair<double, std::uint32_t>>* on_edge[3] = {nullptr, nullptr, nullptr};
@@ -631,16 +704,18 @@ std::size_t count_boundary(const TriangleMesh& mesh, const std::vector<TriangleO
 SeamStats join_seams(TriangleMesh& mesh, std::vector<TriangleOrigin>& patch_of_triangle,
                      const SeamOptions& options, const SurfaceFunction& surface, const FieldFunction& field) {
   SeamStats stats;
-  stats.welded = weld(mesh, patch_of_triangle, options.weld_distance);
-  stats.welded +=
-      snap_boundary(mesh, patch_of_triangle, options.snap_distance, 1e3 * options.weld_distance, surface);
+  { stats.welded = weld(mesh, patch_of_triangle, options.weld_distance); }
+  {
+    stats.welded +=
+        snap_boundary(mesh, patch_of_triangle, options.snap_distance, 1e3 * options.weld_distance, surface);
+  }
   for (int pass = 0; pass < 3; ++pass) {
     const std::size_t n = split_pass(mesh, patch_of_triangle, options, surface);
     stats.splits += n;
     if (n == 0) break;
   }
-  stats.holes_filled = fill_holes(mesh, patch_of_triangle, options, surface, field);
-  stats.boundary_edges = count_boundary(mesh, patch_of_triangle);
+  { stats.holes_filled = fill_holes(mesh, patch_of_triangle, options, surface, field); }
+  { stats.boundary_edges = count_boundary(mesh, patch_of_triangle); }
   return stats;
 }
 

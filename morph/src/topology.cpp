@@ -1,5 +1,9 @@
 #include <morph/exceptions.h>
 #include <morph/topology.h>
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+#include <tbb/parallel_reduce.h>
+#include <tbb/parallel_sort.h>
 
 #include <algorithm>
 #include <cstdint>
@@ -63,7 +67,8 @@ std::vector<EdgeUse> sorted_edge_uses(const TriangleMesh& mesh, bool include_col
       uses.push_back({edge_key(a, b), static_cast<std::uint32_t>(t), a < b});
     }
   }
-  std::sort(uses.begin(), uses.end(), [](const EdgeUse& x, const EdgeUse& y) {
+  // (key, triangle) is unique, so the order does not depend on how the sort is split up.
+  tbb::parallel_sort(uses.begin(), uses.end(), [](const EdgeUse& x, const EdgeUse& y) {
     return x.key != y.key ? x.key < y.key : x.triangle < y.triangle;
   });
   return uses;
@@ -135,12 +140,9 @@ void check_indices(const TriangleMesh& mesh) {
                          std::to_string(v) + " but there are " + std::to_string(n) + " vertices");
 }
 
-}  // namespace
-
-std::size_t connected_components(const TriangleMesh& mesh,
-                                 std::vector<std::uint32_t>& component_of_triangle) {
-  check_indices(mesh);
-  const std::vector<EdgeUse> uses = sorted_edge_uses(mesh, /*include_collapsed=*/true);
+// Components of the triangles joined by the edges in `uses` (sorted by key).
+std::size_t components_of(const TriangleMesh& mesh, const std::vector<EdgeUse>& uses,
+                          std::vector<std::uint32_t>& component_of_triangle) {
   UnionFind sets(mesh.triangles.size());
   for (std::size_t i = 1; i < uses.size(); ++i)
     if (uses[i].key == uses[i - 1].key) sets.unite(uses[i].triangle, uses[i - 1].triangle);
@@ -156,6 +158,14 @@ std::size_t connected_components(const TriangleMesh& mesh,
     component_of_triangle[t] = component_of_root[root];
   }
   return count;
+}
+
+}  // namespace
+
+std::size_t connected_components(const TriangleMesh& mesh,
+                                 std::vector<std::uint32_t>& component_of_triangle) {
+  check_indices(mesh);
+  return components_of(mesh, sorted_edge_uses(mesh, /*include_collapsed=*/true), component_of_triangle);
 }
 
 TopologyReport topology_report(const TriangleMesh& mesh) {
@@ -204,15 +214,27 @@ TopologyReport topology_report(const TriangleMesh& mesh) {
   for (std::uint32_t t = 0; t < mesh.triangles.size(); ++t)
     if (!collapsed(mesh.triangles[t]))
       for (std::uint32_t v : mesh.triangles[t]) incident_triangles[fill[v]++] = t;
-  std::vector<std::uint32_t> incident;
-  for (std::uint32_t v = 0; v < vertex_count; ++v) {
-    if (row_start[v] == row_start[v + 1]) continue;
-    incident.assign(incident_triangles.begin() + row_start[v], incident_triangles.begin() + row_start[v + 1]);
-    if (!vertex_is_manifold(v, incident, mesh)) ++report.non_manifold_vertices;
-  }
+  // Each vertex is judged by its own fan alone.
+  report.non_manifold_vertices = tbb::parallel_reduce(
+      tbb::blocked_range<std::uint32_t>(0, static_cast<std::uint32_t>(vertex_count)), std::size_t{0},
+      [&](const tbb::blocked_range<std::uint32_t>& range, std::size_t count) {
+        std::vector<std::uint32_t> incident;
+        for (std::uint32_t v = range.begin(); v != range.end(); ++v) {
+          if (row_start[v] == row_start[v + 1]) continue;
+          incident.assign(incident_triangles.begin() + row_start[v],
+                          incident_triangles.begin() + row_start[v + 1]);
+          if (!vertex_is_manifold(v, incident, mesh)) ++count;
+        }
+        return count;
+      },
+      [](std::size_t a, std::size_t b) { return a + b; });
 
   std::vector<std::uint32_t> component_of_triangle;
-  report.components = connected_components(mesh, component_of_triangle);
+  // Without collapsed triangles the edges joining components are the ones already sorted.
+  report.components =
+      proper_triangles == mesh.triangles.size()
+          ? components_of(mesh, uses, component_of_triangle)
+          : components_of(mesh, sorted_edge_uses(mesh, /*include_collapsed=*/true), component_of_triangle);
   report.euler_characteristic = static_cast<long>(report.vertices) - static_cast<long>(report.edges) +
                                 static_cast<long>(proper_triangles);
   report.volume = enclosed_volume(mesh);
