@@ -134,7 +134,8 @@ void add_face_samples(const morph::TriangleMesh& mesh, const SamplingOptions& op
 std::vector<SurfaceSample> sample_surface(const morph::TriangleMesh& mesh, const SamplingOptions& options) {
   mesh.validate("sample_surface");
   std::vector<SurfaceSample> out;
-  out.reserve((options.vertices ? mesh.vertices.size() : 0) + options.edge_samples + options.face_samples);
+  out.reserve((options.vertices ? mesh.vertices.size() : 0) + options.edge_samples + options.face_samples +
+              (options.centroids ? mesh.triangles.size() : 0));
   if (options.vertices) {
     const std::vector<Eigen::Vector3d> normals = angle_weighted_vertex_normals(mesh);
     constexpr std::uint32_t kUnused = 0xffffffffu;
@@ -153,6 +154,16 @@ std::vector<SurfaceSample> sample_surface(const morph::TriangleMesh& mesh, const
   }
   if (options.edge_samples > 0) add_edge_samples(mesh, options, out);
   if (options.face_samples > 0) add_face_samples(mesh, options, out);
+  if (options.centroids)
+    for (std::size_t t = 0; t < mesh.triangles.size(); ++t) {
+      const morph::Triangle& tri = mesh.triangles[t];
+      SurfaceSample sample;
+      sample.position = (mesh.vertices[tri[0]] + mesh.vertices[tri[1]] + mesh.vertices[tri[2]]) / 3.0;
+      sample.normal = morph::face_normal(mesh, t);
+      sample.triangle = static_cast<std::uint32_t>(t);
+      sample.kind = SampleKind::Face;
+      out.push_back(sample);
+    }
   return out;
 }
 

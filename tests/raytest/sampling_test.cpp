@@ -56,6 +56,24 @@ TEST(Sampling, FaceSamplesAreAreaUniform) {
   EXPECT_NEAR(mean_x, 2.0 / 3.0, 0.025);
 }
 
+TEST(Sampling, CentroidsComeLastOnePerTriangle) {
+  morph::TriangleMesh mesh;
+  mesh.vertices = {{0, 0, 0}, {3, 0, 0}, {0, 3, 0}, {3, 3, 3}};
+  mesh.triangles = {{0, 1, 2}, {1, 3, 2}};
+  raytest::SamplingOptions options;
+  options.face_samples = 7;
+  options.centroids = true;
+  const auto samples = raytest::sample_surface(mesh, options);
+  ASSERT_EQ(samples.size(), 4u + 7u + 2u);
+  const raytest::SurfaceSample& first = samples[11];
+  const raytest::SurfaceSample& second = samples[12];
+  EXPECT_EQ(first.triangle, 0u);
+  EXPECT_EQ(second.triangle, 1u);
+  EXPECT_LT((first.position - Eigen::Vector3d(1, 1, 0)).norm(), 1e-15);
+  EXPECT_LT((second.position - Eigen::Vector3d(2, 2, 1)).norm(), 1e-15);
+  EXPECT_NEAR(first.normal.z(), 1.0, 1e-15);
+}
+
 TEST(Sampling, SameSeedSameSamplesOtherSeedOtherSamples) {
   const morph::TriangleMesh mesh = raytest_test::uv_sphere(1.0, 8, 16);
   raytest::SamplingOptions options;

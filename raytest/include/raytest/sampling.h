@@ -24,10 +24,13 @@ struct SamplingOptions {
   bool vertices = true;          ///< one sample on every vertex used by a triangle
   std::size_t edge_samples = 0;  ///< samples spread uniformly by length over the unique edges
   std::size_t face_samples = 0;  ///< samples area-uniform over the faces
+  bool centroids = false;        ///< one sample at every triangle's centroid (small triangles
+                                 ///< that area-uniform samples rarely hit are still seen)
   std::uint64_t seed = 1;        ///< seed of the std::mt19937_64 streams
 };
 
-/// Samples `mesh` as configured. Order: vertices (by index), edge samples, face samples.
+/// Samples `mesh` as configured. Order: vertices (by index), edge samples, face samples,
+/// centroids (by triangle).
 /// Throws morph::InputError if the mesh is invalid or has no area but face samples are asked for.
 std::vector<SurfaceSample> sample_surface(const morph::TriangleMesh& mesh, const SamplingOptions& options);
 
