@@ -616,7 +616,8 @@ PatchMesh trim_on_grid(const Context& ctx, const Patch& patch, const Trimmer& g,
   if (extra_u) {
     // Hidden strips: along a grid edge whose ends are both removed, g (L-Lipschitz in space) can
     // still rise above zero if (g0 + g1 + L length) / 2 > 0; bisect such edges down to a small
-    // fraction of the tolerance budget and put a grid line through any kept point found.
+    // fraction of the tolerance budget and put a grid line through any kept point found. The
+    // same for hidden cuts along edges whose ends are both kept.
     // The same bound as the block proofs (a ball end's sphere rule varies as 1/r, not 1/rule_radius).
     const double lipschitz = std::isfinite(g.lipschitz())
                                  ? g.lipschitz()
@@ -629,7 +630,10 @@ PatchMesh trim_on_grid(const Context& ctx, const Patch& patch, const Trimmer& g,
                                 (static_cast<std::uint64_t>(wrap_v(j0)) << 1) | (along_u ? 1u : 0u);
       if (!scanned.emplace(key, true).second) return;
       const int i1 = along_u ? i0 + 1 : i0, j1 = along_u ? j0 : j0 + 1;
-      const double g0 = val(i0, j0), g1 = val(i1, j1);
+      // Both ends removed: look for a kept point; both kept: for a removed one (a cut narrower
+      // than a cell, as where a sinking pass first touches a face). In terms of sign * g.
+      const double sign = val(i0, j0) > 0.0 ? -1.0 : 1.0;
+      const double g0 = sign * val(i0, j0), g1 = sign * val(i1, j1);
       if (g0 > 0.0 || g1 > 0.0) return;
       const double p0 = along_u ? pu(i0) : pv(j0), p1 = along_u ? pu(i1) : pv(j1);
       const double length = (p1 - p0) * speed[along_u ? 0 : 1];
@@ -650,7 +654,7 @@ PatchMesh trim_on_grid(const Context& ctx, const Patch& patch, const Trimmer& g,
         heap.pop_back();
         if (sp.bound <= 0.0) break;
         const double m = 0.5 * (sp.a + sp.b);
-        const double gm = along_u ? g(m, pv(j0)) : g(pu(i0), m);
+        const double gm = sign * (along_u ? g(m, pv(j0)) : g(pu(i0), m));
         if (gm > 0.0) {
           (along_u ? *extra_u : *extra_v).push_back(m);
           return;

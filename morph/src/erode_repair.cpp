@@ -266,8 +266,6 @@ class Repairer {
     return (x - start).norm() <= reach && std::abs(field_(x)) <= options_.max_field_error ? x : start;
   }
 
-  bool within_field(const Vector3d& p) const { return std::abs(field_(p)) <= options_.max_field_error; }
-
   std::size_t repair(std::vector<std::uint32_t> cluster) {
     // Defects closer than a ball apart are one defect: a ball whose ring meets another defect
     // takes that defect's vertices into the cluster, and the balls grow again from its centre.
@@ -545,9 +543,7 @@ class Repairer {
     for (std::size_t t = 0; t < fan.triangles.size(); ++t) {
       const Vector3d a = point_of(fan, fan.triangles[t][0]), b = point_of(fan, fan.triangles[t][1]),
                      c = point_of(fan, fan.triangles[t][2]);
-      if (!within_field((a + b + c) / 3.0) || !within_field(0.5 * (a + b)) || !within_field(0.5 * (b + c)) ||
-          !within_field(0.5 * (c + a)))
-        return false;
+      if (!triangle_near_field(a, b, c, field_, options_.max_field_error)) return false;
       const Triangle& owner = mesh_.triangles[fan.ring_triangle[t]];
       const Vector3d ring_normal = (mesh_.vertices[owner[1]] - mesh_.vertices[owner[0]])
                                        .cross(mesh_.vertices[owner[2]] - mesh_.vertices[owner[0]]);

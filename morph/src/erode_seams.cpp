@@ -624,9 +624,7 @@ std::size_t fill_holes(TriangleMesh& mesh, std::vector<TriangleOrigin>& patch_of
       for (std::size_t i = 0; i < loop.size(); ++i) {
         if (i == skip || (i + 1) % loop.size() == skip) continue;
         const Vector3d &a = mesh.vertices[loop[i]], &b = mesh.vertices[loop[(i + 1) % loop.size()]];
-        for (const Vector3d& p :
-             {Vector3d((a + b + apex) / 3.0), Vector3d(0.5 * (a + apex)), Vector3d(0.5 * (b + apex))})
-          if (std::abs(field(p)) > 2.0 * options.match_distance) return false;
+        if (!triangle_near_field(a, b, apex, field, 2.0 * options.match_distance)) return false;
       }
       return true;
     };
@@ -700,6 +698,20 @@ std::size_t count_boundary(const TriangleMesh& mesh, const std::vector<TriangleO
 }
 
 }  // namespace
+
+bool triangle_near_field(const Vector3d& a, const Vector3d& b, const Vector3d& c, const FieldFunction& field,
+                         double limit) {
+  constexpr double kWeights[7][3] = {{1 / 3.0, 1 / 3.0, 1 / 3.0},
+                                     {0.5, 0.5, 0},
+                                     {0, 0.5, 0.5},
+                                     {0.5, 0, 0.5},
+                                     {0.6, 0.2, 0.2},
+                                     {0.2, 0.6, 0.2},
+                                     {0.2, 0.2, 0.6}};
+  for (const auto& w : kWeights)
+    if (!(std::abs(field(w[0] * a + w[1] * b + w[2] * c)) <= limit)) return false;
+  return true;
+}
 
 SeamStats join_seams(TriangleMesh& mesh, std::vector<TriangleOrigin>& patch_of_triangle,
                      const SeamOptions& options, const SurfaceFunction& surface, const FieldFunction& field) {

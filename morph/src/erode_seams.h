@@ -41,6 +41,12 @@ using SurfaceFunction = std::function<double(std::size_t patch, const Eigen::Vec
 /// lies where the hole's surfaces meet again somewhere the result does not reach.
 using FieldFunction = std::function<double(const Eigen::Vector3d& x)>;
 
+/// Whether the triangle stays within `limit` of the exact surface (|field| <= limit) at its
+/// centroid, its edge midpoints and three points between them: where a new triangle spans a
+/// crease or a curved patch its error peaks inside, not at its corners.
+bool triangle_near_field(const Eigen::Vector3d& a, const Eigen::Vector3d& b, const Eigen::Vector3d& c,
+                         const FieldFunction& field, double limit);
+
 SeamStats join_seams(TriangleMesh& mesh, std::vector<TriangleOrigin>& patch_of_triangle,
                      const SeamOptions& options, const SurfaceFunction& surface, const FieldFunction& field);
 

@@ -331,6 +331,20 @@ TEST(ErodeBallEnd, SlotLeavingAPlungeTangentiallyIsClosed) {
   EXPECT_LE(largest_field_error(result.mesh, morph::ErosionField(job)), job.tolerance);
 }
 
+// A ball end sinking into the top face at a shallow slope (from 0.025 above it to 0.075 deep):
+// where it first touches, its cut in the face is a teardrop narrower than the face's grid cells,
+// whose nodes are all kept; unless a grid line is put through it, the face has no hole there.
+TEST(ErodeBallEnd, SinkingPassCutsItsThinTeardropIntoTheFace) {
+  const Job job = box_job({0, 0, 0}, {16.373, 16.078, 9.555}, ballend_tool(2.799, 19.555),
+                          {{{-3, 4.57, 9.58}, {19.373, 4.57, 9.48}}}, 0.05);
+  const morph::ErodeResult result = morph::erode(job);
+  const morph::TopologyReport topology = morph::topology_report(result.mesh);
+  EXPECT_TRUE(topology.closed_manifold())
+      << topology.boundary_edges << " open, " << topology.non_manifold_edges << " non-manifold edges";
+  EXPECT_EQ(topology.components, 1u);
+  EXPECT_LE(largest_field_error(result.mesh, morph::ErosionField(job)), job.tolerance);
+}
+
 // A sphere grazing the top front edge of the block, half a tolerance deep, all along it: what
 // is left of its sweep is a strip about 0.035 wide, far narrower than a grid cell of the tube;
 // unless a grid line is put through it, the tube loses it and the faces' cuts stay open.
