@@ -726,6 +726,17 @@ SeamStats join_seams(TriangleMesh& mesh, std::vector<TriangleOrigin>& patch_of_t
     stats.splits += n;
     if (n == 0) break;
   }
+  // A trimming curve bending tighter than the grids resolve (a shallow cut's small circle) has
+  // chords on either side up to twice their sagitta apart: what is still open gets one wider pass.
+  {
+    SeamOptions wide = options;
+    wide.match_distance = 2.0 * options.match_distance;
+    for (int pass = 0; pass < 3; ++pass) {
+      const std::size_t n = split_pass(mesh, patch_of_triangle, wide, surface);
+      stats.splits += n;
+      if (n == 0) break;
+    }
+  }
   { stats.holes_filled = fill_holes(mesh, patch_of_triangle, options, surface, field); }
   { stats.boundary_edges = count_boundary(mesh, patch_of_triangle); }
   return stats;

@@ -345,6 +345,25 @@ TEST(ErodeBallEnd, SinkingPassCutsItsThinTeardropIntoTheFace) {
   EXPECT_LE(largest_field_error(result.mesh, morph::ErosionField(job)), job.tolerance);
 }
 
+// A sphere ending 0.05 deep in the top disc of a cylinder: its cap cuts a circle of radius 0.46
+// into the disc, bending tighter than either grid resolves, so the disc's and the cap's chords
+// of it lie up to twice their sagitta apart and need a wider seam match.
+TEST(ErodeSphere, ShallowEndInACylinderTopIsClosed) {
+  Job job = box_job({0, 0, 0}, {1, 1, 1}, sphere_tool(2.116),
+                    {{{-11.849441366549643, 0.953, 10.091}, {11.849441366549643, 0.953, 10.051}}}, 0.02);
+  job.stock.type = morph::StockType::Cylinder;
+  job.stock.base = Vector3d::Zero();
+  job.stock.axis = Vector3d::UnitZ();
+  job.stock.radius = 12.515;
+  job.stock.height = 7.985;
+  const morph::ErodeResult result = morph::erode(job);
+  const morph::TopologyReport topology = morph::topology_report(result.mesh);
+  EXPECT_TRUE(topology.closed_manifold())
+      << topology.boundary_edges << " open, " << topology.non_manifold_edges << " non-manifold edges";
+  EXPECT_EQ(topology.components, 1u);
+  EXPECT_LE(largest_field_error(result.mesh, morph::ErosionField(job)), job.tolerance);
+}
+
 // A sphere grazing the top front edge of the block, half a tolerance deep, all along it: what
 // is left of its sweep is a strip about 0.035 wide, far narrower than a grid cell of the tube;
 // unless a grid line is put through it, the tube loses it and the faces' cuts stay open.
