@@ -1440,7 +1440,7 @@ ErodeResult erode(const Job& job, const ErodeOptions& options) {
       field);
   // Small defects left where several patches meet at a singular contact: replaced by a fan
   // whose every triangle is checked against the exact field.
-  detail::weld_near_defects(mesh, patch_of_triangle, 1e-2 * tolerance);
+  detail::weld_near_defects(mesh, patch_of_triangle, 1e-1 * tolerance);
   detail::RepairOptions repair;
   repair.max_radius = 2.0 * budget.cell;
   repair.max_field_error = 0.5 * tolerance;

@@ -37,8 +37,8 @@ void remove_triangles(TriangleMesh& mesh, std::vector<TriangleOrigin>& patch_of_
 
 /// Merges every vertex within `distance` of a vertex of an open or non-manifold edge into it,
 /// then drops the triangles this makes degenerate and each triangle lying on its own reverse (a
-/// sliver folded flat). Seams of tangent contacts leave strips far thinner than the tolerance
-/// that no fan can close without needles. Returns the number of merges.
+/// sliver folded flat). Seams of tangent contacts and of nearly coincident tool positions leave
+/// strips far thinner than the tolerance that no fan can close without needles. Returns the number of merges.
 std::size_t weld_near_defects(TriangleMesh& mesh, std::vector<TriangleOrigin>& patch_of_triangle,
                               double distance);
 
