@@ -130,10 +130,75 @@ Vector3d solid_normal(const Patch& p, double u, double v) {
   }
 }
 
+// Lower bound of a convex f over [lo, hi] from its values at lo <= x1 < x2 <= hi (f_lo, f_hi
+// NaN where unknown): the secant through x1, x2 extended outwards bounds f beyond them, the
+// secants through (lo, x1) and (x2, hi) extended inwards bound it between x1 and x2.
+// -infinity if nothing is known.
+double convex_lower_bound(double lo, double f_lo, double x1, double f1, double x2, double f2, double hi,
+                          double f_hi) {
+  const double inf = std::numeric_limits<double>::infinity();
+  if (!(lo <= x1 && x1 < x2 && x2 <= hi)) return -inf;
+  const double slope = (f2 - f1) / (x2 - x1);
+  const double left = slope > 0.0 ? f1 - slope * (x1 - lo) : f1;
+  const double right = slope < 0.0 ? f2 + slope * (hi - x2) : f2;
+  const bool has_lo = !std::isnan(f_lo) && lo < x1, has_hi = !std::isnan(f_hi) && x2 < hi;
+  double middle = -inf;
+  if (has_lo || has_hi) {
+    const double a1 = has_lo ? (f1 - f_lo) / (x1 - lo) : 0.0;  // f1 + a1 (t - x1) <= f(t), t >= x1
+    const double a2 = has_hi ? (f_hi - f2) / (hi - x2) : 0.0;  // f2 + a2 (t - x2) <= f(t), t <= x2
+    auto h = [&](double t) {
+      return std::max(has_lo ? f1 + a1 * (t - x1) : -inf, has_hi ? f2 + a2 * (t - x2) : -inf);
+    };
+    middle = std::min(h(x1), h(x2));
+    if (has_lo && has_hi && a1 != a2) {
+      const double t = (f2 - f1 + a1 * x1 - a2 * x2) / (a1 - a2);
+      if (t > x1 && t < x2) middle = std::min(middle, h(t));
+    }
+  }
+  return std::min({left, middle, right});
+}
+
+// detail::golden_minimum of a convex f on [0, 1] (the same points, the same value), stopped as
+// soon as convexity proves the minimum >= floor: then a lower bound of it that is >= floor.
+// `margin` covers the rounding of f's values.
+template <class F>
+double golden_minimum_above(F&& f, double floor, double margin) {
+  constexpr double kInvPhi = 0.6180339887498949;
+  const double unknown = std::numeric_limits<double>::quiet_NaN();
+  double lo = 0.0, hi = 1.0, f_lo = unknown, f_hi = unknown;
+  double x1 = hi - kInvPhi * (hi - lo), x2 = lo + kInvPhi * (hi - lo);
+  double f1 = f(x1), f2 = f(x2);
+  for (int i = 0; i < 64 && hi - lo > 1e-14; ++i) {
+    const double bound = convex_lower_bound(lo, f_lo, x1, f1, x2, f2, hi, f_hi);
+    const double safe = bound - margin * (1.0 + std::abs(bound));
+    if (safe >= floor) return safe;
+    if (f1 < f2) {
+      hi = x2;
+      f_hi = f2;
+      x2 = x1;
+      f2 = f1;
+      x1 = hi - kInvPhi * (hi - lo);
+      f1 = f(x1);
+    } else {
+      lo = x1;
+      f_lo = f1;
+      x1 = x2;
+      f1 = f2;
+      x2 = lo + kInvPhi * (hi - lo);
+      f2 = f(x2);
+    }
+  }
+  double best = std::min(f1, f2);
+  for (double t : {lo, hi}) best = std::min(best, f(t));
+  return best;
+}
+
 // The exact swept-volume distance of morph/sweep_distance.h, evaluated faster where possible:
-// the body's golden-section search only runs when a lower bound of the body's distance could
-// beat the tip's capsule (closed form). Same value as swept_signed_distance.
-double sweep_distance(const Tool& tool, const Vector3d& a, const Vector3d& b, const Vector3d& p) {
+// the body's golden-section search only runs while a lower bound of the body's distance could
+// beat the tip's capsule (closed form) and `cap`. Bit for bit the value of the full search
+// wherever that is below `cap`; elsewhere possibly only a lower bound of it that is >= cap.
+double sweep_distance(const Tool& tool, const Vector3d& a, const Vector3d& b, const Vector3d& p,
+                      double cap = std::numeric_limits<double>::infinity()) {
   const Vector3d d = b - a;
   const double dd = d.squaredNorm();
   if (tool.type == ToolType::Sphere) {
@@ -148,14 +213,29 @@ double sweep_distance(const Tool& tool, const Vector3d& a, const Vector3d& b, co
   // Lower bounds of the body sweep's distance: it lies above the lowest centre, and within r
   // (horizontally) of the centres' horizontal track.
   const double lowest = std::min(c0.z(), c0.z() + d.z());
-  double bound = lowest - p.z();
+  double across;
   {
     const Eigen::Vector2d ph(p.x() - c0.x(), p.y() - c0.y()), dh(d.x(), d.y());
     const double hh = dh.squaredNorm();
     const double th = hh > 0.0 ? std::clamp(ph.dot(dh) / hh, 0.0, 1.0) : 0.0;
-    bound = std::max(bound, (ph - th * dh).norm() - r);
+    across = (ph - th * dh).norm() - r;
   }
-  if (bound >= ball) return ball;
+  if (std::max(lowest - p.z(), across) >= ball) return ball;
+  // Rounding of the body's computed values, relative to the coordinates' magnitude: a bound
+  // that clears it by this much is below every value the search could compute.
+  const double margin =
+      1e-12 * (1.0 + p.cwiseAbs().maxCoeff() + c0.cwiseAbs().maxCoeff() + d.cwiseAbs().maxCoeff());
+  // A sharper bound: the body sweep lies in the vertical prism over that track widened by r (a
+  // stadium), from the lowest centre to the highest centre plus the body length. Where the
+  // exact distance to that prism (less the margin) is no less than the tip's capsule, the full
+  // search returns the capsule's value; where it is no less than the cap, it is a lower bound.
+  const double highest = std::max(c0.z(), c0.z() + d.z()) + tool.length;
+  const double vertical = std::max(lowest - p.z(), p.z() - highest);
+  const double prism = std::sqrt(std::max(across, 0.0) * std::max(across, 0.0) +
+                                 std::max(vertical, 0.0) * std::max(vertical, 0.0)) +
+                       std::min(std::max(across, vertical), 0.0);
+  const double bound = prism - margin * (1.0 + std::abs(prism));
+  if (bound >= std::min(ball, cap)) return std::min(ball, bound);
   auto body = [&](double t) {
     return detail::capped_cylinder_distance(p - (c0 + t * d), r, 0.0, tool.length);
   };
@@ -178,8 +258,10 @@ double sweep_distance(const Tool& tool, const Vector3d& a, const Vector3d& b, co
       if ((t - h < 0.0 || body(t - h) >= f) && (t + h > 1.0 || body(t + h) >= f)) return std::min(ball, f);
     }
   }
-  // Otherwise golden section on the convex body distance along the move.
-  return std::min(ball, detail::golden_minimum(body, 0.0, 1.0).second);
+  // Otherwise golden section on the convex body distance along the move, stopped once the body
+  // is proven no nearer than the tip (then the tip's value, as the full search gives it) or
+  // than the cap (then a lower bound >= cap).
+  return std::min(ball, golden_minimum_above(body, std::min(ball, cap), margin));
 }
 
 /// Everything a patch's trimming function needs, shared read-only by all threads.
@@ -243,6 +325,8 @@ class Trimmer {
       if (g < -1e3 * ctx_.tie && !term) return g;
     }
     if (use_tree_) {
+      // `best` follows the search's own minimum: a distance capped there changes no decision of
+      // the search (it updates on smaller values only, which the cap leaves exact).
       double best = std::numeric_limits<double>::infinity();
       const std::int64_t item = ctx_.tree.nearest(
           x,
@@ -250,7 +334,9 @@ class Trimmer {
             const int js = static_cast<int>(j);
             if (js == patch_.exclude[0] || js == patch_.exclude[1])
               return std::numeric_limits<double>::infinity();
-            return distance(js, x, u, v);
+            const double d = distance(js, x, u, v, best);
+            best = std::min(best, d);
+            return d;
           },
           &best, ctx_.max_depth);
       if (best < g) {
@@ -263,7 +349,7 @@ class Trimmer {
         // skipping it there would make g's zero set that of a shallower sweep.
         const double outside = ctx_.segments[j].box.exteriorDistance(x);
         if ((outside > 0.0 ? outside : -ctx_.max_depth) >= g) continue;
-        const double d = distance(j, x, u, v);
+        const double d = distance(j, x, u, v, g);
         if (d < g) {
           g = d;
           active = j;
@@ -317,9 +403,15 @@ class Trimmer {
   // segment's, of a sweep and the stock neither (the material up to the face is gone). Facing
   // each other (two passes touching, a pass grazing a face from outside) the contact is interior
   // to the union of the sweeps, or to the stock: the sweeps lose it, the stock face keeps it.
-  double distance(int j, const Vector3d& x, double u, double v) const {
+  // `below`: the value is only needed where it is below `below`; elsewhere the result is some
+  // value >= below (a search capped there cannot tell the minimum apart from it).
+  double distance(int j, const Vector3d& x, double u, double v,
+                  double below = std::numeric_limits<double>::infinity()) const {
     const Segment& s = ctx_.segments[j];
-    const double d = sweep_distance(*s.tool, s.a, s.b, x);
+    // The shift is at least -tie: any distance from cap on ends at or above `below`.
+    const double cap = below + 2.0 * ctx_.tie;
+    const double d = sweep_distance(*s.tool, s.a, s.b, x, cap);
+    if (d >= cap) return d - ctx_.tie;
     bool lean_keep = j > patch_.owner || j == patch_.adjacent[0] || j == patch_.adjacent[1];
     if (std::abs(d) <= 4.0 * ctx_.tie) {
       const bool same_side = sweep_gradient(s, x).dot(solid_normal(patch_, u, v)) > 0.0;
