@@ -360,6 +360,94 @@ class Trimmer {
     return g;
   }
 
+  /// The same value as operator() from the sweep terms in `list` alone, wherever the list holds
+  /// every term that can be the least one at (u, v) (a block's list, see near_terms). The list
+  /// is searched for its exact minimum (the order only makes the capped distances cheaper); it
+  /// is the searches' value unless they skip the term attaining it (its box's bound above it,
+  /// by rounding or the tie shift): then the full search decides.
+  double operator()(double u, double v, const int* list, std::size_t count) const {
+    const Vector3d x = evaluate(patch_, u, v);
+    const double own = own_terms(x, u, v);
+    if (patch_.sweep && own < -1e3 * ctx_.tie) return own;
+    double best = std::numeric_limits<double>::infinity();
+    bool found = true;  // the full search reaches the term attaining `best`
+    for (std::size_t k = 0; k < count; ++k) {
+      const int j = list[k];
+      const double below = std::min(own, best);
+      const double bound = box_bound(j, x);
+      if (bound - 2.0 * ctx_.tie >= below) continue;
+      const double d = distance(j, x, u, v, below);
+      if (d < best) {
+        best = d;
+        found = bound <= d;
+      }
+    }
+    if (!(best < own)) return own;
+    return found ? best : evaluate_with_term(u, v, nullptr);
+  }
+
+  /// At X(u, v): writes to `near` the terms of `list` whose distance there is at most `slack`
+  /// above the least distance of them, that term first, the others in list order. The other
+  /// terms of `list` cannot be the least one anywhere within (slack - 4 ties) / 2 of that point
+  /// (the distances are 1-Lipschitz but for the tie shift's jumps).
+  void near_terms(double u, double v, const int* list, std::size_t count, double slack,
+                  std::vector<int>& near) const {
+    const Vector3d x = evaluate(patch_, u, v);
+    near_.clear();
+    double best = std::numeric_limits<double>::infinity();
+    std::size_t nearest = 0;
+    for (std::size_t k = 0; k < count; ++k) {
+      const int j = list[k];
+      const double below = best + slack;
+      if (box_bound(j, x) - 2.0 * ctx_.tie >= below) continue;
+      const double d = distance(j, x, u, v, below);
+      if (d >= below) continue;
+      if (d < best) {
+        best = d;
+        nearest = near_.size();
+      }
+      near_.push_back({j, d});
+    }
+    near.clear();
+    if (near_.empty()) return;
+    near.push_back(near_[nearest].first);
+    for (std::size_t k = 0; k < near_.size(); ++k)
+      if (k != nearest && near_[k].second <= best + slack) near.push_back(near_[k].first);
+  }
+
+  /// The sweep terms of g (all candidates, in their order, or from the tree those near enough)
+  /// that can be the least one anywhere within `radius` of X(u, v).
+  std::vector<int> terms_within(double u, double v, double radius) const {
+    if (!use_tree_) return candidates_;
+    const Vector3d x = evaluate(patch_, u, v);
+    double best = std::numeric_limits<double>::infinity();
+    ctx_.tree.nearest(
+        x,
+        [&](std::size_t j) {
+          const int js = static_cast<int>(j);
+          if (js == patch_.exclude[0] || js == patch_.exclude[1])
+            return std::numeric_limits<double>::infinity();
+          const double d = distance(js, x, u, v, best);
+          best = std::min(best, d);
+          return d;
+        },
+        &best, ctx_.max_depth);
+    std::vector<int> terms;
+    if (!std::isfinite(best)) return terms;
+    // Within `radius` every term is within radius (and a tie jump) of its value at x.
+    const double reach = best + 2.0 * radius + 4.0 * ctx_.tie;
+    Eigen::AlignedBox3d query(x);
+    query.min().array() -= std::max(reach, 0.0) + 2.0 * ctx_.tie;
+    query.max().array() += std::max(reach, 0.0) + 2.0 * ctx_.tie;
+    ctx_.tree.for_each_overlapping(query, [&](std::size_t j) {
+      const int js = static_cast<int>(j);
+      if (js == patch_.exclude[0] || js == patch_.exclude[1]) return;
+      if (box_bound(js, x) - 2.0 * ctx_.tie <= reach) terms.push_back(js);
+    });
+    std::sort(terms.begin(), terms.end());
+    return terms;
+  }
+
   /// Lipschitz constant in space of the exact minimum of g's terms on the patch: the distances
   /// are 1-Lipschitz, position rules |dir| / rule_radius, normal rules |dir| / R on spheres and
   /// right tubes (constant on flat patches). Infinity where no bound is known (normal rules on
@@ -392,6 +480,19 @@ class Trimmer {
 
  private:
   static constexpr std::size_t kListLimit = 64;
+  // The stock's and the rules' terms of g, as evaluate_with_term takes their minimum.
+  double own_terms(const Vector3d& x, double u, double v) const {
+    if (!patch_.sweep) return std::numeric_limits<double>::infinity();
+    double g = -ctx_.stock_distance(x) - ctx_.tie;
+    for (int r = 0; r < patch_.rule_count; ++r) g = std::min(g, rule_value(r, x, u, v));
+    return g;
+  }
+  // The searches' lower bound of segment j's distance: its box's exterior distance, -max_depth
+  // inside the box. Less two ties it is a true lower bound (the tie shift, rounding).
+  double box_bound(int j, const Vector3d& x) const {
+    const double outside = ctx_.segments[j].box.exteriorDistance(x);
+    return outside > 0.0 ? outside : -ctx_.max_depth;
+  }
   double rule_value(int r, const Vector3d& x, double u, double v) const {
     const OwnRule& rule = patch_.rules[r];
     return rule.position ? (x - patch_.rule_centre).dot(rule.dir) / patch_.rule_radius
@@ -448,6 +549,7 @@ class Trimmer {
   const Patch& patch_;
   std::vector<int> candidates_;
   bool use_tree_ = false;
+  mutable std::vector<std::pair<int, double>> near_;  // near_terms' scratch (one thread per patch)
 };
 
 struct PatchMesh {
@@ -473,8 +575,8 @@ void mark_border(PatchMesh& mesh) {
 
 /// Parameter in [0, 1] of the root of g along an edge whose ends have values g0, g1 of opposite
 /// signs; `at(s)` gives the (u, v) of edge parameter s. Illinois false position with bisection.
-template <class At>
-double edge_root(const Trimmer& g, double g0, double g1, At&& at) {
+template <class G, class At>
+double edge_root(G&& g, double g0, double g1, At&& at) {
   double a = 0.0, b = 1.0, ga = g0, gb = g1;
   int side = 0;
   double t = 0.5;
@@ -600,11 +702,22 @@ PatchMesh trim_on_grid(const Context& ctx, const Patch& patch, const Trimmer& g,
   auto pu = [&](int i) { return us[static_cast<std::size_t>(i)]; };
   auto pv = [&](int j) { return vs[static_cast<std::size_t>(j)]; };
 
+  // Other patches: the sweep terms of g that can be the least one on each cell, found block by
+  // block (a block's terms from its parent's, the root's from the tree). Values on a cell then
+  // come from its terms alone: the same values as from all terms, far fewer distances.
+  std::vector<int> term_pool;
+  std::vector<std::uint32_t> cell_terms;  // per cell: first in term_pool, count
+  std::size_t current_cell = 0;           // the cell whose closed rectangle the next values lie on
+  auto eval = [&](double u, double v) {
+    if (cell_terms.empty()) return g(u, v);
+    const std::uint32_t* terms = &cell_terms[2 * current_cell];
+    return g(u, v, term_pool.data() + terms[0], terms[1]);
+  };
   // Node values, evaluated lazily (the quadtree of large flat patches never visits most nodes).
   std::vector<double> value(static_cast<std::size_t>(su) * sv, std::numeric_limits<double>::quiet_NaN());
   auto val = [&](int i, int j) {
     double& v = value[static_cast<std::size_t>(wrap_u(i)) * sv + wrap_v(j)];
-    if (std::isnan(v)) v = g(pu(wrap_u(i)), pv(wrap_v(j)));
+    if (std::isnan(v)) v = eval(pu(wrap_u(i)), pv(wrap_v(j)));
     return v;
   };
   // Large flat stock faces: blocks of cells that the exact 1-Lipschitz g proves entirely kept or
@@ -615,17 +728,15 @@ PatchMesh trim_on_grid(const Context& ctx, const Patch& patch, const Trimmer& g,
   struct Block {
     int i0, i1, j0, j1;
   };
-  // Halves the block across its longer side, the lower half popped first.
-  auto split = [](const Block& b, std::vector<Block>& stack) {
+  // The block's halves across its longer side: {upper, lower} (pushed in that order, the lower
+  // half is popped first).
+  auto halves = [](const Block& b) {
     if (b.i1 - b.i0 >= b.j1 - b.j0) {
       const int im = (b.i0 + b.i1) / 2;
-      stack.push_back({im, b.i1, b.j0, b.j1});
-      stack.push_back({b.i0, im, b.j0, b.j1});
-    } else {
-      const int jm = (b.j0 + b.j1) / 2;
-      stack.push_back({b.i0, b.i1, jm, b.j1});
-      stack.push_back({b.i0, b.i1, b.j0, jm});
+      return std::array<Block, 2>{{{im, b.i1, b.j0, b.j1}, {b.i0, im, b.j0, b.j1}}};
     }
+    const int jm = (b.j0 + b.j1) / 2;
+    return std::array<Block, 2>{{{b.i0, b.i1, jm, b.j1}, {b.i0, b.i1, b.j0, jm}}};
   };
   std::vector<Block> kept_blocks;
   std::vector<std::array<int, 2>> fine_cells;
@@ -656,7 +767,7 @@ PatchMesh trim_on_grid(const Context& ctx, const Patch& patch, const Trimmer& g,
         continue;
       }
       if (gc < -1.0001 * radius - 1e-12) continue;
-      split(b, stack);
+      for (const Block& half : halves(b)) stack.push_back(half);
     }
     if (kept_blocks.empty() && fine_cells.empty()) return out;
   } else {
@@ -666,27 +777,52 @@ PatchMesh trim_on_grid(const Context& ctx, const Patch& patch, const Trimmer& g,
     // relative and a tie margin: the tie shift jumps by two ties, the distances are exact to far
     // less) of that minimum all over the block. Every other cell evaluates exactly as before.
     const double lipschitz = g.lipschitz();
-    if (std::isfinite(lipschitz)) {
-      cell_state.assign(static_cast<std::size_t>(nu) * nv, kOpen);
-      const double margin = 100.0 * ctx.tie + 1e-12;
-      std::vector<Block> stack{{0, nu, 0, nv}};
-      while (!stack.empty()) {
-        const Block b = stack.back();
-        stack.pop_back();
-        // A single cell's centre costs about what its nodes do, which neighbours share.
-        if (b.i1 - b.i0 == 1 && b.j1 - b.j0 == 1) continue;
-        const double uc = 0.5 * (pu(b.i0) + pu(b.i1)), vc = 0.5 * (pv(b.j0) + pv(b.j1));
-        const double reach =
-            lipschitz * (1.001 * block_radius(patch, pu(b.i0), pu(b.i1), pv(b.j0), pv(b.j1)) + margin);
-        const double gc = g(uc, vc);
+    const bool proofs = std::isfinite(lipschitz);
+    const std::size_t cells = static_cast<std::size_t>(nu) * nv;
+    if (proofs) cell_state.assign(cells, kOpen);
+    const double margin = 100.0 * ctx.tie + 1e-12;
+    auto radius_of = [&](const Block& b) {
+      return 1.001 * block_radius(patch, pu(b.i0), pu(b.i1), pv(b.j0), pv(b.j1)) + margin;
+    };
+    // A block's terms are those of its parent that can be the least one on it: within twice its
+    // radius (and the tie jumps) of the least of them at its centre.
+    const Block root{0, nu, 0, nv};
+    term_pool = g.terms_within(0.5 * (pu(0) + pu(nu)), 0.5 * (pv(0) + pv(nv)), radius_of(root));
+    cell_terms.assign(2 * cells, 0);
+    struct Task {
+      Block b;
+      std::uint32_t first, count;  // the block's terms in term_pool
+    };
+    std::vector<Task> stack{{root, 0, static_cast<std::uint32_t>(term_pool.size())}};
+    std::vector<int> near;
+    while (!stack.empty()) {
+      const Task task = stack.back();
+      const Block& b = task.b;
+      stack.pop_back();
+      if (b.i1 - b.i0 == 1 && b.j1 - b.j0 == 1) {
+        // A single cell's centre costs about what its nodes do: it keeps its parent's terms.
+        const std::size_t c = static_cast<std::size_t>(b.i0) * nv + b.j0;
+        cell_terms[2 * c] = task.first;
+        cell_terms[2 * c + 1] = task.count;
+        continue;
+      }
+      const double uc = 0.5 * (pu(b.i0) + pu(b.i1)), vc = 0.5 * (pv(b.j0) + pv(b.j1));
+      const double radius = radius_of(b);
+      if (proofs) {
+        const double reach = lipschitz * radius;
+        const double gc = g(uc, vc, term_pool.data() + task.first, task.count);
         if (gc < -reach || gc > reach) {
           for (int i = b.i0; i < b.i1; ++i)
             for (int j = b.j0; j < b.j1; ++j)
               cell_state[static_cast<std::size_t>(i) * nv + j] = gc > 0.0 ? kKept : kRemoved;
           continue;
         }
-        split(b, stack);
       }
+      g.near_terms(uc, vc, term_pool.data() + task.first, task.count, 2.0 * radius + 4.0 * ctx.tie, near);
+      const auto first = static_cast<std::uint32_t>(term_pool.size());
+      term_pool.insert(term_pool.end(), near.begin(), near.end());
+      for (const Block& half : halves(b))
+        stack.push_back({half, first, static_cast<std::uint32_t>(near.size())});
     }
     // A kept cell has kept nodes; a node of removed cells only is removed.
     bool any_in = false;
@@ -694,6 +830,7 @@ PatchMesh trim_on_grid(const Context& ctx, const Patch& patch, const Trimmer& g,
       for (int j = 0; j < nv && !any_in; ++j) {
         if (cell_state_at(i, j) == kKept) any_in = true;
         if (cell_state_at(i, j) != kOpen) continue;
+        current_cell = static_cast<std::size_t>(i) * nv + j;
         for (int k = 0; k < 4 && !any_in; ++k) any_in = val(i + (k & 1), j + (k >> 1)) > 0.0;
       }
     // Without a kept node the patch is gone, unless a strip hides between its nodes.
@@ -739,7 +876,7 @@ PatchMesh trim_on_grid(const Context& ctx, const Patch& patch, const Trimmer& g,
         heap.pop_back();
         if (sp.bound <= 0.0) break;
         const double m = 0.5 * (sp.a + sp.b);
-        const double gm = along_u ? g(m, pv(j0)) : g(pu(i0), m);
+        const double gm = along_u ? eval(m, pv(j0)) : eval(pu(i0), m);
         if (gm > 0.0) {
           (along_u ? *extra_u : *extra_v).push_back(m);
           return;
@@ -754,6 +891,7 @@ PatchMesh trim_on_grid(const Context& ctx, const Patch& patch, const Trimmer& g,
       // A proven cell's edges need no scan: kept, one of their ends is kept; removed, g < 0 all
       // along them. Open cells scan their edges, shared ones too, from exact values.
       if (cell_state_at(i, j) != kOpen) continue;
+      current_cell = static_cast<std::size_t>(i) * nv + j;
       scan(i, j, true);
       scan(i, j + 1, true);
       scan(i, j, false);
@@ -787,7 +925,7 @@ PatchMesh trim_on_grid(const Context& ctx, const Patch& patch, const Trimmer& g,
     auto it = crossing.find(key);
     if (it != crossing.end()) return it->second;
     const int ib = along_u ? ia + 1 : ia, jb = along_u ? ja : ja + 1;
-    const double t = edge_root(g, val(ia, ja), val(ib, jb), [&](double s) {
+    const double t = edge_root(eval, val(ia, ja), val(ib, jb), [&](double s) {
       return std::array<double, 2>{pu(ia) + s * (pu(ib) - pu(ia)), pv(ja) + s * (pv(jb) - pv(ja))};
     });
     // A root at a grid node is that node (no sliver triangles between them). "At" means within
@@ -879,6 +1017,7 @@ PatchMesh trim_on_grid(const Context& ctx, const Patch& patch, const Trimmer& g,
       int count = 0;
       // Proven cells: the node signs without their values (all kept or all removed).
       const auto proven = cell_state_at(i, j);
+      current_cell = static_cast<std::size_t>(i) * nv + j;
       for (int k = 0; k < 4; ++k)
         count += (in[k] = proven == kOpen ? val(ci[k], cj[k]) > 0.0 : proven == kKept);
       if (count == 0) continue;
@@ -887,7 +1026,7 @@ PatchMesh trim_on_grid(const Context& ctx, const Patch& patch, const Trimmer& g,
         continue;
       }
       const bool saddle = count == 2 && in[0] == in[2];
-      if (saddle && g(0.5 * (pu(i) + pu(i + 1)), 0.5 * (pv(j) + pv(j + 1))) <= 0.0) {
+      if (saddle && eval(0.5 * (pu(i) + pu(i + 1)), 0.5 * (pv(j) + pv(j + 1))) <= 0.0) {
         // Two separate corners.
         for (int k = 0; k < 4; ++k) {
           if (!in[k]) continue;
