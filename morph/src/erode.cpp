@@ -360,20 +360,36 @@ class Trimmer {
     return g;
   }
 
+  /// A sweep term of g and a lower bound of its distance at the centre of the list holding it.
+  struct SweepTerm {
+    int segment;
+    double lower;
+  };
+  /// Sweep terms sorted by `lower`, and their centre.
+  struct TermList {
+    const SweepTerm* terms;
+    std::size_t count;
+    Vector3d centre;
+  };
+
   /// The same value as operator() from the sweep terms in `list` alone, wherever the list holds
   /// every term that can be the least one at (u, v) (a block's list, see near_terms). The list
-  /// is searched for its exact minimum (the order only makes the capped distances cheaper); it
-  /// is the searches' value unless they skip the term attaining it (its box's bound above it,
-  /// by rounding or the tie shift): then the full search decides.
-  double operator()(double u, double v, const int* list, std::size_t count) const {
+  /// is searched for its exact minimum, nearest terms first, up to the first whose bound (its
+  /// bound at the centre less the distance moved, the distances being 1-Lipschitz but for the
+  /// tie shift's jumps) shows that none of the rest can be below it. That minimum is the full
+  /// searches' value unless they skip the term attaining it (its box's bound above it, by
+  /// rounding or the tie shift): then the full search decides.
+  double operator()(double u, double v, const TermList& list) const {
     const Vector3d x = evaluate(patch_, u, v);
     const double own = own_terms(x, u, v);
     if (patch_.sweep && own < -1e3 * ctx_.tie) return own;
+    const double moved = (x - list.centre).norm() + 4.0 * ctx_.tie;
     double best = std::numeric_limits<double>::infinity();
     bool found = true;  // the full search reaches the term attaining `best`
-    for (std::size_t k = 0; k < count; ++k) {
-      const int j = list[k];
+    for (std::size_t k = 0; k < list.count; ++k) {
+      const int j = list.terms[k].segment;
       const double below = std::min(own, best);
+      if (list.terms[k].lower - moved >= below) break;
       const double bound = box_bound(j, x);
       if (bound - 2.0 * ctx_.tie >= below) continue;
       const double d = distance(j, x, u, v, below);
@@ -387,39 +403,40 @@ class Trimmer {
   }
 
   /// At X(u, v): writes to `near` the terms of `list` whose distance there is at most `slack`
-  /// above the least distance of them, that term first, the others in list order. The other
-  /// terms of `list` cannot be the least one anywhere within (slack - 4 ties) / 2 of that point
-  /// (the distances are 1-Lipschitz but for the tie shift's jumps).
-  void near_terms(double u, double v, const int* list, std::size_t count, double slack,
-                  std::vector<int>& near) const {
+  /// above the least distance of them, sorted by that distance (their `lower`). The other terms
+  /// of `list` cannot be the least one anywhere within (slack - 4 ties) / 2 of that point.
+  void near_terms(double u, double v, const TermList& list, double slack,
+                  std::vector<SweepTerm>& near) const {
     const Vector3d x = evaluate(patch_, u, v);
-    near_.clear();
+    const double moved = (x - list.centre).norm() + 4.0 * ctx_.tie;
+    near.clear();
     double best = std::numeric_limits<double>::infinity();
-    std::size_t nearest = 0;
-    for (std::size_t k = 0; k < count; ++k) {
-      const int j = list[k];
+    for (std::size_t k = 0; k < list.count; ++k) {
+      const int j = list.terms[k].segment;
       const double below = best + slack;
+      if (list.terms[k].lower - moved >= below) break;
       if (box_bound(j, x) - 2.0 * ctx_.tie >= below) continue;
       const double d = distance(j, x, u, v, below);
       if (d >= below) continue;
-      if (d < best) {
-        best = d;
-        nearest = near_.size();
-      }
-      near_.push_back({j, d});
+      best = std::min(best, d);
+      near.push_back({j, d});
     }
-    near.clear();
-    if (near_.empty()) return;
-    near.push_back(near_[nearest].first);
-    for (std::size_t k = 0; k < near_.size(); ++k)
-      if (k != nearest && near_[k].second <= best + slack) near.push_back(near_[k].first);
+    near.erase(
+        std::remove_if(near.begin(), near.end(), [&](const SweepTerm& t) { return t.lower > best + slack; }),
+        near.end());
+    sort_terms(near);
   }
 
-  /// The sweep terms of g (all candidates, in their order, or from the tree those near enough)
-  /// that can be the least one anywhere within `radius` of X(u, v).
-  std::vector<int> terms_within(double u, double v, double radius) const {
-    if (!use_tree_) return candidates_;
+  /// The sweep terms of g (all candidates, or from the tree those near enough) that can be the
+  /// least one anywhere within `radius` of X(u, v), with their boxes' bounds there.
+  std::vector<SweepTerm> terms_within(double u, double v, double radius) const {
     const Vector3d x = evaluate(patch_, u, v);
+    std::vector<SweepTerm> terms;
+    if (!use_tree_) {
+      for (int j : candidates_) terms.push_back({j, box_bound(j, x) - 2.0 * ctx_.tie});
+      sort_terms(terms);
+      return terms;
+    }
     double best = std::numeric_limits<double>::infinity();
     ctx_.tree.nearest(
         x,
@@ -432,7 +449,6 @@ class Trimmer {
           return d;
         },
         &best, ctx_.max_depth);
-    std::vector<int> terms;
     if (!std::isfinite(best)) return terms;
     // Within `radius` every term is within radius (and a tie jump) of its value at x.
     const double reach = best + 2.0 * radius + 4.0 * ctx_.tie;
@@ -442,9 +458,10 @@ class Trimmer {
     ctx_.tree.for_each_overlapping(query, [&](std::size_t j) {
       const int js = static_cast<int>(j);
       if (js == patch_.exclude[0] || js == patch_.exclude[1]) return;
-      if (box_bound(js, x) - 2.0 * ctx_.tie <= reach) terms.push_back(js);
+      const double lower = box_bound(js, x) - 2.0 * ctx_.tie;
+      if (lower <= reach) terms.push_back({js, lower});
     });
-    std::sort(terms.begin(), terms.end());
+    sort_terms(terms);
     return terms;
   }
 
@@ -480,6 +497,12 @@ class Trimmer {
 
  private:
   static constexpr std::size_t kListLimit = 64;
+  // By bound, then segment (the lists' order does not depend on how they were gathered).
+  static void sort_terms(std::vector<SweepTerm>& terms) {
+    std::sort(terms.begin(), terms.end(), [](const SweepTerm& a, const SweepTerm& b) {
+      return a.lower < b.lower || (a.lower == b.lower && a.segment < b.segment);
+    });
+  }
   // The stock's and the rules' terms of g, as evaluate_with_term takes their minimum.
   double own_terms(const Vector3d& x, double u, double v) const {
     if (!patch_.sweep) return std::numeric_limits<double>::infinity();
@@ -549,7 +572,6 @@ class Trimmer {
   const Patch& patch_;
   std::vector<int> candidates_;
   bool use_tree_ = false;
-  mutable std::vector<std::pair<int, double>> near_;  // near_terms' scratch (one thread per patch)
 };
 
 struct PatchMesh {
@@ -705,13 +727,21 @@ PatchMesh trim_on_grid(const Context& ctx, const Patch& patch, const Trimmer& g,
   // Other patches: the sweep terms of g that can be the least one on each cell, found block by
   // block (a block's terms from its parent's, the root's from the tree). Values on a cell then
   // come from its terms alone: the same values as from all terms, far fewer distances.
-  std::vector<int> term_pool;
-  std::vector<std::uint32_t> cell_terms;  // per cell: first in term_pool, count
-  std::size_t current_cell = 0;           // the cell whose closed rectangle the next values lie on
+  std::vector<Trimmer::SweepTerm> term_pool;
+  struct ListAt {
+    std::uint32_t first, count;  // in term_pool
+    Vector3d centre;
+  };
+  std::vector<ListAt> lists;
+  auto term_list = [&](std::uint32_t list) {
+    const ListAt& l = lists[list];
+    return Trimmer::TermList{term_pool.data() + l.first, l.count, l.centre};
+  };
+  std::vector<std::uint32_t> cell_list;  // per cell: its list in `lists`
+  std::size_t current_cell = 0;          // the cell whose closed rectangle the next values lie on
   auto eval = [&](double u, double v) {
-    if (cell_terms.empty()) return g(u, v);
-    const std::uint32_t* terms = &cell_terms[2 * current_cell];
-    return g(u, v, term_pool.data() + terms[0], terms[1]);
+    if (cell_list.empty()) return g(u, v);
+    return g(u, v, term_list(cell_list[current_cell]));
   };
   // Node values, evaluated lazily (the quadtree of large flat patches never visits most nodes).
   std::vector<double> value(static_cast<std::size_t>(su) * sv, std::numeric_limits<double>::quiet_NaN());
@@ -787,30 +817,32 @@ PatchMesh trim_on_grid(const Context& ctx, const Patch& patch, const Trimmer& g,
     // A block's terms are those of its parent that can be the least one on it: within twice its
     // radius (and the tie jumps) of the least of them at its centre.
     const Block root{0, nu, 0, nv};
-    term_pool = g.terms_within(0.5 * (pu(0) + pu(nu)), 0.5 * (pv(0) + pv(nv)), radius_of(root));
-    cell_terms.assign(2 * cells, 0);
+    {
+      const double uc = 0.5 * (pu(0) + pu(nu)), vc = 0.5 * (pv(0) + pv(nv));
+      term_pool = g.terms_within(uc, vc, radius_of(root));
+      lists.push_back({0, static_cast<std::uint32_t>(term_pool.size()), evaluate(patch, uc, vc)});
+    }
+    cell_list.assign(cells, 0);
     struct Task {
       Block b;
-      std::uint32_t first, count;  // the block's terms in term_pool
+      std::uint32_t list;  // the block's terms
     };
-    std::vector<Task> stack{{root, 0, static_cast<std::uint32_t>(term_pool.size())}};
-    std::vector<int> near;
+    std::vector<Task> stack{{root, 0}};
+    std::vector<Trimmer::SweepTerm> near;
     while (!stack.empty()) {
       const Task task = stack.back();
       const Block& b = task.b;
       stack.pop_back();
       if (b.i1 - b.i0 == 1 && b.j1 - b.j0 == 1) {
         // A single cell's centre costs about what its nodes do: it keeps its parent's terms.
-        const std::size_t c = static_cast<std::size_t>(b.i0) * nv + b.j0;
-        cell_terms[2 * c] = task.first;
-        cell_terms[2 * c + 1] = task.count;
+        cell_list[static_cast<std::size_t>(b.i0) * nv + b.j0] = task.list;
         continue;
       }
       const double uc = 0.5 * (pu(b.i0) + pu(b.i1)), vc = 0.5 * (pv(b.j0) + pv(b.j1));
       const double radius = radius_of(b);
       if (proofs) {
         const double reach = lipschitz * radius;
-        const double gc = g(uc, vc, term_pool.data() + task.first, task.count);
+        const double gc = g(uc, vc, term_list(task.list));
         if (gc < -reach || gc > reach) {
           for (int i = b.i0; i < b.i1; ++i)
             for (int j = b.j0; j < b.j1; ++j)
@@ -818,11 +850,12 @@ PatchMesh trim_on_grid(const Context& ctx, const Patch& patch, const Trimmer& g,
           continue;
         }
       }
-      g.near_terms(uc, vc, term_pool.data() + task.first, task.count, 2.0 * radius + 4.0 * ctx.tie, near);
-      const auto first = static_cast<std::uint32_t>(term_pool.size());
+      g.near_terms(uc, vc, term_list(task.list), 2.0 * radius + 4.0 * ctx.tie, near);
+      const auto list = static_cast<std::uint32_t>(lists.size());
+      lists.push_back({static_cast<std::uint32_t>(term_pool.size()), static_cast<std::uint32_t>(near.size()),
+                       evaluate(patch, uc, vc)});
       term_pool.insert(term_pool.end(), near.begin(), near.end());
-      for (const Block& half : halves(b))
-        stack.push_back({half, first, static_cast<std::uint32_t>(near.size())});
+      for (const Block& half : halves(b)) stack.push_back({half, list});
     }
     // A kept cell has kept nodes; a node of removed cells only is removed.
     bool any_in = false;
