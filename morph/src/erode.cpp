@@ -264,6 +264,39 @@ double sweep_distance(const Tool& tool, const Vector3d& a, const Vector3d& b, co
   return std::min(ball, golden_minimum_above(body, std::min(ball, cap), margin));
 }
 
+/// Cheap lower and upper bounds of sweep_distance: the tip's capsule bounds it from above, the
+/// body's prism from below (both exact where the capsule is nearer than the prism).
+std::pair<double, double> sweep_distance_bounds(const Tool& tool, const Vector3d& a, const Vector3d& b,
+                                                const Vector3d& p) {
+  if (tool.type != ToolType::BallEnd) {
+    const double d = sweep_distance(tool, a, b, p);
+    return {d, d};
+  }
+  const Vector3d d = b - a;
+  const double dd = d.squaredNorm();
+  const double r = tool.radius;
+  const Vector3d c0 = a + Vector3d(0, 0, r);
+  const double tb = dd > 0.0 ? std::clamp((p - c0).dot(d) / dd, 0.0, 1.0) : 0.0;
+  const double ball = (p - (c0 + tb * d)).norm() - r;
+  const double lowest = std::min(c0.z(), c0.z() + d.z());
+  double across;
+  {
+    const Eigen::Vector2d ph(p.x() - c0.x(), p.y() - c0.y()), dh(d.x(), d.y());
+    const double hh = dh.squaredNorm();
+    const double th = hh > 0.0 ? std::clamp(ph.dot(dh) / hh, 0.0, 1.0) : 0.0;
+    across = (ph - th * dh).norm() - r;
+  }
+  if (std::max(lowest - p.z(), across) >= ball) return {ball, ball};
+  const double margin =
+      1e-12 * (1.0 + p.cwiseAbs().maxCoeff() + c0.cwiseAbs().maxCoeff() + d.cwiseAbs().maxCoeff());
+  const double highest = std::max(c0.z(), c0.z() + d.z()) + tool.length;
+  const double vertical = std::max(lowest - p.z(), p.z() - highest);
+  const double prism = std::sqrt(std::max(across, 0.0) * std::max(across, 0.0) +
+                                 std::max(vertical, 0.0) * std::max(vertical, 0.0)) +
+                       std::min(std::max(across, vertical), 0.0);
+  return {std::min(ball, prism - margin * (1.0 + std::abs(prism))), ball};
+}
+
 /// Everything a patch's trimming function needs, shared read-only by all threads.
 struct Context {
   const Job* job = nullptr;
@@ -411,15 +444,18 @@ class Trimmer {
     const double moved = (x - list.centre).norm() + 4.0 * ctx_.tie;
     near.clear();
     double best = std::numeric_limits<double>::infinity();
+    // `best`: an upper bound of the least distance; each term kept with a lower bound of its
+    // own (cheap bounds: the exact distances only matter for the values).
     for (std::size_t k = 0; k < list.count; ++k) {
       const int j = list.terms[k].segment;
       const double below = best + slack;
       if (list.terms[k].lower - moved >= below) break;
       if (box_bound(j, x) - 2.0 * ctx_.tie >= below) continue;
-      const double d = distance(j, x, u, v, below);
-      if (d >= below) continue;
-      best = std::min(best, d);
-      near.push_back({j, d});
+      const Segment& s = ctx_.segments[j];
+      const auto [lower, upper] = sweep_distance_bounds(*s.tool, s.a, s.b, x);
+      if (lower - ctx_.tie >= below) continue;
+      best = std::min(best, upper + ctx_.tie);
+      near.push_back({j, lower - ctx_.tie});
     }
     near.erase(
         std::remove_if(near.begin(), near.end(), [&](const SweepTerm& t) { return t.lower > best + slack; }),
@@ -738,7 +774,9 @@ PatchMesh trim_on_grid(const Context& ctx, const Patch& patch, const Trimmer& g,
     return Trimmer::TermList{term_pool.data() + l.first, l.count, l.centre};
   };
   std::vector<std::uint32_t> cell_list;  // per cell: its list in `lists`
-  std::size_t current_cell = 0;          // the cell whose closed rectangle the next values lie on
+  // Space radii of parameter blocks, conservative: a relative and an absolute margin.
+  const double margin = 100.0 * ctx.tie + 1e-12;
+  std::size_t current_cell = 0;  // the cell whose closed rectangle the next values lie on
   auto eval = [&](double u, double v) {
     if (cell_list.empty()) return g(u, v);
     return g(u, v, term_list(cell_list[current_cell]));
@@ -810,7 +848,6 @@ PatchMesh trim_on_grid(const Context& ctx, const Patch& patch, const Trimmer& g,
     const bool proofs = std::isfinite(lipschitz);
     const std::size_t cells = static_cast<std::size_t>(nu) * nv;
     if (proofs) cell_state.assign(cells, kOpen);
-    const double margin = 100.0 * ctx.tie + 1e-12;
     auto radius_of = [&](const Block& b) {
       return 1.001 * block_radius(patch, pu(b.i0), pu(b.i1), pv(b.j0), pv(b.j1)) + margin;
     };
@@ -944,6 +981,7 @@ PatchMesh trim_on_grid(const Context& ctx, const Patch& patch, const Trimmer& g,
   };
   // Crossing vertices on grid edges, cached so neighbouring cells share them.
   std::unordered_map<std::uint64_t, std::uint32_t> crossing;
+  std::vector<Trimmer::SweepTerm> edge_terms;
   struct CrossingInfo {
     double u, v;
     int term;
@@ -958,9 +996,22 @@ PatchMesh trim_on_grid(const Context& ctx, const Patch& patch, const Trimmer& g,
     auto it = crossing.find(key);
     if (it != crossing.end()) return it->second;
     const int ib = along_u ? ia + 1 : ia, jb = along_u ? ja : ja + 1;
-    const double t = edge_root(eval, val(ia, ja), val(ib, jb), [&](double s) {
+    auto at = [&](double s) {
       return std::array<double, 2>{pu(ia) + s * (pu(ib) - pu(ia)), pv(ja) + s * (pv(jb) - pv(ja))};
-    });
+    };
+    double t;
+    if (cell_list.empty()) {
+      t = edge_root(eval, val(ia, ja), val(ib, jb), at);
+    } else {
+      // The root search evaluates g many times along the edge: from the terms that can be the
+      // least one on the edge, about its midpoint, far fewer distances than from the cell's.
+      const double u0 = pu(ia), u1 = pu(ib), v0 = pv(ja), v1 = pv(jb);
+      const double um = 0.5 * (u0 + u1), vm = 0.5 * (v0 + v1);
+      const double radius = 1.001 * block_radius(patch, u0, u1, v0, v1) + margin;
+      g.near_terms(um, vm, term_list(cell_list[current_cell]), 2.0 * radius + 4.0 * ctx.tie, edge_terms);
+      const Trimmer::TermList edge_list{edge_terms.data(), edge_terms.size(), evaluate(patch, um, vm)};
+      t = edge_root([&](double u, double v) { return g(u, v, edge_list); }, val(ia, ja), val(ib, jb), at);
+    }
     // A root at a grid node is that node (no sliver triangles between them). "At" means within
     // the weld distance (100 ties) in space: the tie-break shifts a trimming curve that runs
     // along a grid line (a pass exactly along a stock face) by one tie, which on a short edge is
