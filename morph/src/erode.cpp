@@ -398,11 +398,13 @@ class Trimmer {
     int segment;
     double lower;
   };
-  /// Sweep terms sorted by `lower`, and their centre.
+  /// Sweep terms sorted by `lower`, their centre, and an upper bound of the least of their
+  /// distances there (infinity if unknown).
   struct TermList {
     const SweepTerm* terms;
     std::size_t count;
     Vector3d centre;
+    double upper;
   };
 
   /// The same value as operator() from the sweep terms in `list` alone, wherever the list holds
@@ -417,11 +419,14 @@ class Trimmer {
     const double own = own_terms(x, u, v);
     if (patch_.sweep && own < -1e3 * ctx_.tie) return own;
     const double moved = (x - list.centre).norm() + 4.0 * ctx_.tie;
+    // The least distance is below `cap` (the list's bound moved along): distances beyond it
+    // need no exact values.
+    const double cap = list.upper + moved;
     double best = std::numeric_limits<double>::infinity();
     bool found = true;  // the full search reaches the term attaining `best`
     for (std::size_t k = 0; k < list.count; ++k) {
       const int j = list.terms[k].segment;
-      const double below = std::min(own, best);
+      const double below = std::min({own, best, cap});
       if (list.terms[k].lower - moved >= below) break;
       const double bound = box_bound(j, x);
       if (bound - 2.0 * ctx_.tie >= below) continue;
@@ -436,14 +441,15 @@ class Trimmer {
   }
 
   /// At X(u, v): writes to `near` the terms of `list` whose distance there is at most `slack`
-  /// above the least distance of them, sorted by that distance (their `lower`). The other terms
-  /// of `list` cannot be the least one anywhere within (slack - 4 ties) / 2 of that point.
-  void near_terms(double u, double v, const TermList& list, double slack,
-                  std::vector<SweepTerm>& near) const {
+  /// above the least distance of them, sorted by that distance (their `lower`), and returns an
+  /// upper bound of that least distance. The other terms of `list` cannot be the least one
+  /// anywhere within (slack - 4 ties) / 2 of that point.
+  double near_terms(double u, double v, const TermList& list, double slack,
+                    std::vector<SweepTerm>& near) const {
     const Vector3d x = evaluate(patch_, u, v);
     const double moved = (x - list.centre).norm() + 4.0 * ctx_.tie;
     near.clear();
-    double best = std::numeric_limits<double>::infinity();
+    double best = list.upper + moved;
     // `best`: an upper bound of the least distance; each term kept with a lower bound of its
     // own (cheap bounds: the exact distances only matter for the values).
     for (std::size_t k = 0; k < list.count; ++k) {
@@ -461,13 +467,16 @@ class Trimmer {
         std::remove_if(near.begin(), near.end(), [&](const SweepTerm& t) { return t.lower > best + slack; }),
         near.end());
     sort_terms(near);
+    return best;
   }
 
   /// The sweep terms of g (all candidates, or from the tree those near enough) that can be the
-  /// least one anywhere within `radius` of X(u, v), with their boxes' bounds there.
-  std::vector<SweepTerm> terms_within(double u, double v, double radius) const {
+  /// least one anywhere within `radius` of X(u, v), with their boxes' bounds there; `upper`: an
+  /// upper bound of the least distance there.
+  std::vector<SweepTerm> terms_within(double u, double v, double radius, double* upper) const {
     const Vector3d x = evaluate(patch_, u, v);
     std::vector<SweepTerm> terms;
+    *upper = std::numeric_limits<double>::infinity();
     if (!use_tree_) {
       for (int j : candidates_) terms.push_back({j, box_bound(j, x) - 2.0 * ctx_.tie});
       sort_terms(terms);
@@ -486,6 +495,7 @@ class Trimmer {
         },
         &best, ctx_.max_depth);
     if (!std::isfinite(best)) return terms;
+    *upper = best;
     // Within `radius` every term is within radius (and a tie jump) of its value at x.
     const double reach = best + 2.0 * radius + 4.0 * ctx_.tie;
     Eigen::AlignedBox3d query(x);
@@ -767,11 +777,12 @@ PatchMesh trim_on_grid(const Context& ctx, const Patch& patch, const Trimmer& g,
   struct ListAt {
     std::uint32_t first, count;  // in term_pool
     Vector3d centre;
+    double upper;
   };
   std::vector<ListAt> lists;
   auto term_list = [&](std::uint32_t list) {
     const ListAt& l = lists[list];
-    return Trimmer::TermList{term_pool.data() + l.first, l.count, l.centre};
+    return Trimmer::TermList{term_pool.data() + l.first, l.count, l.centre, l.upper};
   };
   std::vector<std::uint32_t> cell_list;  // per cell: its list in `lists`
   // Space radii of parameter blocks, conservative: a relative and an absolute margin.
@@ -856,8 +867,9 @@ PatchMesh trim_on_grid(const Context& ctx, const Patch& patch, const Trimmer& g,
     const Block root{0, nu, 0, nv};
     {
       const double uc = 0.5 * (pu(0) + pu(nu)), vc = 0.5 * (pv(0) + pv(nv));
-      term_pool = g.terms_within(uc, vc, radius_of(root));
-      lists.push_back({0, static_cast<std::uint32_t>(term_pool.size()), evaluate(patch, uc, vc)});
+      double upper = 0.0;
+      term_pool = g.terms_within(uc, vc, radius_of(root), &upper);
+      lists.push_back({0, static_cast<std::uint32_t>(term_pool.size()), evaluate(patch, uc, vc), upper});
     }
     cell_list.assign(cells, 0);
     struct Task {
@@ -887,10 +899,10 @@ PatchMesh trim_on_grid(const Context& ctx, const Patch& patch, const Trimmer& g,
           continue;
         }
       }
-      g.near_terms(uc, vc, term_list(task.list), 2.0 * radius + 4.0 * ctx.tie, near);
+      const double upper = g.near_terms(uc, vc, term_list(task.list), 2.0 * radius + 4.0 * ctx.tie, near);
       const auto list = static_cast<std::uint32_t>(lists.size());
       lists.push_back({static_cast<std::uint32_t>(term_pool.size()), static_cast<std::uint32_t>(near.size()),
-                       evaluate(patch, uc, vc)});
+                       evaluate(patch, uc, vc), upper});
       term_pool.insert(term_pool.end(), near.begin(), near.end());
       for (const Block& half : halves(b)) stack.push_back({half, list});
     }
@@ -1008,8 +1020,9 @@ PatchMesh trim_on_grid(const Context& ctx, const Patch& patch, const Trimmer& g,
       const double u0 = pu(ia), u1 = pu(ib), v0 = pv(ja), v1 = pv(jb);
       const double um = 0.5 * (u0 + u1), vm = 0.5 * (v0 + v1);
       const double radius = 1.001 * block_radius(patch, u0, u1, v0, v1) + margin;
-      g.near_terms(um, vm, term_list(cell_list[current_cell]), 2.0 * radius + 4.0 * ctx.tie, edge_terms);
-      const Trimmer::TermList edge_list{edge_terms.data(), edge_terms.size(), evaluate(patch, um, vm)};
+      const double upper =
+          g.near_terms(um, vm, term_list(cell_list[current_cell]), 2.0 * radius + 4.0 * ctx.tie, edge_terms);
+      const Trimmer::TermList edge_list{edge_terms.data(), edge_terms.size(), evaluate(patch, um, vm), upper};
       t = edge_root([&](double u, double v) { return g(u, v, edge_list); }, val(ia, ja), val(ib, jb), at);
     }
     // A root at a grid node is that node (no sliver triangles between them). "At" means within
