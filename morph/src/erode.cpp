@@ -415,29 +415,62 @@ class Trimmer {
   /// searches' value unless they skip the term attaining it (its box's bound above it, by
   /// rounding or the tie shift): then the full search decides.
   double operator()(double u, double v, const TermList& list) const {
+    return evaluate_with_term(u, v, list, nullptr);
+  }
+
+  /// The same value and term as evaluate_with_term(u, v, term) from the sweep terms in `list`
+  /// alone (see operator() above). The term attaining the minimum is the full searches' one
+  /// when no other term ties with it; with a tie the full search decides (its order breaks it).
+  double evaluate_with_term(double u, double v, const TermList& list, int* term) const {
     const Vector3d x = evaluate(patch_, u, v);
-    const double own = own_terms(x, u, v);
-    if (patch_.sweep && own < -1e3 * ctx_.tie) return own;
+    double own = std::numeric_limits<double>::infinity();
+    int own_term = kNoTerm;
+    if (patch_.sweep) {
+      own = -ctx_.stock_distance(x) - ctx_.tie;
+      own_term = kStockTerm;
+      for (int r = 0; r < patch_.rule_count; ++r) {
+        const double value = rule_value(r, x, u, v);
+        if (value < own) {
+          own = value;
+          own_term = kRuleTerm - r;
+        }
+      }
+      if (own < -1e3 * ctx_.tie && !term) return own;
+    }
     const double moved = (x - list.centre).norm() + 4.0 * ctx_.tie;
     // The least distance is below `cap` (the list's bound moved along): distances beyond it
     // need no exact values.
     const double cap = list.upper + moved;
-    double best = std::numeric_limits<double>::infinity();
+    const double inf = std::numeric_limits<double>::infinity();
+    double best = inf;
+    int best_term = kNoTerm;
     bool found = true;  // the full search reaches the term attaining `best`
+    bool tied = false;  // another term attains `best` too
     for (std::size_t k = 0; k < list.count; ++k) {
       const int j = list.terms[k].segment;
-      const double below = std::min({own, best, cap});
+      // With a term, distances equal to the least are exact too (ties show).
+      const double least = std::min({own, best, cap});
+      const double below = term ? std::nextafter(least, inf) : least;
       if (list.terms[k].lower - moved >= below) break;
       const double bound = box_bound(j, x);
       if (bound - 2.0 * ctx_.tie >= below) continue;
       const double d = distance(j, x, u, v, below);
       if (d < best) {
         best = d;
+        best_term = j;
         found = bound <= d;
+        tied = false;
+      } else if (d == best) {
+        tied = true;
       }
     }
-    if (!(best < own)) return own;
-    return found ? best : evaluate_with_term(u, v, nullptr);
+    if (!(best < own)) {
+      if (term) *term = own_term;
+      return own;
+    }
+    if (!found || (term && tied)) return evaluate_with_term(u, v, term);
+    if (term) *term = best_term;
+    return best;
   }
 
   /// At X(u, v): writes to `near` the terms of `list` whose distance there is at most `slack`
@@ -1012,6 +1045,7 @@ PatchMesh trim_on_grid(const Context& ctx, const Patch& patch, const Trimmer& g,
       return std::array<double, 2>{pu(ia) + s * (pu(ib) - pu(ia)), pv(ja) + s * (pv(jb) - pv(ja))};
     };
     double t;
+    Trimmer::TermList edge_list{nullptr, 0, Vector3d::Zero(), 0.0};
     if (cell_list.empty()) {
       t = edge_root(eval, val(ia, ja), val(ib, jb), at);
     } else {
@@ -1022,7 +1056,7 @@ PatchMesh trim_on_grid(const Context& ctx, const Patch& patch, const Trimmer& g,
       const double radius = 1.001 * block_radius(patch, u0, u1, v0, v1) + margin;
       const double upper =
           g.near_terms(um, vm, term_list(cell_list[current_cell]), 2.0 * radius + 4.0 * ctx.tie, edge_terms);
-      const Trimmer::TermList edge_list{edge_terms.data(), edge_terms.size(), evaluate(patch, um, vm), upper};
+      edge_list = Trimmer::TermList{edge_terms.data(), edge_terms.size(), evaluate(patch, um, vm), upper};
       t = edge_root([&](double u, double v) { return g(u, v, edge_list); }, val(ia, ja), val(ib, jb), at);
     }
     // A root at a grid node is that node (no sliver triangles between them). "At" means within
@@ -1041,7 +1075,10 @@ PatchMesh trim_on_grid(const Context& ctx, const Patch& patch, const Trimmer& g,
       const double u = pu(ia) + t * (pu(ib) - pu(ia)), v = pv(ja) + t * (pv(jb) - pv(ja));
       out.vertices.push_back(evaluate(patch, u, v));
       int term = Trimmer::kNoTerm;
-      g.evaluate_with_term(u, v, &term);
+      if (edge_list.terms)
+        g.evaluate_with_term(u, v, edge_list, &term);
+      else
+        g.evaluate_with_term(u, v, &term);
       crossing_at.emplace(id, CrossingInfo{u, v, term});
     }
     crossing.emplace(key, id);
