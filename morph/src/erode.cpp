@@ -398,8 +398,8 @@ class Trimmer {
     int segment;
     double lower;
   };
-  /// Sweep terms sorted by `lower`, their centre, and an upper bound of the least of their
-  /// distances there (infinity if unknown).
+  /// Sweep terms, the one of least `lower` first, their centre, and an upper bound of the least
+  /// of their distances there (infinity if unknown).
   struct TermList {
     const SweepTerm* terms;
     std::size_t count;
@@ -409,9 +409,9 @@ class Trimmer {
 
   /// The same value as operator() from the sweep terms in `list` alone, wherever the list holds
   /// every term that can be the least one at (u, v) (a block's list, see near_terms). The list
-  /// is searched for its exact minimum, nearest terms first, up to the first whose bound (its
-  /// bound at the centre less the distance moved, the distances being 1-Lipschitz but for the
-  /// tie shift's jumps) shows that none of the rest can be below it. That minimum is the full
+  /// is searched for its exact minimum, the nearest term first, skipping the terms whose bound
+  /// (their bound at the centre less the distance moved, the distances being 1-Lipschitz but
+  /// for the tie shift's jumps) shows that they cannot be below it. That minimum is the full
   /// searches' value unless they skip the term attaining it (its box's bound above it, by
   /// rounding or the tie shift): then the full search decides.
   double operator()(double u, double v, const TermList& list) const {
@@ -451,7 +451,7 @@ class Trimmer {
       // With a term, distances equal to the least are exact too (ties show).
       const double least = std::min({own, best, cap});
       const double below = term ? std::nextafter(least, inf) : least;
-      if (list.terms[k].lower - moved >= below) break;
+      if (list.terms[k].lower - moved >= below) continue;
       const double bound = box_bound(j, x);
       if (bound - 2.0 * ctx_.tie >= below) continue;
       const double d = distance(j, x, u, v, below);
@@ -474,7 +474,7 @@ class Trimmer {
   }
 
   /// At X(u, v): writes to `near` the terms of `list` whose distance there is at most `slack`
-  /// above the least distance of them, sorted by that distance (their `lower`), and returns an
+  /// above the least distance of them (their `lower`: a bound of it), and returns an
   /// upper bound of that least distance. The other terms of `list` cannot be the least one
   /// anywhere within (slack - 4 ties) / 2 of that point.
   double near_terms(double u, double v, const TermList& list, double slack,
@@ -488,7 +488,7 @@ class Trimmer {
     for (std::size_t k = 0; k < list.count; ++k) {
       const int j = list.terms[k].segment;
       const double below = best + slack;
-      if (list.terms[k].lower - moved >= below) break;
+      if (list.terms[k].lower - moved >= below) continue;
       if (box_bound(j, x) - 2.0 * ctx_.tie >= below) continue;
       const Segment& s = ctx_.segments[j];
       const auto [lower, upper] = sweep_distance_bounds(*s.tool, s.a, s.b, x);
@@ -499,7 +499,7 @@ class Trimmer {
     near.erase(
         std::remove_if(near.begin(), near.end(), [&](const SweepTerm& t) { return t.lower > best + slack; }),
         near.end());
-    sort_terms(near);
+    nearest_first(near);
     return best;
   }
 
@@ -512,7 +512,7 @@ class Trimmer {
     *upper = std::numeric_limits<double>::infinity();
     if (!use_tree_) {
       for (int j : candidates_) terms.push_back({j, box_bound(j, x) - 2.0 * ctx_.tie});
-      sort_terms(terms);
+      nearest_first(terms);
       return terms;
     }
     double best = std::numeric_limits<double>::infinity();
@@ -540,7 +540,7 @@ class Trimmer {
       const double lower = box_bound(js, x) - 2.0 * ctx_.tie;
       if (lower <= reach) terms.push_back({js, lower});
     });
-    sort_terms(terms);
+    nearest_first(terms);
     return terms;
   }
 
@@ -576,11 +576,14 @@ class Trimmer {
 
  private:
   static constexpr std::size_t kListLimit = 64;
-  // By bound, then segment (the lists' order does not depend on how they were gathered).
-  static void sort_terms(std::vector<SweepTerm>& terms) {
-    std::sort(terms.begin(), terms.end(), [](const SweepTerm& a, const SweepTerm& b) {
-      return a.lower < b.lower || (a.lower == b.lower && a.segment < b.segment);
-    });
+  // Moves the term of least bound to the front: searched first, it makes the cap of the
+  // other distances tight. (The values do not depend on the order.)
+  static void nearest_first(std::vector<SweepTerm>& terms) {
+    const auto nearest =
+        std::min_element(terms.begin(), terms.end(), [](const SweepTerm& a, const SweepTerm& b) {
+          return a.lower < b.lower || (a.lower == b.lower && a.segment < b.segment);
+        });
+    if (nearest != terms.end()) std::iter_swap(terms.begin(), nearest);
   }
   // The stock's and the rules' terms of g, as evaluate_with_term takes their minimum.
   double own_terms(const Vector3d& x, double u, double v) const {
