@@ -967,11 +967,18 @@ PatchMesh trim_on_grid(const Context& ctx, const Patch& patch, const Trimmer& g,
                                  : (patch.rule_count > 0 ? std::max(1.0, 1.0 / patch.rule_radius) : 1.0);
     const std::array<double, 2> speed = parameter_speeds(patch);
     const double shortest = 1e3 * ctx.tie + 0.02 * ctx.trim_tolerance;
-    std::unordered_map<std::uint64_t, bool> scanned;
+    // Per grid edge (its lower node, its direction): scanned already.
+    std::vector<bool> scanned(2 * value.size(), false);
+    struct Span {
+      double a, b, ga, gb, bound;
+      bool operator<(const Span& o) const { return bound < o.bound; }
+    };
+    std::vector<Span> heap;
     auto scan = [&](int i0, int j0, bool along_u) {
-      const std::uint64_t key = (static_cast<std::uint64_t>(wrap_u(i0)) << 33) |
-                                (static_cast<std::uint64_t>(wrap_v(j0)) << 1) | (along_u ? 1u : 0u);
-      if (!scanned.emplace(key, true).second) return;
+      const std::size_t key =
+          2 * (static_cast<std::size_t>(wrap_u(i0)) * sv + wrap_v(j0)) + (along_u ? 1 : 0);
+      if (scanned[key]) return;
+      scanned[key] = true;
       const int i1 = along_u ? i0 + 1 : i0, j1 = along_u ? j0 : j0 + 1;
       const double g0 = val(i0, j0), g1 = val(i1, j1);
       if (g0 > 0.0 || g1 > 0.0) return;
@@ -979,15 +986,11 @@ PatchMesh trim_on_grid(const Context& ctx, const Patch& patch, const Trimmer& g,
       const double length = (p1 - p0) * speed[along_u ? 0 : 1];
       // Bisection, most promising span first (largest bound), a bounded number of samples: where
       // g hugs zero all along (a tangent contact, a tie) no strip worth a grid line is there.
-      struct Span {
-        double a, b, ga, gb, bound;
-        bool operator<(const Span& o) const { return bound < o.bound; }
-      };
       auto make_span = [&](double a, double b, double ga, double gb) {
         const double span_length = length * (b - a) / (p1 - p0);
         return Span{a, b, ga, gb, span_length < shortest ? -1.0 : 0.5 * (ga + gb + lipschitz * span_length)};
       };
-      std::vector<Span> heap{make_span(p0, p1, g0, g1)};
+      heap.assign(1, make_span(p0, p1, g0, g1));
       for (int samples = 0; samples < 24 && !heap.empty(); ++samples) {
         std::pop_heap(heap.begin(), heap.end());
         const Span sp = heap.back();
