@@ -193,23 +193,23 @@ double golden_minimum_above(F&& f, double floor, double margin) {
   return best;
 }
 
-// The exact swept-volume distance of morph/sweep_distance.h, evaluated faster where possible:
-// the body's golden-section search only runs while a lower bound of the body's distance could
-// beat the tip's capsule (closed form) and `cap`. Bit for bit the value of the full search
-// wherever that is below `cap`; elsewhere possibly only a lower bound of it that is >= cap.
-double sweep_distance(const Tool& tool, const Vector3d& a, const Vector3d& b, const Vector3d& p,
-                      double cap = std::numeric_limits<double>::infinity()) {
-  const Vector3d d = b - a;
+/// The closed-form parts of a ball end's sweep distance at p: the tip's capsule (`ball`, the
+/// distance wherever the body is no nearer) and a lower bound of the body sweep's distance.
+struct BallEndParts {
+  Vector3d c0, d;  // the tip sphere's centre at the start, and its move
+  double ball;
+  double body_lower;
+  double margin;  // rounding of the body's computed distances
+};
+
+BallEndParts ball_end_parts(const Tool& tool, const Vector3d& a, const Vector3d& b, const Vector3d& p) {
+  BallEndParts parts;
+  const Vector3d& d = parts.d = b - a;
   const double dd = d.squaredNorm();
-  if (tool.type == ToolType::Sphere) {
-    const double t = dd > 0.0 ? std::clamp((p - a).dot(d) / dd, 0.0, 1.0) : 0.0;
-    return (p - (a + t * d)).norm() - tool.radius;
-  }
-  if (tool.type != ToolType::BallEnd) return swept_signed_distance(tool, a, b, p);
   const double r = tool.radius;
-  const Vector3d c0 = a + Vector3d(0, 0, r);
+  const Vector3d& c0 = parts.c0 = a + Vector3d(0, 0, r);
   const double tb = dd > 0.0 ? std::clamp((p - c0).dot(d) / dd, 0.0, 1.0) : 0.0;
-  const double ball = (p - (c0 + tb * d)).norm() - r;
+  parts.ball = (p - (c0 + tb * d)).norm() - r;
   // Lower bounds of the body sweep's distance: it lies above the lowest centre, and within r
   // (horizontally) of the centres' horizontal track.
   const double lowest = std::min(c0.z(), c0.z() + d.z());
@@ -220,22 +220,43 @@ double sweep_distance(const Tool& tool, const Vector3d& a, const Vector3d& b, co
     const double th = hh > 0.0 ? std::clamp(ph.dot(dh) / hh, 0.0, 1.0) : 0.0;
     across = (ph - th * dh).norm() - r;
   }
-  if (std::max(lowest - p.z(), across) >= ball) return ball;
   // Rounding of the body's computed values, relative to the coordinates' magnitude: a bound
   // that clears it by this much is below every value the search could compute.
-  const double margin =
-      1e-12 * (1.0 + p.cwiseAbs().maxCoeff() + c0.cwiseAbs().maxCoeff() + d.cwiseAbs().maxCoeff());
+  parts.margin = 1e-12 * (1.0 + p.cwiseAbs().maxCoeff() + c0.cwiseAbs().maxCoeff() + d.cwiseAbs().maxCoeff());
+  parts.body_lower = std::max(lowest - p.z(), across);
+  if (parts.body_lower >= parts.ball) return parts;
   // A sharper bound: the body sweep lies in the vertical prism over that track widened by r (a
-  // stadium), from the lowest centre to the highest centre plus the body length. Where the
-  // exact distance to that prism (less the margin) is no less than the tip's capsule, the full
-  // search returns the capsule's value; where it is no less than the cap, it is a lower bound.
+  // stadium), from the lowest centre to the highest centre plus the body length: the exact
+  // distance to that prism, less the margin.
   const double highest = std::max(c0.z(), c0.z() + d.z()) + tool.length;
   const double vertical = std::max(lowest - p.z(), p.z() - highest);
   const double prism = std::sqrt(std::max(across, 0.0) * std::max(across, 0.0) +
                                  std::max(vertical, 0.0) * std::max(vertical, 0.0)) +
                        std::min(std::max(across, vertical), 0.0);
-  const double bound = prism - margin * (1.0 + std::abs(prism));
-  if (bound >= std::min(ball, cap)) return std::min(ball, bound);
+  parts.body_lower = prism - parts.margin * (1.0 + std::abs(prism));
+  return parts;
+}
+
+// The exact swept-volume distance of morph/sweep_distance.h, evaluated faster where possible:
+// the body's golden-section search only runs while a lower bound of the body's distance could
+// beat the tip's capsule (closed form) and `cap`. Bit for bit the value of the full search
+// wherever that is below `cap`; elsewhere possibly only a lower bound of it that is >= cap.
+double sweep_distance(const Tool& tool, const Vector3d& a, const Vector3d& b, const Vector3d& p,
+                      double cap = std::numeric_limits<double>::infinity()) {
+  if (tool.type == ToolType::Sphere) {
+    const Vector3d d = b - a;
+    const double dd = d.squaredNorm();
+    const double t = dd > 0.0 ? std::clamp((p - a).dot(d) / dd, 0.0, 1.0) : 0.0;
+    return (p - (a + t * d)).norm() - tool.radius;
+  }
+  if (tool.type != ToolType::BallEnd) return swept_signed_distance(tool, a, b, p);
+  const BallEndParts parts = ball_end_parts(tool, a, b, p);
+  const double ball = parts.ball;
+  // Where the body's bound is no less than the capsule, the full search returns the capsule's
+  // value; where it is no less than the cap, it is a lower bound.
+  if (parts.body_lower >= std::min(ball, cap)) return std::min(ball, parts.body_lower);
+  const Vector3d &c0 = parts.c0, &d = parts.d;
+  const double r = tool.radius;
   auto body = [&](double t) {
     return detail::capped_cylinder_distance(p - (c0 + t * d), r, 0.0, tool.length);
   };
@@ -261,40 +282,19 @@ double sweep_distance(const Tool& tool, const Vector3d& a, const Vector3d& b, co
   // Otherwise golden section on the convex body distance along the move, stopped once the body
   // is proven no nearer than the tip (then the tip's value, as the full search gives it) or
   // than the cap (then a lower bound >= cap).
-  return std::min(ball, golden_minimum_above(body, std::min(ball, cap), margin));
+  return std::min(ball, golden_minimum_above(body, std::min(ball, cap), parts.margin));
 }
 
 /// Cheap lower and upper bounds of sweep_distance: the tip's capsule bounds it from above, the
-/// body's prism from below (both exact where the capsule is nearer than the prism).
+/// body's bound from below (both exact where the capsule is nearer than that bound).
 std::pair<double, double> sweep_distance_bounds(const Tool& tool, const Vector3d& a, const Vector3d& b,
                                                 const Vector3d& p) {
   if (tool.type != ToolType::BallEnd) {
     const double d = sweep_distance(tool, a, b, p);
     return {d, d};
   }
-  const Vector3d d = b - a;
-  const double dd = d.squaredNorm();
-  const double r = tool.radius;
-  const Vector3d c0 = a + Vector3d(0, 0, r);
-  const double tb = dd > 0.0 ? std::clamp((p - c0).dot(d) / dd, 0.0, 1.0) : 0.0;
-  const double ball = (p - (c0 + tb * d)).norm() - r;
-  const double lowest = std::min(c0.z(), c0.z() + d.z());
-  double across;
-  {
-    const Eigen::Vector2d ph(p.x() - c0.x(), p.y() - c0.y()), dh(d.x(), d.y());
-    const double hh = dh.squaredNorm();
-    const double th = hh > 0.0 ? std::clamp(ph.dot(dh) / hh, 0.0, 1.0) : 0.0;
-    across = (ph - th * dh).norm() - r;
-  }
-  if (std::max(lowest - p.z(), across) >= ball) return {ball, ball};
-  const double margin =
-      1e-12 * (1.0 + p.cwiseAbs().maxCoeff() + c0.cwiseAbs().maxCoeff() + d.cwiseAbs().maxCoeff());
-  const double highest = std::max(c0.z(), c0.z() + d.z()) + tool.length;
-  const double vertical = std::max(lowest - p.z(), p.z() - highest);
-  const double prism = std::sqrt(std::max(across, 0.0) * std::max(across, 0.0) +
-                                 std::max(vertical, 0.0) * std::max(vertical, 0.0)) +
-                       std::min(std::max(across, vertical), 0.0);
-  return {std::min(ball, prism - margin * (1.0 + std::abs(prism))), ball};
+  const BallEndParts parts = ball_end_parts(tool, a, b, p);
+  return {std::min(parts.ball, parts.body_lower), parts.ball};
 }
 
 /// Everything a patch's trimming function needs, shared read-only by all threads.
