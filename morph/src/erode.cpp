@@ -133,32 +133,133 @@ Vector3d solid_normal(const Patch& p, double u, double v) {
   }
 }
 
-// The exact swept-volume distance of morph/sweep_distance.h, evaluated faster where possible:
-// the body's golden-section search only runs when a lower bound of the body's distance could
-// beat the tip's capsule (closed form). Same value as swept_signed_distance.
-double sweep_distance(const Tool& tool, const Vector3d& a, const Vector3d& b, const Vector3d& p) {
-  const Vector3d d = b - a;
-  const double dd = d.squaredNorm();
-  if (tool.type == ToolType::Sphere) {
-    const double t = dd > 0.0 ? std::clamp((p - a).dot(d) / dd, 0.0, 1.0) : 0.0;
-    return (p - (a + t * d)).norm() - tool.radius;
+// Lower bound of a convex f over [lo, hi] from its values at lo <= x1 < x2 <= hi (f_lo, f_hi
+// NaN where unknown): the secant through x1, x2 extended outwards bounds f beyond them, the
+// secants through (lo, x1) and (x2, hi) extended inwards bound it between x1 and x2.
+// -infinity if nothing is known.
+double convex_lower_bound(double lo, double f_lo, double x1, double f1, double x2, double f2, double hi,
+                          double f_hi) {
+  const double inf = std::numeric_limits<double>::infinity();
+  if (!(lo <= x1 && x1 < x2 && x2 <= hi)) return -inf;
+  const double slope = (f2 - f1) / (x2 - x1);
+  const double left = slope > 0.0 ? f1 - slope * (x1 - lo) : f1;
+  const double right = slope < 0.0 ? f2 + slope * (hi - x2) : f2;
+  const bool has_lo = !std::isnan(f_lo) && lo < x1, has_hi = !std::isnan(f_hi) && x2 < hi;
+  double middle = -inf;
+  if (has_lo || has_hi) {
+    const double a1 = has_lo ? (f1 - f_lo) / (x1 - lo) : 0.0;  // f1 + a1 (t - x1) <= f(t), t >= x1
+    const double a2 = has_hi ? (f_hi - f2) / (hi - x2) : 0.0;  // f2 + a2 (t - x2) <= f(t), t <= x2
+    auto h = [&](double t) {
+      return std::max(has_lo ? f1 + a1 * (t - x1) : -inf, has_hi ? f2 + a2 * (t - x2) : -inf);
+    };
+    middle = std::min(h(x1), h(x2));
+    if (has_lo && has_hi && a1 != a2) {
+      const double t = (f2 - f1 + a1 * x1 - a2 * x2) / (a1 - a2);
+      if (t > x1 && t < x2) middle = std::min(middle, h(t));
+    }
   }
-  if (tool.type != ToolType::BallEnd) return swept_signed_distance(tool, a, b, p);
+  return std::min({left, middle, right});
+}
+
+// detail::golden_minimum of a convex f on [0, 1] (the same points, the same value), stopped as
+// soon as convexity proves the minimum >= floor: then a lower bound of it that is >= floor.
+// `margin` covers the rounding of f's values.
+template <class F>
+double golden_minimum_above(F&& f, double floor, double margin) {
+  constexpr double kInvPhi = 0.6180339887498949;
+  const double unknown = std::numeric_limits<double>::quiet_NaN();
+  double lo = 0.0, hi = 1.0, f_lo = unknown, f_hi = unknown;
+  double x1 = hi - kInvPhi * (hi - lo), x2 = lo + kInvPhi * (hi - lo);
+  double f1 = f(x1), f2 = f(x2);
+  for (int i = 0; i < 64 && hi - lo > 1e-14; ++i) {
+    const double bound = convex_lower_bound(lo, f_lo, x1, f1, x2, f2, hi, f_hi);
+    const double safe = bound - margin * (1.0 + std::abs(bound));
+    if (safe >= floor) return safe;
+    if (f1 < f2) {
+      hi = x2;
+      f_hi = f2;
+      x2 = x1;
+      f2 = f1;
+      x1 = hi - kInvPhi * (hi - lo);
+      f1 = f(x1);
+    } else {
+      lo = x1;
+      f_lo = f1;
+      x1 = x2;
+      f1 = f2;
+      x2 = lo + kInvPhi * (hi - lo);
+      f2 = f(x2);
+    }
+  }
+  double best = std::min(f1, f2);
+  for (double t : {lo, hi}) best = std::min(best, f(t));
+  return best;
+}
+
+/// The closed-form parts of a ball end's sweep distance at p: the tip's capsule (`ball`, the
+/// distance wherever the body is no nearer) and a lower bound of the body sweep's distance.
+struct BallEndParts {
+  Vector3d c0, d;  // the tip sphere's centre at the start, and its move
+  double ball;
+  double body_lower;
+  double margin;  // rounding of the body's computed distances
+};
+
+BallEndParts ball_end_parts(const Tool& tool, const Vector3d& a, const Vector3d& b, const Vector3d& p) {
+  BallEndParts parts;
+  const Vector3d& d = parts.d = b - a;
+  const double dd = d.squaredNorm();
   const double r = tool.radius;
-  const Vector3d c0 = a + Vector3d(0, 0, r);
+  const Vector3d& c0 = parts.c0 = a + Vector3d(0, 0, r);
   const double tb = dd > 0.0 ? std::clamp((p - c0).dot(d) / dd, 0.0, 1.0) : 0.0;
-  const double ball = (p - (c0 + tb * d)).norm() - r;
+  parts.ball = (p - (c0 + tb * d)).norm() - r;
   // Lower bounds of the body sweep's distance: it lies above the lowest centre, and within r
   // (horizontally) of the centres' horizontal track.
   const double lowest = std::min(c0.z(), c0.z() + d.z());
-  double bound = lowest - p.z();
+  double across;
   {
     const Eigen::Vector2d ph(p.x() - c0.x(), p.y() - c0.y()), dh(d.x(), d.y());
     const double hh = dh.squaredNorm();
     const double th = hh > 0.0 ? std::clamp(ph.dot(dh) / hh, 0.0, 1.0) : 0.0;
-    bound = std::max(bound, (ph - th * dh).norm() - r);
+    across = (ph - th * dh).norm() - r;
   }
-  if (bound >= ball) return ball;
+  // Rounding of the body's computed values, relative to the coordinates' magnitude: a bound
+  // that clears it by this much is below every value the search could compute.
+  parts.margin = 1e-12 * (1.0 + p.cwiseAbs().maxCoeff() + c0.cwiseAbs().maxCoeff() + d.cwiseAbs().maxCoeff());
+  parts.body_lower = std::max(lowest - p.z(), across);
+  if (parts.body_lower >= parts.ball) return parts;
+  // A sharper bound: the body sweep lies in the vertical prism over that track widened by r (a
+  // stadium), from the lowest centre to the highest centre plus the body length: the exact
+  // distance to that prism, less the margin.
+  const double highest = std::max(c0.z(), c0.z() + d.z()) + tool.length;
+  const double vertical = std::max(lowest - p.z(), p.z() - highest);
+  const double prism = std::sqrt(std::max(across, 0.0) * std::max(across, 0.0) +
+                                 std::max(vertical, 0.0) * std::max(vertical, 0.0)) +
+                       std::min(std::max(across, vertical), 0.0);
+  parts.body_lower = prism - parts.margin * (1.0 + std::abs(prism));
+  return parts;
+}
+
+// The exact swept-volume distance of morph/sweep_distance.h, evaluated faster where possible:
+// the body's golden-section search only runs while a lower bound of the body's distance could
+// beat the tip's capsule (closed form) and `cap`. Bit for bit the value of the full search
+// wherever that is below `cap`; elsewhere possibly only a lower bound of it that is >= cap.
+double sweep_distance(const Tool& tool, const Vector3d& a, const Vector3d& b, const Vector3d& p,
+                      double cap = std::numeric_limits<double>::infinity()) {
+  if (tool.type == ToolType::Sphere) {
+    const Vector3d d = b - a;
+    const double dd = d.squaredNorm();
+    const double t = dd > 0.0 ? std::clamp((p - a).dot(d) / dd, 0.0, 1.0) : 0.0;
+    return (p - (a + t * d)).norm() - tool.radius;
+  }
+  if (tool.type != ToolType::BallEnd) return swept_signed_distance(tool, a, b, p);
+  const BallEndParts parts = ball_end_parts(tool, a, b, p);
+  const double ball = parts.ball;
+  // Where the body's bound is no less than the capsule, the full search returns the capsule's
+  // value; where it is no less than the cap, it is a lower bound.
+  if (parts.body_lower >= std::min(ball, cap)) return std::min(ball, parts.body_lower);
+  const Vector3d &c0 = parts.c0, &d = parts.d;
+  const double r = tool.radius;
   auto body = [&](double t) {
     return detail::capped_cylinder_distance(p - (c0 + t * d), r, 0.0, tool.length);
   };
@@ -181,8 +282,22 @@ double sweep_distance(const Tool& tool, const Vector3d& a, const Vector3d& b, co
       if ((t - h < 0.0 || body(t - h) >= f) && (t + h > 1.0 || body(t + h) >= f)) return std::min(ball, f);
     }
   }
-  // Otherwise golden section on the convex body distance along the move.
-  return std::min(ball, detail::golden_minimum(body, 0.0, 1.0).second);
+  // Otherwise golden section on the convex body distance along the move, stopped once the body
+  // is proven no nearer than the tip (then the tip's value, as the full search gives it) or
+  // than the cap (then a lower bound >= cap).
+  return std::min(ball, golden_minimum_above(body, std::min(ball, cap), parts.margin));
+}
+
+/// Cheap lower and upper bounds of sweep_distance: the tip's capsule bounds it from above, the
+/// body's bound from below (both exact where the capsule is nearer than that bound).
+std::pair<double, double> sweep_distance_bounds(const Tool& tool, const Vector3d& a, const Vector3d& b,
+                                                const Vector3d& p) {
+  if (tool.type != ToolType::BallEnd) {
+    const double d = sweep_distance(tool, a, b, p);
+    return {d, d};
+  }
+  const BallEndParts parts = ball_end_parts(tool, a, b, p);
+  return {std::min(parts.ball, parts.body_lower), parts.ball};
 }
 
 /// Everything a patch's trimming function needs, shared read-only by all threads.
@@ -246,6 +361,8 @@ class Trimmer {
       if (g < -1e3 * ctx_.tie && !term) return g;
     }
     if (use_tree_) {
+      // `best` follows the search's own minimum: a distance capped there changes no decision of
+      // the search (it updates on smaller values only, which the cap leaves exact).
       double best = std::numeric_limits<double>::infinity();
       const std::int64_t item = ctx_.tree.nearest(
           x,
@@ -253,7 +370,9 @@ class Trimmer {
             const int js = static_cast<int>(j);
             if (js == patch_.exclude[0] || js == patch_.exclude[1])
               return std::numeric_limits<double>::infinity();
-            return distance(js, x, u, v);
+            const double d = distance(js, x, u, v, best);
+            best = std::min(best, d);
+            return d;
           },
           &best, ctx_.max_depth);
       if (best < g) {
@@ -266,7 +385,7 @@ class Trimmer {
         // skipping it there would make g's zero set that of a shallower sweep.
         const double outside = ctx_.segments[j].box.exteriorDistance(x);
         if ((outside > 0.0 ? outside : -ctx_.max_depth) >= g) continue;
-        const double d = distance(j, x, u, v);
+        const double d = distance(j, x, u, v, g);
         if (d < g) {
           g = d;
           active = j;
@@ -275,6 +394,157 @@ class Trimmer {
     }
     if (term) *term = active;
     return g;
+  }
+
+  /// A sweep term of g and a lower bound of its distance at the centre of the list holding it.
+  struct SweepTerm {
+    int segment;
+    double lower;
+  };
+  /// Sweep terms, the one of least `lower` first, their centre, and an upper bound of the least
+  /// of their distances there (infinity if unknown).
+  struct TermList {
+    const SweepTerm* terms;
+    std::size_t count;
+    Vector3d centre;
+    double upper;
+  };
+
+  /// The same value as operator() from the sweep terms in `list` alone, wherever the list holds
+  /// every term that can be the least one at (u, v) (a block's list, see near_terms). The list
+  /// is searched for its exact minimum, the nearest term first, skipping the terms whose bound
+  /// (their bound at the centre less the distance moved, the distances being 1-Lipschitz but
+  /// for the tie shift's jumps) shows that they cannot be below it. That minimum is the full
+  /// searches' value unless they skip the term attaining it (its box's bound above it, by
+  /// rounding or the tie shift): then the full search decides.
+  double operator()(double u, double v, const TermList& list) const {
+    return evaluate_with_term(u, v, list, nullptr);
+  }
+
+  /// The same value and term as evaluate_with_term(u, v, term) from the sweep terms in `list`
+  /// alone (see operator() above). The term attaining the minimum is the full searches' one
+  /// when no other term ties with it; with a tie the full search decides (its order breaks it).
+  double evaluate_with_term(double u, double v, const TermList& list, int* term) const {
+    const Vector3d x = evaluate(patch_, u, v);
+    double own = std::numeric_limits<double>::infinity();
+    int own_term = kNoTerm;
+    if (patch_.sweep) {
+      own = -ctx_.stock_distance(x) - ctx_.tie;
+      own_term = kStockTerm;
+      for (int r = 0; r < patch_.rule_count; ++r) {
+        const double value = rule_value(r, x, u, v);
+        if (value < own) {
+          own = value;
+          own_term = kRuleTerm - r;
+        }
+      }
+      if (own < -1e3 * ctx_.tie && !term) return own;
+    }
+    const double moved = (x - list.centre).norm() + 4.0 * ctx_.tie;
+    // The least distance is below `cap` (the list's bound moved along): distances beyond it
+    // need no exact values.
+    const double cap = list.upper + moved;
+    const double inf = std::numeric_limits<double>::infinity();
+    double best = inf;
+    int best_term = kNoTerm;
+    bool found = true;  // the full search reaches the term attaining `best`
+    bool tied = false;  // another term attains `best` too
+    for (std::size_t k = 0; k < list.count; ++k) {
+      const int j = list.terms[k].segment;
+      // With a term, distances equal to the least are exact too (ties show).
+      const double least = std::min({own, best, cap});
+      const double below = term ? std::nextafter(least, inf) : least;
+      if (list.terms[k].lower - moved >= below) continue;
+      const double bound = box_bound(j, x);
+      if (bound - 2.0 * ctx_.tie >= below) continue;
+      const double d = distance(j, x, u, v, below);
+      if (d < best) {
+        best = d;
+        best_term = j;
+        found = bound <= d;
+        tied = false;
+      } else if (d == best) {
+        tied = true;
+      }
+    }
+    if (!(best < own)) {
+      if (term) *term = own_term;
+      return own;
+    }
+    if (!found || (term && tied)) return evaluate_with_term(u, v, term);
+    if (term) *term = best_term;
+    return best;
+  }
+
+  /// At X(u, v): writes to `near` the terms of `list` whose distance there is at most `slack`
+  /// above the least distance of them (their `lower`: a bound of it), and returns an
+  /// upper bound of that least distance. The other terms of `list` cannot be the least one
+  /// anywhere within (slack - 4 ties) / 2 of that point.
+  double near_terms(double u, double v, const TermList& list, double slack,
+                    std::vector<SweepTerm>& near) const {
+    const Vector3d x = evaluate(patch_, u, v);
+    const double moved = (x - list.centre).norm() + 4.0 * ctx_.tie;
+    near.clear();
+    double best = list.upper + moved;
+    // `best`: an upper bound of the least distance; each term kept with a lower bound of its
+    // own (cheap bounds: the exact distances only matter for the values).
+    for (std::size_t k = 0; k < list.count; ++k) {
+      const int j = list.terms[k].segment;
+      const double below = best + slack;
+      if (list.terms[k].lower - moved >= below) continue;
+      if (box_bound(j, x) - 2.0 * ctx_.tie >= below) continue;
+      const Segment& s = ctx_.segments[j];
+      const auto [lower, upper] = sweep_distance_bounds(*s.tool, s.a, s.b, x);
+      if (lower - ctx_.tie >= below) continue;
+      best = std::min(best, upper + ctx_.tie);
+      near.push_back({j, lower - ctx_.tie});
+    }
+    near.erase(
+        std::remove_if(near.begin(), near.end(), [&](const SweepTerm& t) { return t.lower > best + slack; }),
+        near.end());
+    nearest_first(near);
+    return best;
+  }
+
+  /// The sweep terms of g (all candidates, or from the tree those near enough) that can be the
+  /// least one anywhere within `radius` of X(u, v), with their boxes' bounds there; `upper`: an
+  /// upper bound of the least distance there.
+  std::vector<SweepTerm> terms_within(double u, double v, double radius, double* upper) const {
+    const Vector3d x = evaluate(patch_, u, v);
+    std::vector<SweepTerm> terms;
+    *upper = std::numeric_limits<double>::infinity();
+    if (!use_tree_) {
+      for (int j : candidates_) terms.push_back({j, box_bound(j, x) - 2.0 * ctx_.tie});
+      nearest_first(terms);
+      return terms;
+    }
+    double best = std::numeric_limits<double>::infinity();
+    ctx_.tree.nearest(
+        x,
+        [&](std::size_t j) {
+          const int js = static_cast<int>(j);
+          if (js == patch_.exclude[0] || js == patch_.exclude[1])
+            return std::numeric_limits<double>::infinity();
+          const double d = distance(js, x, u, v, best);
+          best = std::min(best, d);
+          return d;
+        },
+        &best, ctx_.max_depth);
+    if (!std::isfinite(best)) return terms;
+    *upper = best;
+    // Within `radius` every term is within radius (and a tie jump) of its value at x.
+    const double reach = best + 2.0 * radius + 4.0 * ctx_.tie;
+    Eigen::AlignedBox3d query(x);
+    query.min().array() -= std::max(reach, 0.0) + 2.0 * ctx_.tie;
+    query.max().array() += std::max(reach, 0.0) + 2.0 * ctx_.tie;
+    ctx_.tree.for_each_overlapping(query, [&](std::size_t j) {
+      const int js = static_cast<int>(j);
+      if (js == patch_.exclude[0] || js == patch_.exclude[1]) return;
+      const double lower = box_bound(js, x) - 2.0 * ctx_.tie;
+      if (lower <= reach) terms.push_back({js, lower});
+    });
+    nearest_first(terms);
+    return terms;
   }
 
   /// Lipschitz constant in space of the exact minimum of g's terms on the patch: the distances
@@ -309,6 +579,28 @@ class Trimmer {
 
  private:
   static constexpr std::size_t kListLimit = 64;
+  // Moves the term of least bound to the front: searched first, it makes the cap of the
+  // other distances tight. (The values do not depend on the order.)
+  static void nearest_first(std::vector<SweepTerm>& terms) {
+    const auto nearest =
+        std::min_element(terms.begin(), terms.end(), [](const SweepTerm& a, const SweepTerm& b) {
+          return a.lower < b.lower || (a.lower == b.lower && a.segment < b.segment);
+        });
+    if (nearest != terms.end()) std::iter_swap(terms.begin(), nearest);
+  }
+  // The stock's and the rules' terms of g, as evaluate_with_term takes their minimum.
+  double own_terms(const Vector3d& x, double u, double v) const {
+    if (!patch_.sweep) return std::numeric_limits<double>::infinity();
+    double g = -ctx_.stock_distance(x) - ctx_.tie;
+    for (int r = 0; r < patch_.rule_count; ++r) g = std::min(g, rule_value(r, x, u, v));
+    return g;
+  }
+  // The searches' lower bound of segment j's distance: its box's exterior distance, -max_depth
+  // inside the box. Less two ties it is a true lower bound (the tie shift, rounding).
+  double box_bound(int j, const Vector3d& x) const {
+    const double outside = ctx_.segments[j].box.exteriorDistance(x);
+    return outside > 0.0 ? outside : -ctx_.max_depth;
+  }
   double rule_value(int r, const Vector3d& x, double u, double v) const {
     const OwnRule& rule = patch_.rules[r];
     return rule.position ? (x - patch_.rule_centre).dot(rule.dir) / patch_.rule_radius
@@ -320,9 +612,15 @@ class Trimmer {
   // segment's, of a sweep and the stock neither (the material up to the face is gone). Facing
   // each other (two passes touching, a pass grazing a face from outside) the contact is interior
   // to the union of the sweeps, or to the stock: the sweeps lose it, the stock face keeps it.
-  double distance(int j, const Vector3d& x, double u, double v) const {
+  // `below`: the value is only needed where it is below `below`; elsewhere the result is some
+  // value >= below (a search capped there cannot tell the minimum apart from it).
+  double distance(int j, const Vector3d& x, double u, double v,
+                  double below = std::numeric_limits<double>::infinity()) const {
     const Segment& s = ctx_.segments[j];
-    const double d = sweep_distance(*s.tool, s.a, s.b, x);
+    // The shift is at least -tie: any distance from cap on ends at or above `below`.
+    const double cap = below + 2.0 * ctx_.tie;
+    const double d = sweep_distance(*s.tool, s.a, s.b, x, cap);
+    if (d >= cap) return d - ctx_.tie;
     bool lean_keep = j > patch_.owner || j == patch_.adjacent[0] || j == patch_.adjacent[1];
     if (std::abs(d) <= 4.0 * ctx_.tie) {
       const bool same_side = sweep_gradient(s, x).dot(solid_normal(patch_, u, v)) > 0.0;
@@ -384,8 +682,8 @@ void mark_border(PatchMesh& mesh) {
 
 /// Parameter in [0, 1] of the root of g along an edge whose ends have values g0, g1 of opposite
 /// signs; `at(s)` gives the (u, v) of edge parameter s. Illinois false position with bisection.
-template <class At>
-double edge_root(const Trimmer& g, double g0, double g1, At&& at) {
+template <class G, class At>
+double edge_root(G&& g, double g0, double g1, At&& at) {
   double a = 0.0, b = 1.0, ga = g0, gb = g1;
   int side = 0;
   double t = 0.5;
@@ -511,11 +809,33 @@ PatchMesh trim_on_grid(const Context& ctx, const Patch& patch, const Trimmer& g,
   auto pu = [&](int i) { return us[static_cast<std::size_t>(i)]; };
   auto pv = [&](int j) { return vs[static_cast<std::size_t>(j)]; };
 
+  // Other patches: the sweep terms of g that can be the least one on each cell, found block by
+  // block (a block's terms from its parent's, the root's from the tree). Values on a cell then
+  // come from its terms alone: the same values as from all terms, far fewer distances.
+  std::vector<Trimmer::SweepTerm> term_pool;
+  struct ListAt {
+    std::uint32_t first, count;  // in term_pool
+    Vector3d centre;
+    double upper;
+  };
+  std::vector<ListAt> lists;
+  auto term_list = [&](std::uint32_t list) {
+    const ListAt& l = lists[list];
+    return Trimmer::TermList{term_pool.data() + l.first, l.count, l.centre, l.upper};
+  };
+  std::vector<std::uint32_t> cell_list;  // per cell: its list in `lists`
+  // Space radii of parameter blocks, conservative: a relative and an absolute margin.
+  const double margin = 100.0 * ctx.tie + 1e-12;
+  std::size_t current_cell = 0;  // the cell whose closed rectangle the next values lie on
+  auto eval = [&](double u, double v) {
+    if (cell_list.empty()) return g(u, v);
+    return g(u, v, term_list(cell_list[current_cell]));
+  };
   // Node values, evaluated lazily (the quadtree of large flat patches never visits most nodes).
   std::vector<double> value(static_cast<std::size_t>(su) * sv, std::numeric_limits<double>::quiet_NaN());
   auto val = [&](int i, int j) {
     double& v = value[static_cast<std::size_t>(wrap_u(i)) * sv + wrap_v(j)];
-    if (std::isnan(v)) v = g(pu(wrap_u(i)), pv(wrap_v(j)));
+    if (std::isnan(v)) v = eval(pu(wrap_u(i)), pv(wrap_v(j)));
     return v;
   };
   // Large flat stock faces: blocks of cells that the exact 1-Lipschitz g proves entirely kept or
@@ -526,17 +846,15 @@ PatchMesh trim_on_grid(const Context& ctx, const Patch& patch, const Trimmer& g,
   struct Block {
     int i0, i1, j0, j1;
   };
-  // Halves the block across its longer side, the lower half popped first.
-  auto split = [](const Block& b, std::vector<Block>& stack) {
+  // The block's halves across its longer side: {upper, lower} (pushed in that order, the lower
+  // half is popped first).
+  auto halves = [](const Block& b) {
     if (b.i1 - b.i0 >= b.j1 - b.j0) {
       const int im = (b.i0 + b.i1) / 2;
-      stack.push_back({im, b.i1, b.j0, b.j1});
-      stack.push_back({b.i0, im, b.j0, b.j1});
-    } else {
-      const int jm = (b.j0 + b.j1) / 2;
-      stack.push_back({b.i0, b.i1, jm, b.j1});
-      stack.push_back({b.i0, b.i1, b.j0, jm});
+      return std::array<Block, 2>{{{im, b.i1, b.j0, b.j1}, {b.i0, im, b.j0, b.j1}}};
     }
+    const int jm = (b.j0 + b.j1) / 2;
+    return std::array<Block, 2>{{{b.i0, b.i1, jm, b.j1}, {b.i0, b.i1, b.j0, jm}}};
   };
   std::vector<Block> kept_blocks;
   std::vector<std::array<int, 2>> fine_cells;
@@ -567,7 +885,7 @@ PatchMesh trim_on_grid(const Context& ctx, const Patch& patch, const Trimmer& g,
         continue;
       }
       if (gc < -1.0001 * radius - 1e-12) continue;
-      split(b, stack);
+      for (const Block& half : halves(b)) stack.push_back(half);
     }
     if (kept_blocks.empty() && fine_cells.empty()) return out;
   } else {
@@ -577,27 +895,55 @@ PatchMesh trim_on_grid(const Context& ctx, const Patch& patch, const Trimmer& g,
     // relative and a tie margin: the tie shift jumps by two ties, the distances are exact to far
     // less) of that minimum all over the block. Every other cell evaluates exactly as before.
     const double lipschitz = g.lipschitz();
-    if (std::isfinite(lipschitz)) {
-      cell_state.assign(static_cast<std::size_t>(nu) * nv, kOpen);
-      const double margin = 100.0 * ctx.tie + 1e-12;
-      std::vector<Block> stack{{0, nu, 0, nv}};
-      while (!stack.empty()) {
-        const Block b = stack.back();
-        stack.pop_back();
-        // A single cell's centre costs about what its nodes do, which neighbours share.
-        if (b.i1 - b.i0 == 1 && b.j1 - b.j0 == 1) continue;
-        const double uc = 0.5 * (pu(b.i0) + pu(b.i1)), vc = 0.5 * (pv(b.j0) + pv(b.j1));
-        const double reach =
-            lipschitz * (1.001 * block_radius(patch, pu(b.i0), pu(b.i1), pv(b.j0), pv(b.j1)) + margin);
-        const double gc = g(uc, vc);
+    const bool proofs = std::isfinite(lipschitz);
+    const std::size_t cells = static_cast<std::size_t>(nu) * nv;
+    if (proofs) cell_state.assign(cells, kOpen);
+    auto radius_of = [&](const Block& b) {
+      return 1.001 * block_radius(patch, pu(b.i0), pu(b.i1), pv(b.j0), pv(b.j1)) + margin;
+    };
+    // A block's terms are those of its parent that can be the least one on it: within twice its
+    // radius (and the tie jumps) of the least of them at its centre.
+    const Block root{0, nu, 0, nv};
+    {
+      const double uc = 0.5 * (pu(0) + pu(nu)), vc = 0.5 * (pv(0) + pv(nv));
+      double upper = 0.0;
+      term_pool = g.terms_within(uc, vc, radius_of(root), &upper);
+      lists.push_back({0, static_cast<std::uint32_t>(term_pool.size()), evaluate(patch, uc, vc), upper});
+    }
+    cell_list.assign(cells, 0);
+    struct Task {
+      Block b;
+      std::uint32_t list;  // the block's terms
+    };
+    std::vector<Task> stack{{root, 0}};
+    std::vector<Trimmer::SweepTerm> near;
+    while (!stack.empty()) {
+      const Task task = stack.back();
+      const Block& b = task.b;
+      stack.pop_back();
+      if (b.i1 - b.i0 == 1 && b.j1 - b.j0 == 1) {
+        // A single cell's centre costs about what its nodes do: it keeps its parent's terms.
+        cell_list[static_cast<std::size_t>(b.i0) * nv + b.j0] = task.list;
+        continue;
+      }
+      const double uc = 0.5 * (pu(b.i0) + pu(b.i1)), vc = 0.5 * (pv(b.j0) + pv(b.j1));
+      const double radius = radius_of(b);
+      if (proofs) {
+        const double reach = lipschitz * radius;
+        const double gc = g(uc, vc, term_list(task.list));
         if (gc < -reach || gc > reach) {
           for (int i = b.i0; i < b.i1; ++i)
             for (int j = b.j0; j < b.j1; ++j)
               cell_state[static_cast<std::size_t>(i) * nv + j] = gc > 0.0 ? kKept : kRemoved;
           continue;
         }
-        split(b, stack);
       }
+      const double upper = g.near_terms(uc, vc, term_list(task.list), 2.0 * radius + 4.0 * ctx.tie, near);
+      const auto list = static_cast<std::uint32_t>(lists.size());
+      lists.push_back({static_cast<std::uint32_t>(term_pool.size()), static_cast<std::uint32_t>(near.size()),
+                       evaluate(patch, uc, vc), upper});
+      term_pool.insert(term_pool.end(), near.begin(), near.end());
+      for (const Block& half : halves(b)) stack.push_back({half, list});
     }
     // A kept cell has kept nodes; a node of removed cells only is removed.
     bool any_in = false;
@@ -605,6 +951,7 @@ PatchMesh trim_on_grid(const Context& ctx, const Patch& patch, const Trimmer& g,
       for (int j = 0; j < nv && !any_in; ++j) {
         if (cell_state_at(i, j) == kKept) any_in = true;
         if (cell_state_at(i, j) != kOpen) continue;
+        current_cell = static_cast<std::size_t>(i) * nv + j;
         for (int k = 0; k < 4 && !any_in; ++k) any_in = val(i + (k & 1), j + (k >> 1)) > 0.0;
       }
     // Without a kept node the patch is gone, unless a strip hides between its nodes.
@@ -624,11 +971,18 @@ PatchMesh trim_on_grid(const Context& ctx, const Patch& patch, const Trimmer& g,
                                  : (patch.rule_count > 0 ? std::max(1.0, 1.0 / patch.rule_radius) : 1.0);
     const std::array<double, 2> speed = parameter_speeds(patch);
     const double shortest = 1e3 * ctx.tie + 0.02 * ctx.trim_tolerance;
-    std::unordered_map<std::uint64_t, bool> scanned;
+    // Per grid edge (its lower node, its direction): scanned already.
+    std::vector<bool> scanned(2 * value.size(), false);
+    struct Span {
+      double a, b, ga, gb, bound;
+      bool operator<(const Span& o) const { return bound < o.bound; }
+    };
+    std::vector<Span> heap;
     auto scan = [&](int i0, int j0, bool along_u) {
-      const std::uint64_t key = (static_cast<std::uint64_t>(wrap_u(i0)) << 33) |
-                                (static_cast<std::uint64_t>(wrap_v(j0)) << 1) | (along_u ? 1u : 0u);
-      if (!scanned.emplace(key, true).second) return;
+      const std::size_t key =
+          2 * (static_cast<std::size_t>(wrap_u(i0)) * sv + wrap_v(j0)) + (along_u ? 1 : 0);
+      if (scanned[key]) return;
+      scanned[key] = true;
       const int i1 = along_u ? i0 + 1 : i0, j1 = along_u ? j0 : j0 + 1;
       // Both ends removed: look for a kept point; both kept: for a removed one (a cut narrower
       // than a cell, as where a sinking pass first touches a face). In terms of sign * g.
@@ -639,22 +993,18 @@ PatchMesh trim_on_grid(const Context& ctx, const Patch& patch, const Trimmer& g,
       const double length = (p1 - p0) * speed[along_u ? 0 : 1];
       // Bisection, most promising span first (largest bound), a bounded number of samples: where
       // g hugs zero all along (a tangent contact, a tie) no strip worth a grid line is there.
-      struct Span {
-        double a, b, ga, gb, bound;
-        bool operator<(const Span& o) const { return bound < o.bound; }
-      };
       auto make_span = [&](double a, double b, double ga, double gb) {
         const double span_length = length * (b - a) / (p1 - p0);
         return Span{a, b, ga, gb, span_length < shortest ? -1.0 : 0.5 * (ga + gb + lipschitz * span_length)};
       };
-      std::vector<Span> heap{make_span(p0, p1, g0, g1)};
+      heap.assign(1, make_span(p0, p1, g0, g1));
       for (int samples = 0; samples < 24 && !heap.empty(); ++samples) {
         std::pop_heap(heap.begin(), heap.end());
         const Span sp = heap.back();
         heap.pop_back();
         if (sp.bound <= 0.0) break;
         const double m = 0.5 * (sp.a + sp.b);
-        const double gm = sign * (along_u ? g(m, pv(j0)) : g(pu(i0), m));
+        const double gm = sign * (along_u ? eval(m, pv(j0)) : eval(pu(i0), m));
         if (gm > 0.0) {
           (along_u ? *extra_u : *extra_v).push_back(m);
           return;
@@ -669,6 +1019,7 @@ PatchMesh trim_on_grid(const Context& ctx, const Patch& patch, const Trimmer& g,
       // A proven cell's edges need no scan: kept, one of their ends is kept; removed, g < 0 all
       // along them. Open cells scan their edges, shared ones too, from exact values.
       if (cell_state_at(i, j) != kOpen) continue;
+      current_cell = static_cast<std::size_t>(i) * nv + j;
       scan(i, j, true);
       scan(i, j + 1, true);
       scan(i, j, false);
@@ -688,6 +1039,7 @@ PatchMesh trim_on_grid(const Context& ctx, const Patch& patch, const Trimmer& g,
   };
   // Crossing vertices on grid edges, cached so neighbouring cells share them.
   std::unordered_map<std::uint64_t, std::uint32_t> crossing;
+  std::vector<Trimmer::SweepTerm> edge_terms;
   struct CrossingInfo {
     double u, v;
     int term;
@@ -702,9 +1054,24 @@ PatchMesh trim_on_grid(const Context& ctx, const Patch& patch, const Trimmer& g,
     auto it = crossing.find(key);
     if (it != crossing.end()) return it->second;
     const int ib = along_u ? ia + 1 : ia, jb = along_u ? ja : ja + 1;
-    const double t = edge_root(g, val(ia, ja), val(ib, jb), [&](double s) {
+    auto at = [&](double s) {
       return std::array<double, 2>{pu(ia) + s * (pu(ib) - pu(ia)), pv(ja) + s * (pv(jb) - pv(ja))};
-    });
+    };
+    double t;
+    Trimmer::TermList edge_list{nullptr, 0, Vector3d::Zero(), 0.0};
+    if (cell_list.empty()) {
+      t = edge_root(eval, val(ia, ja), val(ib, jb), at);
+    } else {
+      // The root search evaluates g many times along the edge: from the terms that can be the
+      // least one on the edge, about its midpoint, far fewer distances than from the cell's.
+      const double u0 = pu(ia), u1 = pu(ib), v0 = pv(ja), v1 = pv(jb);
+      const double um = 0.5 * (u0 + u1), vm = 0.5 * (v0 + v1);
+      const double radius = 1.001 * block_radius(patch, u0, u1, v0, v1) + margin;
+      const double upper =
+          g.near_terms(um, vm, term_list(cell_list[current_cell]), 2.0 * radius + 4.0 * ctx.tie, edge_terms);
+      edge_list = Trimmer::TermList{edge_terms.data(), edge_terms.size(), evaluate(patch, um, vm), upper};
+      t = edge_root([&](double u, double v) { return g(u, v, edge_list); }, val(ia, ja), val(ib, jb), at);
+    }
     // A root at a grid node is that node (no sliver triangles between them). "At" means within
     // the weld distance (100 ties) in space: the tie-break shifts a trimming curve that runs
     // along a grid line (a pass exactly along a stock face) by one tie, which on a short edge is
@@ -721,7 +1088,10 @@ PatchMesh trim_on_grid(const Context& ctx, const Patch& patch, const Trimmer& g,
       const double u = pu(ia) + t * (pu(ib) - pu(ia)), v = pv(ja) + t * (pv(jb) - pv(ja));
       out.vertices.push_back(evaluate(patch, u, v));
       int term = Trimmer::kNoTerm;
-      g.evaluate_with_term(u, v, &term);
+      if (edge_list.terms)
+        g.evaluate_with_term(u, v, edge_list, &term);
+      else
+        g.evaluate_with_term(u, v, &term);
       crossing_at.emplace(id, CrossingInfo{u, v, term});
     }
     crossing.emplace(key, id);
@@ -794,6 +1164,7 @@ PatchMesh trim_on_grid(const Context& ctx, const Patch& patch, const Trimmer& g,
       int count = 0;
       // Proven cells: the node signs without their values (all kept or all removed).
       const auto proven = cell_state_at(i, j);
+      current_cell = static_cast<std::size_t>(i) * nv + j;
       for (int k = 0; k < 4; ++k)
         count += (in[k] = proven == kOpen ? val(ci[k], cj[k]) > 0.0 : proven == kKept);
       if (count == 0) continue;
@@ -802,7 +1173,7 @@ PatchMesh trim_on_grid(const Context& ctx, const Patch& patch, const Trimmer& g,
         continue;
       }
       const bool saddle = count == 2 && in[0] == in[2];
-      if (saddle && g(0.5 * (pu(i) + pu(i + 1)), 0.5 * (pv(j) + pv(j + 1))) <= 0.0) {
+      if (saddle && eval(0.5 * (pu(i) + pu(i + 1)), 0.5 * (pv(j) + pv(j + 1))) <= 0.0) {
         // Two separate corners.
         for (int k = 0; k < 4; ++k) {
           if (!in[k]) continue;
