@@ -166,34 +166,14 @@ double convex_lower_bound(double lo, double f_lo, double x1, double f1, double x
 // `margin` covers the rounding of f's values.
 template <class F>
 double golden_minimum_above(F&& f, double floor, double margin) {
-  constexpr double kInvPhi = 0.6180339887498949;
-  const double unknown = std::numeric_limits<double>::quiet_NaN();
-  double lo = 0.0, hi = 1.0, f_lo = unknown, f_hi = unknown;
-  double x1 = hi - kInvPhi * (hi - lo), x2 = lo + kInvPhi * (hi - lo);
-  double f1 = f(x1), f2 = f(x2);
-  for (int i = 0; i < 64 && hi - lo > 1e-14; ++i) {
-    const double bound = convex_lower_bound(lo, f_lo, x1, f1, x2, f2, hi, f_hi);
-    const double safe = bound - margin * (1.0 + std::abs(bound));
-    if (safe >= floor) return safe;
-    if (f1 < f2) {
-      hi = x2;
-      f_hi = f2;
-      x2 = x1;
-      f2 = f1;
-      x1 = hi - kInvPhi * (hi - lo);
-      f1 = f(x1);
-    } else {
-      lo = x1;
-      f_lo = f1;
-      x1 = x2;
-      f1 = f2;
-      x2 = lo + kInvPhi * (hi - lo);
-      f2 = f(x2);
-    }
-  }
-  double best = std::min(f1, f2);
-  for (double t : {lo, hi}) best = std::min(best, f(t));
-  return best;
+  return detail::golden_minimum(std::forward<F>(f), 0.0, 1.0,
+                                [&](const detail::GoldenBracket& b, double* value) {
+                                  const double bound =
+                                      convex_lower_bound(b.lo, b.f_lo, b.x1, b.f1, b.x2, b.f2, b.hi, b.f_hi);
+                                  *value = bound - margin * (1.0 + std::abs(bound));
+                                  return *value >= floor;
+                                })
+      .second;
 }
 
 /// The closed-form parts of a ball end's sweep distance at p: the tip's capsule (`ball`, the
@@ -344,37 +324,14 @@ class Trimmer {
   /// lies on that term's surface).
   double evaluate_with_term(double u, double v, int* term) const {
     const Vector3d x = evaluate(patch_, u, v);
-    double g = std::numeric_limits<double>::infinity();
     int active = kNoTerm;
-    if (patch_.sweep) {
-      g = -ctx_.stock_distance(x) - ctx_.tie;
-      active = kStockTerm;
-      for (int r = 0; r < patch_.rule_count; ++r) {
-        const double value = rule_value(r, x, u, v);
-        if (value < g) {
-          g = value;
-          active = kRuleTerm - r;
-        }
-      }
-      // Clearly removed by the stock or a rule: no need for the sweeps. Near zero they decide
-      // (a root of the stock's term inside another sweep is no root of g).
-      if (g < -1e3 * ctx_.tie && !term) return g;
-    }
+    double g = own_terms(x, u, v, &active);
+    // Clearly removed by the stock or a rule: no need for the sweeps. Near zero they decide
+    // (a root of the stock's term inside another sweep is no root of g).
+    if (g < -1e3 * ctx_.tie && !term) return g;
     if (use_tree_) {
-      // `best` follows the search's own minimum: a distance capped there changes no decision of
-      // the search (it updates on smaller values only, which the cap leaves exact).
       double best = std::numeric_limits<double>::infinity();
-      const std::int64_t item = ctx_.tree.nearest(
-          x,
-          [&](std::size_t j) {
-            const int js = static_cast<int>(j);
-            if (js == patch_.exclude[0] || js == patch_.exclude[1])
-              return std::numeric_limits<double>::infinity();
-            const double d = distance(js, x, u, v, best);
-            best = std::min(best, d);
-            return d;
-          },
-          &best, ctx_.max_depth);
+      const std::int64_t item = nearest_sweep_term(x, u, v, &best);
       if (best < g) {
         g = best;
         active = static_cast<int>(item);
@@ -426,20 +383,9 @@ class Trimmer {
   /// when no other term ties with it; with a tie the full search decides (its order breaks it).
   double evaluate_with_term(double u, double v, const TermList& list, int* term) const {
     const Vector3d x = evaluate(patch_, u, v);
-    double own = std::numeric_limits<double>::infinity();
     int own_term = kNoTerm;
-    if (patch_.sweep) {
-      own = -ctx_.stock_distance(x) - ctx_.tie;
-      own_term = kStockTerm;
-      for (int r = 0; r < patch_.rule_count; ++r) {
-        const double value = rule_value(r, x, u, v);
-        if (value < own) {
-          own = value;
-          own_term = kRuleTerm - r;
-        }
-      }
-      if (own < -1e3 * ctx_.tie && !term) return own;
-    }
+    const double own = own_terms(x, u, v, &own_term);
+    if (own < -1e3 * ctx_.tie && !term) return own;
     const double moved = (x - list.centre).norm() + 4.0 * ctx_.tie;
     // The least distance is below `cap` (the list's bound moved along): distances beyond it
     // need no exact values.
@@ -519,17 +465,7 @@ class Trimmer {
       return terms;
     }
     double best = std::numeric_limits<double>::infinity();
-    ctx_.tree.nearest(
-        x,
-        [&](std::size_t j) {
-          const int js = static_cast<int>(j);
-          if (js == patch_.exclude[0] || js == patch_.exclude[1])
-            return std::numeric_limits<double>::infinity();
-          const double d = distance(js, x, u, v, best);
-          best = std::min(best, d);
-          return d;
-        },
-        &best, ctx_.max_depth);
+    nearest_sweep_term(x, u, v, &best);
     if (!std::isfinite(best)) return terms;
     *upper = best;
     // Within `radius` every term is within radius (and a tie jump) of its value at x.
@@ -579,6 +515,39 @@ class Trimmer {
 
  private:
   static constexpr std::size_t kListLimit = 64;
+  // The tree's best-first search for the least sweep term at x (the patch's own segments left
+  // out). `best` follows the search's own minimum: a distance capped there changes no decision
+  // of the search (it updates on smaller values only, which the cap leaves exact).
+  std::int64_t nearest_sweep_term(const Vector3d& x, double u, double v, double* best) const {
+    return ctx_.tree.nearest(
+        x,
+        [&](std::size_t j) {
+          const int js = static_cast<int>(j);
+          if (js == patch_.exclude[0] || js == patch_.exclude[1])
+            return std::numeric_limits<double>::infinity();
+          const double d = distance(js, x, u, v, *best);
+          *best = std::min(*best, d);
+          return d;
+        },
+        best, ctx_.max_depth);
+  }
+  // The least of the terms that are no sweep's: the stock and the patch's own rules (sweep
+  // patches only; +infinity and kNoTerm otherwise).
+  double own_terms(const Vector3d& x, double u, double v, int* which) const {
+    double least = std::numeric_limits<double>::infinity();
+    *which = kNoTerm;
+    if (!patch_.sweep) return least;
+    least = -ctx_.stock_distance(x) - ctx_.tie;
+    *which = kStockTerm;
+    for (int r = 0; r < patch_.rule_count; ++r) {
+      const double value = rule_value(r, x, u, v);
+      if (value < least) {
+        least = value;
+        *which = kRuleTerm - r;
+      }
+    }
+    return least;
+  }
   // Moves the term of least bound to the front: searched first, it makes the cap of the
   // other distances tight. (The values do not depend on the order.)
   static void nearest_first(std::vector<SweepTerm>& terms) {

@@ -67,6 +67,16 @@ double largest_field_error(const morph::TriangleMesh& mesh, const morph::Erosion
   return worst;
 }
 
+/// Erodes the job and expects a closed manifold of `components` pieces within its tolerance.
+void expect_closed_within_tolerance(const Job& job, std::size_t components) {
+  const morph::ErodeResult result = morph::erode(job);
+  const morph::TopologyReport topology = morph::topology_report(result.mesh);
+  EXPECT_TRUE(topology.closed_manifold())
+      << topology.boundary_edges << " open, " << topology.non_manifold_edges << " non-manifold edges";
+  EXPECT_EQ(topology.components, components);
+  EXPECT_LE(largest_field_error(result.mesh, morph::ErosionField(job)), job.tolerance);
+}
+
 /// Points of the exact surface: random points near the stock projected onto f = 0 by Newton
 /// steps on the exact field. Returns the largest distance from them to the output mesh.
 double largest_coverage_gap(const morph::TriangleMesh& mesh, const morph::ErosionField& field,
@@ -309,12 +319,7 @@ TEST(ErodeSphere, ThinLunesOfATunnelCeilingAreClosed) {
                 {49.2954, 53.6934, 16.94},   {49.4461, 52.7684, 16.9371}, {49.6139, 51.8437, 16.9343},
                 {49.7986, 50.9205, 16.9314}}},
               0.01);
-  const morph::ErodeResult result = morph::erode(job);
-  const morph::TopologyReport topology = morph::topology_report(result.mesh);
-  EXPECT_TRUE(topology.closed_manifold())
-      << topology.boundary_edges << " open, " << topology.non_manifold_edges << " non-manifold edges";
-  EXPECT_EQ(topology.components, 2u);  // the block's outside and the tunnel
-  EXPECT_LE(largest_field_error(result.mesh, morph::ErosionField(job)), job.tolerance);
+  expect_closed_within_tolerance(job, 2u);  // the block's outside and the tunnel
 }
 
 // A ball end plunging and then cutting a level slot from the plunge: the slot's body ruling is
@@ -323,12 +328,7 @@ TEST(ErodeSphere, ThinLunesOfATunnelCeilingAreClosed) {
 TEST(ErodeBallEnd, SlotLeavingAPlungeTangentiallyIsClosed) {
   const Job job = box_job({0, 0, 0}, {100, 60, 20}, ballend_tool(3.0, 40.0),
                           {{{30, 8, 25}, {30, 8, 16}, {70, 8, 16}}}, 0.01);
-  const morph::ErodeResult result = morph::erode(job);
-  const morph::TopologyReport topology = morph::topology_report(result.mesh);
-  EXPECT_TRUE(topology.closed_manifold())
-      << topology.boundary_edges << " open, " << topology.non_manifold_edges << " non-manifold edges";
-  EXPECT_EQ(topology.components, 1u);
-  EXPECT_LE(largest_field_error(result.mesh, morph::ErosionField(job)), job.tolerance);
+  expect_closed_within_tolerance(job, 1u);
 }
 
 // A ball end sinking into the top face at a shallow slope (from 0.025 above it to 0.075 deep):
@@ -337,12 +337,7 @@ TEST(ErodeBallEnd, SlotLeavingAPlungeTangentiallyIsClosed) {
 TEST(ErodeBallEnd, SinkingPassCutsItsThinTeardropIntoTheFace) {
   const Job job = box_job({0, 0, 0}, {16.373, 16.078, 9.555}, ballend_tool(2.799, 19.555),
                           {{{-3, 4.57, 9.58}, {19.373, 4.57, 9.48}}}, 0.05);
-  const morph::ErodeResult result = morph::erode(job);
-  const morph::TopologyReport topology = morph::topology_report(result.mesh);
-  EXPECT_TRUE(topology.closed_manifold())
-      << topology.boundary_edges << " open, " << topology.non_manifold_edges << " non-manifold edges";
-  EXPECT_EQ(topology.components, 1u);
-  EXPECT_LE(largest_field_error(result.mesh, morph::ErosionField(job)), job.tolerance);
+  expect_closed_within_tolerance(job, 1u);
 }
 
 // A sphere ending 0.05 deep in the top disc of a cylinder: its cap cuts a circle of radius 0.46
@@ -356,12 +351,7 @@ TEST(ErodeSphere, ShallowEndInACylinderTopIsClosed) {
   job.stock.axis = Vector3d::UnitZ();
   job.stock.radius = 12.515;
   job.stock.height = 7.985;
-  const morph::ErodeResult result = morph::erode(job);
-  const morph::TopologyReport topology = morph::topology_report(result.mesh);
-  EXPECT_TRUE(topology.closed_manifold())
-      << topology.boundary_edges << " open, " << topology.non_manifold_edges << " non-manifold edges";
-  EXPECT_EQ(topology.components, 1u);
-  EXPECT_LE(largest_field_error(result.mesh, morph::ErosionField(job)), job.tolerance);
+  expect_closed_within_tolerance(job, 1u);
 }
 
 // A sphere grazing the top front edge of the block, half a tolerance deep, all along it: what
