@@ -647,22 +647,25 @@ std::size_t fill_holes(TriangleMesh& mesh, std::vector<TriangleOrigin>& patch_of
     near_box.max().array() += 0.25 * box.diagonal().norm();
     const bool valid =
         found != start && near_box.contains(found) && std::abs(field(found)) <= 1e3 * options.weld_distance;
-    // Otherwise the centroid moved onto the exact surface (Newton steps along the field's
-    // gradient); a hole where even that fails is left to the local repair, which checks its fans.
-    Vector3d corner = found;
-    if (!valid) {
-      corner = centroid;
+    // Newton steps along the field's gradient.
+    auto onto_field = [&](Vector3d x) {
       for (int it = 0; it < 20; ++it) {
-        const double f = field(corner);
+        const double f = field(x);
         if (std::abs(f) <= 1e-3 * options.weld_distance) break;
         Vector3d gradient;
         const double h = 1e-7 * std::max(1.0, box.diagonal().norm());
         for (int k = 0; k < 3; ++k)
-          gradient[k] =
-              (field(corner + h * Vector3d::Unit(k)) - field(corner - h * Vector3d::Unit(k))) / (2 * h);
+          gradient[k] = (field(x + h * Vector3d::Unit(k)) - field(x - h * Vector3d::Unit(k))) / (2 * h);
         if (gradient.squaredNorm() < 1e-12) break;
-        corner -= f * gradient / gradient.squaredNorm();
+        x -= f * gradient / gradient.squaredNorm();
       }
+      return x;
+    };
+    // Otherwise the centroid moved onto the exact surface; a hole where even that fails is left
+    // to the local repair, which checks its fans.
+    Vector3d corner = found;
+    if (!valid) {
+      corner = onto_field(centroid);
       if (!(std::abs(field(corner)) <= 1e3 * options.weld_distance) || !near_box.contains(corner)) {
         for (std::size_t i = 0; i < loop.size(); ++i)
           used.erase(edge_key(loop[i], loop[(i + 1) % loop.size()]));
@@ -670,8 +673,42 @@ std::size_t fill_holes(TriangleMesh& mesh, std::vector<TriangleOrigin>& patch_of
       }
     }
     if (!fan_fits(corner, loop.size())) {
+      // A curved or creased hole: a ring of exact-surface points halfway to the corner takes
+      // the fan's triangles closer to the surface.
+      std::vector<Vector3d> ring(loop.size());
       for (std::size_t i = 0; i < loop.size(); ++i)
-        used.erase(edge_key(loop[i], loop[(i + 1) % loop.size()]));
+        ring[i] = onto_field(0.5 * (mesh.vertices[loop[i]] + corner));
+      bool fits = true;
+      for (std::size_t i = 0; i < loop.size() && fits; ++i) {
+        const std::size_t j = (i + 1) % loop.size();
+        const Vector3d &a = mesh.vertices[loop[i]], &b = mesh.vertices[loop[j]];
+        const double limit = 2.0 * options.match_distance;
+        fits = std::abs(field(ring[i])) <= 1e3 * options.weld_distance &&
+               triangle_near_field(b, a, ring[i], field, limit) &&
+               triangle_near_field(b, ring[i], ring[j], field, limit) &&
+               triangle_near_field(ring[j], ring[i], corner, field, limit);
+      }
+      if (!fits) {
+        for (std::size_t i = 0; i < loop.size(); ++i)
+          used.erase(edge_key(loop[i], loop[(i + 1) % loop.size()]));
+        continue;
+      }
+      const std::uint32_t first = static_cast<std::uint32_t>(mesh.vertices.size());
+      const std::uint32_t c = first + static_cast<std::uint32_t>(loop.size());
+      mesh.vertices.insert(mesh.vertices.end(), ring.begin(), ring.end());
+      mesh.vertices.push_back(corner);
+      for (std::size_t i = 0; i < loop.size(); ++i) {
+        const std::size_t j = (i + 1) % loop.size();
+        const std::uint32_t va = loop[i], vb = loop[j];
+        const std::uint32_t ra = first + static_cast<std::uint32_t>(i),
+                            rb = first + static_cast<std::uint32_t>(j);
+        for (const Triangle& t : {Triangle{vb, va, ra}, Triangle{vb, ra, rb}, Triangle{rb, ra, c}}) {
+          mesh.triangles.push_back(t);
+          mesh.tags.push_back(mesh.tags[loop_triangles[i]]);
+          patch_of.push_back({patch_of[loop_triangles[i]].patch, 7});
+        }
+      }
+      ++filled;
       continue;
     }
     const std::uint32_t c = static_cast<std::uint32_t>(mesh.vertices.size());
