@@ -673,42 +673,58 @@ std::size_t fill_holes(TriangleMesh& mesh, std::vector<TriangleOrigin>& patch_of
       }
     }
     if (!fan_fits(corner, loop.size())) {
-      // A curved or creased hole: a ring of exact-surface points halfway to the corner takes
-      // the fan's triangles closer to the surface.
-      std::vector<Vector3d> ring(loop.size());
-      for (std::size_t i = 0; i < loop.size(); ++i)
-        ring[i] = onto_field(0.5 * (mesh.vertices[loop[i]] + corner));
-      bool fits = true;
-      for (std::size_t i = 0; i < loop.size() && fits; ++i) {
-        const std::size_t j = (i + 1) % loop.size();
-        const Vector3d &a = mesh.vertices[loop[i]], &b = mesh.vertices[loop[j]];
+      // A curved or creased hole: rings of exact-surface points between the loop and the corner
+      // take the fan's triangles closer to the surface.
+      const std::size_t n = loop.size();
+      bool ringed = false;
+      for (int levels = 2; levels <= 3 && !ringed; ++levels) {
+        // rings[k][i], k = 0 the loop, k = levels the corner.
+        std::vector<std::vector<Vector3d>> rings(levels + 1, std::vector<Vector3d>(n, corner));
+        bool fits = true;
+        for (std::size_t i = 0; i < n; ++i) rings[0][i] = mesh.vertices[loop[i]];
+        for (int k = 1; k < levels && fits; ++k)
+          for (std::size_t i = 0; i < n && fits; ++i) {
+            const double t = static_cast<double>(k) / levels;
+            rings[k][i] = onto_field((1.0 - t) * rings[0][i] + t * corner);
+            fits = std::abs(field(rings[k][i])) <= 1e3 * options.weld_distance;
+          }
         const double limit = 2.0 * options.match_distance;
-        fits = std::abs(field(ring[i])) <= 1e3 * options.weld_distance &&
-               triangle_near_field(b, a, ring[i], field, limit) &&
-               triangle_near_field(b, ring[i], ring[j], field, limit) &&
-               triangle_near_field(ring[j], ring[i], corner, field, limit);
+        for (int k = 0; k < levels && fits; ++k)
+          for (std::size_t i = 0; i < n && fits; ++i) {
+            const std::size_t j = (i + 1) % n;
+            fits = triangle_near_field(rings[k][j], rings[k][i], rings[k + 1][i], field, limit) &&
+                   (k + 1 == levels ||
+                    triangle_near_field(rings[k][j], rings[k + 1][i], rings[k + 1][j], field, limit));
+          }
+        if (!fits) continue;
+        // Vertex indices: the loop's own, then the inner rings' new points, then the corner.
+        const auto first = static_cast<std::uint32_t>(mesh.vertices.size());
+        auto index = [&](int k, std::size_t i) {
+          if (k == 0) return loop[i];
+          if (k == levels) return first + static_cast<std::uint32_t>((levels - 1) * n);
+          return first + static_cast<std::uint32_t>((k - 1) * n + i);
+        };
+        for (int k = 1; k < levels; ++k)
+          mesh.vertices.insert(mesh.vertices.end(), rings[k].begin(), rings[k].end());
+        mesh.vertices.push_back(corner);
+        for (std::size_t i = 0; i < n; ++i) {
+          const std::size_t j = (i + 1) % n;
+          for (int k = 0; k < levels; ++k) {
+            std::vector<Triangle> fan{{index(k, j), index(k, i), index(k + 1, i)}};
+            if (k + 1 < levels) fan.push_back({index(k, j), index(k + 1, i), index(k + 1, j)});
+            for (const Triangle& t : fan) {
+              mesh.triangles.push_back(t);
+              mesh.tags.push_back(mesh.tags[loop_triangles[i]]);
+              patch_of.push_back({patch_of[loop_triangles[i]].patch, 7});
+            }
+          }
+        }
+        ++filled;
+        ringed = true;
       }
-      if (!fits) {
+      if (!ringed)
         for (std::size_t i = 0; i < loop.size(); ++i)
           used.erase(edge_key(loop[i], loop[(i + 1) % loop.size()]));
-        continue;
-      }
-      const std::uint32_t first = static_cast<std::uint32_t>(mesh.vertices.size());
-      const std::uint32_t c = first + static_cast<std::uint32_t>(loop.size());
-      mesh.vertices.insert(mesh.vertices.end(), ring.begin(), ring.end());
-      mesh.vertices.push_back(corner);
-      for (std::size_t i = 0; i < loop.size(); ++i) {
-        const std::size_t j = (i + 1) % loop.size();
-        const std::uint32_t va = loop[i], vb = loop[j];
-        const std::uint32_t ra = first + static_cast<std::uint32_t>(i),
-                            rb = first + static_cast<std::uint32_t>(j);
-        for (const Triangle& t : {Triangle{vb, va, ra}, Triangle{vb, ra, rb}, Triangle{rb, ra, c}}) {
-          mesh.triangles.push_back(t);
-          mesh.tags.push_back(mesh.tags[loop_triangles[i]]);
-          patch_of.push_back({patch_of[loop_triangles[i]].patch, 7});
-        }
-      }
-      ++filled;
       continue;
     }
     const std::uint32_t c = static_cast<std::uint32_t>(mesh.vertices.size());
