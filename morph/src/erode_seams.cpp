@@ -548,6 +548,7 @@ std::size_t fill_holes(TriangleMesh& mesh, std::vector<TriangleOrigin>& patch_of
     // at a vertex (a trimming curve ending exactly on another patch's border), that vertex has
     // two outgoing boundary edges and a plain walk could not choose.
     constexpr std::size_t kMaxLoop = 32;
+    constexpr std::size_t kMaxCornerPatches = 6;  // at most 20 triples
     std::vector<std::uint32_t> frontier{b0};
     std::unordered_map<std::uint32_t, std::pair<std::uint32_t, std::uint32_t>>
         reached;  // v -> (previous, triangle)
@@ -640,13 +641,39 @@ std::size_t fill_holes(TriangleMesh& mesh, std::vector<TriangleOrigin>& patch_of
       continue;
     }
     const Vector3d start = mesh.vertices[loop[best]];
-    const Vector3d found = corner_point(patches, surface, start, box.diagonal().norm());
     // A corner far outside the hole is where the same surfaces meet again, not this corner.
     Eigen::AlignedBox3d near_box = box;
     near_box.min().array() -= 0.25 * box.diagonal().norm();
     near_box.max().array() += 0.25 * box.diagonal().norm();
-    const bool valid =
-        found != start && near_box.contains(found) && std::abs(field(found)) <= 1e3 * options.weld_distance;
+    auto is_corner = [&](const Vector3d& x) {
+      return x != start && near_box.contains(x) && std::abs(field(x)) <= 1e3 * options.weld_distance;
+    };
+    Vector3d found = corner_point(patches, surface, start, box.diagonal().norm());
+    bool valid = is_corner(found);
+    // Four or more surfaces around a hole need not share a point (a tool surface beside the
+    // corner without reaching it): then a corner of three of them on the exact surface, the
+    // nearest to the hole's centroid whose fan fits, else the nearest.
+    if (!valid && patches.size() > 3 && patches.size() <= kMaxCornerPatches) {
+      std::vector<std::pair<double, Vector3d>> corners;
+      for (std::size_t a = 0; a < patches.size(); ++a)
+        for (std::size_t b = a + 1; b < patches.size(); ++b)
+          for (std::size_t c = b + 1; c < patches.size(); ++c) {
+            const Vector3d x =
+                corner_point({patches[a], patches[b], patches[c]}, surface, start, box.diagonal().norm());
+            if (is_corner(x)) corners.push_back({(x - centroid).norm(), x});
+          }
+      std::stable_sort(corners.begin(), corners.end(),
+                       [](const auto& p, const auto& q) { return p.first < q.first; });
+      if (!corners.empty()) {
+        valid = true;
+        found = corners.front().second;
+        for (const auto& [distance, x] : corners)
+          if (fan_fits(x, loop.size())) {
+            found = x;
+            break;
+          }
+      }
+    }
     // Newton steps along the field's gradient.
     auto onto_field = [&](Vector3d x) {
       for (int it = 0; it < 20; ++it) {

@@ -354,6 +354,24 @@ TEST(ErodeSphere, ShallowEndInACylinderTopIsClosed) {
   expect_closed_within_tolerance(job, 1u);
 }
 
+// Two ball-end zigzags crossing at one depth (stress case 817 of seed 1): at the top face one
+// path's corner cylinder passes beside the other's corner, so the five surfaces around the hole
+// there share no point; its corner is where three of them meet on the exact surface.
+TEST(ErodeBallEnd, HoleAmongFiveSurfacesClosesAtACornerOfThree) {
+  const double a = 11.888326282659618, b = 4.443826282659618;
+  const Job job = box_job({0, 0, 0}, {28.476, 13.587, 6.008}, ballend_tool(2.223, 16.008),
+                          {{{a, b, 3.426},
+                            {a, 9.143173717340382, 3.426},
+                            {14.331326282659617, 9.143173717340382, 3.426},
+                            {14.331326282659617, b, 3.426}},
+                           {{a, b, 3.426},
+                            {16.58767371734038, b, 3.426},
+                            {16.58767371734038, 6.886826282659618, 3.426},
+                            {a, 6.886826282659618, 3.426}}},
+                          0.01);
+  expect_closed_within_tolerance(job, 1u);
+}
+
 // A sphere grazing the top front edge of the block, half a tolerance deep, all along it: what
 // is left of its sweep is a strip about 0.035 wide, far narrower than a grid cell of the tube;
 // unless a grid line is put through it, the tube loses it and the faces' cuts stay open.
