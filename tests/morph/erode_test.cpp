@@ -280,11 +280,7 @@ TEST(ErodeBallEnd, SlotWithBallCentreInTheTopFaceIsClosedWithExactVolume) {
 TEST(ErodeBallEnd, DescendingTurnAndEndInTheTopFaceAreClosed) {
   const Job job = box_job({0, 0, -20}, {80, 60, 0}, ballend_tool(3.0, 30.0),
                           {{{20, 30, 1}, {40, 30, -1}, {60, 32, -3}}}, 0.01);
-  const morph::ErodeResult result = morph::erode(job);
-  const morph::TopologyReport topology = morph::topology_report(result.mesh);
-  EXPECT_TRUE(topology.closed_manifold()) << topology.boundary_edges << " open edges";
-  EXPECT_EQ(topology.components, 1u);
-  EXPECT_LE(largest_field_error(result.mesh, morph::ErosionField(job)), job.tolerance);
+  expect_closed_within_tolerance(job, 1u);
 }
 
 // Two full-depth ball-end slots exactly 2r apart: their body rulings coincide, facing each other.
@@ -403,11 +399,7 @@ TEST(ErodeBallEnd, IslandCornersAreExact) {
     ring.push_back({8.0 * std::cos(angle), 8.0 * std::sin(angle), -3.381});
   }
   const Job job = box_job({-15, -15, 0}, {14, 14, 4.618}, ballend_tool(2.492, 14.618), {ring}, 0.02);
-  const morph::ErodeResult result = morph::erode(job);
-  const morph::TopologyReport topology = morph::topology_report(result.mesh);
-  EXPECT_TRUE(topology.closed_manifold()) << topology.boundary_edges << " open edges";
-  EXPECT_EQ(topology.components, 2u);
-  EXPECT_LE(largest_field_error(result.mesh, morph::ErosionField(job)), job.tolerance);
+  expect_closed_within_tolerance(job, 2u);
 }
 
 // data/jobs/mesh_stock.json built in code: a sphere dragged along a bent groove through a block
