@@ -7,7 +7,6 @@
 #include <morph/sweep_distance.h>
 #include <morph/topology.h>
 #include <tbb/parallel_for.h>
-#include <tbb/parallel_sort.h>
 
 #include <algorithm>
 #include <array>
@@ -20,6 +19,7 @@
 #include <unordered_map>
 
 #include <morph/convex_minimum.h>
+#include "edge_uses.h"
 #include "erode_repair.h"
 #include "erode_seams.h"
 
@@ -1560,29 +1560,12 @@ std::size_t remove_flat_components(TriangleMesh& mesh, std::vector<detail::Trian
   }
   // A component is open where the uses of one of its edges do not cancel (+1 for each use
   // min -> max, -1 for each max -> min). The uses, sorted by edge, lie together.
-  struct EdgeUse {
-    std::uint64_t edge;
-    std::uint32_t triangle;
-    std::int32_t direction;
-    bool operator<(const EdgeUse& o) const {
-      return std::tie(edge, triangle, direction) < std::tie(o.edge, o.triangle, o.direction);
-    }
-  };
-  std::vector<EdgeUse> uses(3 * mesh.triangles.size());
-  tbb::parallel_for(std::size_t{0}, mesh.triangles.size(), [&](std::size_t i) {
-    const Triangle& t = mesh.triangles[i];
-    for (int k = 0; k < 3; ++k) {
-      const std::uint32_t u = t[k], v = t[(k + 1) % 3];
-      uses[3 * i + k] = {(static_cast<std::uint64_t>(std::min(u, v)) << 32) | std::max(u, v),
-                         static_cast<std::uint32_t>(i), u < v ? 1 : -1};
-    }
-  });
-  tbb::parallel_sort(uses.begin(), uses.end());
+  const std::vector<detail::EdgeUse> uses = detail::sorted_edge_uses(mesh);
   std::vector<bool> open(count, false);
   for (std::size_t begin = 0; begin < uses.size();) {
     std::size_t end = begin;
     int sum = 0;
-    for (; end < uses.size() && uses[end].edge == uses[begin].edge; ++end) sum += uses[end].direction;
+    for (; end < uses.size() && uses[end].key == uses[begin].key; ++end) sum += uses[end].forward ? 1 : -1;
     if (sum != 0)
       for (std::size_t i = begin; i < end; ++i) open[component[uses[i].triangle]] = true;
     begin = end;

@@ -6,6 +6,8 @@
 // (every replacement triangle is checked against the exact field) and restores the manifold.
 #include "erode_repair.h"
 
+#include "edge_uses.h"
+
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
@@ -22,10 +24,6 @@ namespace morph::detail {
 namespace {
 
 using Eigen::Vector3d;
-
-std::uint64_t undirected(std::uint32_t a, std::uint32_t b) {
-  return (static_cast<std::uint64_t>(std::min(a, b)) << 32) | std::max(a, b);
-}
 
 /// The triangles around each vertex, a triangle listed once per corner it has there (twice at
 /// the doubled corner of a collapsed one), in triangle order: compressed rows for the mesh as
@@ -100,14 +98,14 @@ class Repairer {
   template <class F>
   void for_each_use(std::uint32_t a, std::uint32_t b, const std::unordered_set<std::uint32_t>* removed,
                     F&& f) const {
-    const std::uint64_t key = undirected(a, b);
+    const std::uint64_t key = edge_key(a, b);
     std::uint32_t previous = UINT32_MAX;
     triangles_of_vertex_.for_each(a, [&](std::uint32_t t) {
       if (t == previous) return;  // the same triangle at its other corner at a
       previous = t;
       const Triangle& tri = mesh_.triangles[t];
       int edges_joining = 0;
-      for (int k = 0; k < 3; ++k) edges_joining += undirected(tri[k], tri[(k + 1) % 3]) == key;
+      for (int k = 0; k < 3; ++k) edges_joining += edge_key(tri[k], tri[(k + 1) % 3]) == key;
       if (edges_joining == 0 || deleted_[t] || (removed && removed->count(t))) return;
       for (int repeat = 0; repeat < edges_joining; ++repeat)
         for (int k = 0; k < 3; ++k)
@@ -532,8 +530,8 @@ class Repairer {
     for (const auto& tri : fan.triangles)
       for (int k = 0; k < 3; ++k)
         if (tri[k] >= 0 && tri[(k + 1) % 3] >= 0)
-          ++fan_uses[undirected(static_cast<std::uint32_t>(tri[k]),
-                                static_cast<std::uint32_t>(tri[(k + 1) % 3]))];
+          ++fan_uses[edge_key(static_cast<std::uint32_t>(tri[k]),
+                              static_cast<std::uint32_t>(tri[(k + 1) % 3]))];
     for (const auto& [key, count] : fan_uses)
       if (count + uses(static_cast<std::uint32_t>(key >> 32), static_cast<std::uint32_t>(key & 0xffffffffu),
                        removed)
@@ -621,28 +619,15 @@ void remove_triangles(TriangleMesh& mesh, std::vector<TriangleOrigin>& patch_of_
 
 std::size_t weld_near_defects(TriangleMesh& mesh, std::vector<TriangleOrigin>& patch_of_triangle,
                               double distance) {
-  // Directed edges, sorted: an undirected edge is sound when used once each way.
-  struct Use {
-    std::uint64_t edge;
-    int direction;
-  };
-  std::vector<Use> uses;
-  uses.reserve(3 * mesh.triangles.size());
-  for (const Triangle& t : mesh.triangles)
-    for (int k = 0; k < 3; ++k) {
-      const std::uint32_t a = t[k], b = t[(k + 1) % 3];
-      uses.push_back({undirected(a, b), a < b ? 1 : -1});
-    }
-  std::sort(uses.begin(), uses.end(), [](const Use& x, const Use& y) {
-    return x.edge != y.edge ? x.edge < y.edge : x.direction < y.direction;
-  });
+  // An undirected edge is sound when used once each way.
+  const std::vector<EdgeUse> uses = sorted_edge_uses(mesh);
   std::vector<std::uint32_t> defect;
   for (std::size_t i = 0; i < uses.size();) {
     std::size_t j = i;
-    while (j < uses.size() && uses[j].edge == uses[i].edge) ++j;
-    if (j - i != 2 || uses[i].direction == uses[i + 1].direction) {
-      defect.push_back(static_cast<std::uint32_t>(uses[i].edge >> 32));
-      defect.push_back(static_cast<std::uint32_t>(uses[i].edge & 0xffffffffu));
+    while (j < uses.size() && uses[j].key == uses[i].key) ++j;
+    if (j - i != 2 || uses[i].forward == uses[i + 1].forward) {
+      defect.push_back(static_cast<std::uint32_t>(uses[i].key >> 32));
+      defect.push_back(static_cast<std::uint32_t>(uses[i].key & 0xffffffffu));
     }
     i = j;
   }

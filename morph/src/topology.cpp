@@ -1,9 +1,11 @@
 #include <morph/exceptions.h>
 #include <morph/topology.h>
+
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 #include <tbb/parallel_reduce.h>
 #include <tbb/parallel_sort.h>
+#include "edge_uses.h"
 
 #include <algorithm>
 #include <cstdint>
@@ -38,39 +40,24 @@ bool zero_area(const TriangleMesh& mesh, const Triangle& t) {
   return (b - a).cross(c - a).norm() <= kRelativeEpsilon * longest_squared;
 }
 
-// One directed use of an undirected edge by a triangle.
-struct EdgeUse {
-  std::uint64_t key;  // (min << 32) | max
-  std::uint32_t triangle;
-  bool forward;  // the triangle traverses min -> max
-};
-
-std::uint64_t edge_key(std::uint32_t a, std::uint32_t b) {
-  const std::uint64_t lo = std::min(a, b), hi = std::max(a, b);
-  return (lo << 32) | hi;
-}
+using detail::EdgeUse;
 
 // Every use of an edge with two distinct endpoints, sorted by (key, triangle) so that the uses of
-// one edge are contiguous and the order is deterministic.
+// one edge are contiguous and the order is deterministic. A collapsed (a, a, b) has the edge a-b
+// twice; it is kept once (its first corner's use).
 std::vector<EdgeUse> sorted_edge_uses(const TriangleMesh& mesh, bool include_collapsed) {
+  std::vector<EdgeUse> all = detail::sorted_edge_uses(mesh);
   std::vector<EdgeUse> uses;
-  uses.reserve(3 * mesh.triangles.size());
-  for (std::size_t t = 0; t < mesh.triangles.size(); ++t) {
-    const Triangle& tri = mesh.triangles[t];
-    if (!include_collapsed && collapsed(tri)) continue;
-    for (int k = 0; k < 3; ++k) {
-      const std::uint32_t a = tri[k], b = tri[(k + 1) % 3];
-      if (a == b) continue;
-      // A collapsed (a, a, b) has the edge a-b twice; keep it once.
-      if (collapsed(tri) && !uses.empty() && uses.back().triangle == t && uses.back().key == edge_key(a, b))
-        continue;
-      uses.push_back({edge_key(a, b), static_cast<std::uint32_t>(t), a < b});
-    }
+  uses.reserve(all.size());
+  for (const EdgeUse& use : all) {
+    if (static_cast<std::uint32_t>(use.key >> 32) == static_cast<std::uint32_t>(use.key & 0xffffffffu))
+      continue;
+    const bool degenerate = collapsed(mesh.triangles[use.triangle]);
+    if (degenerate && !include_collapsed) continue;
+    if (degenerate && !uses.empty() && uses.back().triangle == use.triangle && uses.back().key == use.key)
+      continue;
+    uses.push_back(use);
   }
-  // (key, triangle) is unique, so the order does not depend on how the sort is split up.
-  tbb::parallel_sort(uses.begin(), uses.end(), [](const EdgeUse& x, const EdgeUse& y) {
-    return x.key != y.key ? x.key < y.key : x.triangle < y.triangle;
-  });
   return uses;
 }
 
