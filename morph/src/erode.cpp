@@ -1774,6 +1774,15 @@ ErodeResult erode(const Job& job, const ErodeOptions& options) {
     repair_stats.repaired += again.repaired;
     repair_stats.defects = repair_stats.repaired + (again.defects - again.repaired);
   }
+  // Defects wider than the cell: where several sweeps lie within the tolerance of each other
+  // (equal tools crossing at one depth) trimming cannot tell them apart and their pieces overlap;
+  // a sliver gap along a seam is one loop only when grouped at a coarser spacing.
+  for (int widen = 0; widen < 2 && repair_stats.defects > repair_stats.repaired; ++widen) {
+    repair.max_radius *= 2.0;
+    const detail::RepairStats again = detail::repair_small_defects(mesh, patch_of_triangle, repair, field);
+    repair_stats.repaired += again.repaired;
+    repair_stats.defects = repair_stats.repaired + (again.defects - again.repaired);
+  }
   stats.defects_repaired = repair_stats.repaired;
   stats.flat_components_removed =
       remove_flat_components(mesh, patch_of_triangle, 1e-3 * tolerance, 100.0 * tolerance * tolerance);

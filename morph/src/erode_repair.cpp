@@ -264,7 +264,54 @@ class Repairer {
     return (x - start).norm() <= reach && std::abs(field_(x)) <= options_.max_field_error ? x : start;
   }
 
-  std::size_t repair(std::vector<std::uint32_t> cluster) {
+  std::size_t repair(const std::vector<std::uint32_t>& cluster) {
+    if (repair_with_balls(cluster)) return 1;
+    return fill_open_loop(cluster) ? 1 : 0;
+  }
+
+  /// Closes a defect that is nothing but one simple loop of open edges with the loop's own
+  /// triangulation, removing nothing: a sliver of surface narrower than the sampling (the end of
+  /// a pass 0.001 short of a coincident one) leaves a long thin gap no ball can cover.
+  bool fill_open_loop(const std::vector<std::uint32_t>& cluster) {
+    std::unordered_map<std::uint32_t, std::uint32_t> loop_next, loop_triangle;
+    const std::unordered_set<std::uint32_t> nothing;
+    std::unordered_map<std::uint32_t, int> incoming;
+    for (std::uint32_t v : cluster) {
+      bool failed = false;
+      triangles_of_vertex_.for_each(v, [&](std::uint32_t t) {
+        if (deleted_[t] || failed) return;
+        const Triangle& tri = mesh_.triangles[t];
+        for (int k = 0; k < 3; ++k) {
+          const std::uint32_t a = tri[k], b = tri[(k + 1) % 3];
+          if (a != v) continue;
+          const auto edge_uses = uses(a, b, nothing);
+          if (edge_uses.size() == 2 && edge_uses[0].second != edge_uses[1].second) continue;
+          if (edge_uses.size() != 1 || !loop_next.emplace(a, b).second || ++incoming[b] > 1) {
+            failed = true;
+            return;
+          }
+          loop_triangle.emplace(a, t);
+        }
+      });
+      if (failed) return false;
+    }
+    if (loop_next.size() != cluster.size() || loop_next.size() < 3 || loop_next.size() > kMaxTriangulatedLoop)
+      return false;
+    std::vector<std::uint32_t> loop;
+    const std::uint32_t first = std::min_element(loop_next.begin(), loop_next.end())->first;
+    for (std::uint32_t v = first;;) {
+      loop.push_back(v);
+      auto it = loop_next.find(v);
+      if (it == loop_next.end() || loop.size() > loop_next.size()) return false;
+      v = it->second;
+      if (v == first) break;
+    }
+    if (loop.size() != loop_next.size()) return false;
+    const Fan fan = least_area_triangulation(loop, loop_triangle);
+    return fits(fan, nothing) && emit(fan, {});
+  }
+
+  bool repair_with_balls(std::vector<std::uint32_t> cluster) {
     // Defects closer than a ball apart are one defect: a ball whose ring meets another defect
     // takes that defect's vertices into the cluster, and the balls grow again from its centre.
     for (int merge = 0; merge <= kMaxMerges; ++merge) {

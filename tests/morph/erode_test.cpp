@@ -368,6 +368,39 @@ TEST(ErodeBallEnd, HoleAmongFiveSurfacesClosesAtACornerOfThree) {
   expect_closed_within_tolerance(job, 1u);
 }
 
+// A closed {7/3} star of ball-end passes 1.99 deep (stress case 635 of seed 1): all seven tubes
+// pass 0.5 from the star's centre and stay within the tolerance of each other over a disc about
+// 2 wide around it, so trimming cannot tell their pieces apart there and they overlap; the hole
+// is wider than a cell and is closed only by a wider repair.
+TEST(ErodeBallEnd, StarOfSevenEqualPassesClosesAtItsPeak) {
+  const double z = 7.728999999999999;
+  const Job job = box_job({0, 0, 0}, {23.984, 14.847, 9.719}, ballend_tool(2.813, 19.719),
+                          {{{9.756275159281216, 7.5261475996330995, z},
+                            {13.961781354343469, 6.360973054836591, z},
+                            {10.67830148704253, 9.235459798166284, z},
+                            {12.389421569625302, 5.220988209086263, z},
+                            {12.589569589626853, 9.580329311436273, z},
+                            {10.517795237056664, 5.73953966494675, z},
+                            {14.050855603023972, 8.301062361894736, z},
+                            {9.756275159281216, 7.526147599633102, z}}},
+                          0.05);
+  expect_closed_within_tolerance(job, 1u);
+}
+
+// Two sphere zigzags whose corners lie 0.001 apart along one line (stress case 733 of seed 1):
+// the longer pass's tube shows only in a strip 0.001 wide around the shorter pass's end, a gap
+// narrower than the weld distance that is closed by triangulating its own boundary loop.
+TEST(ErodeSphere, CoincidentPassesEndingApartLeaveNoSliverGap) {
+  const double x0 = 8.731503683573631, x1 = 10.757503683573631, x2 = 12.783503683573631,
+               x3 = 12.784496316426367, z = 8.607999999999999;
+  const double y0 = 4.569003683573634, y1 = 8.621996316426367, y2 = 6.595003683573633, y3 = 8.621003683573633;
+  const Job job = box_job({0, 0, 0}, {21.516, 13.191, 9.338}, sphere_tool(1.943),
+                          {{{x0, y0, z}, {x0, y1, z}, {x1, y1, z}, {x1, y0, z}, {x2, y0, z}, {x2, y1, z}},
+                           {{x0, y0, z}, {x3, y0, z}, {x3, y2, z}, {x0, y2, z}, {x0, y3, z}, {x3, y3, z}}},
+                          0.01);
+  expect_closed_within_tolerance(job, 1u);
+}
+
 // A sphere grazing the top front edge of the block, half a tolerance deep, all along it: what
 // is left of its sweep is a strip about 0.035 wide, far narrower than a grid cell of the tube;
 // unless a grid line is put through it, the tube loses it and the faces' cuts stay open.
