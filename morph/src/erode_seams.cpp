@@ -629,15 +629,18 @@ std::size_t fill_holes(TriangleMesh& mesh, std::vector<TriangleOrigin>& patch_of
       }
       return true;
     };
-    if (best_residual <= 1e-7 && fan_fits(mesh.vertices[loop[best]], best)) {
+    auto emit_vertex_fan = [&](std::size_t centre) {
       for (std::size_t i = 0; i < loop.size(); ++i) {
         const std::uint32_t va = loop[i], vb = loop[(i + 1) % loop.size()];
-        if (i == best || (i + 1) % loop.size() == best) continue;
-        mesh.triangles.push_back({vb, va, loop[best]});
+        if (i == centre || (i + 1) % loop.size() == centre) continue;
+        mesh.triangles.push_back({vb, va, loop[centre]});
         mesh.tags.push_back(mesh.tags[loop_triangles[i]]);
         patch_of.push_back({patch_of[loop_triangles[i]].patch, 7});
       }
       ++filled;
+    };
+    if (best_residual <= 1e-7 && fan_fits(mesh.vertices[loop[best]], best)) {
+      emit_vertex_fan(best);
       continue;
     }
     const Vector3d start = mesh.vertices[loop[best]];
@@ -696,6 +699,20 @@ std::size_t fill_holes(TriangleMesh& mesh, std::vector<TriangleOrigin>& patch_of
       if (!(std::abs(field(corner)) <= 1e3 * options.weld_distance) || !near_box.contains(corner)) {
         for (std::size_t i = 0; i < loop.size(); ++i)
           used.erase(edge_key(loop[i], loop[(i + 1) % loop.size()]));
+        continue;
+      }
+    }
+    // A corner found within the weld distance of one of the loop's own vertices is that vertex: a
+    // new point there would leave an edge a billionth long that no later fan can cross.
+    {
+      std::size_t nearest = 0;
+      for (std::size_t i = 1; i < loop.size(); ++i)
+        if ((mesh.vertices[loop[i]] - corner).squaredNorm() <
+            (mesh.vertices[loop[nearest]] - corner).squaredNorm())
+          nearest = i;
+      if ((mesh.vertices[loop[nearest]] - corner).norm() <= options.weld_distance &&
+          fan_fits(mesh.vertices[loop[nearest]], nearest)) {
+        emit_vertex_fan(nearest);
         continue;
       }
     }

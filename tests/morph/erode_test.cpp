@@ -2,11 +2,13 @@
 #include <gtest/gtest.h>
 #include <morph/erode.h>
 #include <morph/exceptions.h>
+#include <morph/gcode.h>
 #include <morph/mesh_distance.h>
 #include <morph/sweep_distance.h>
 #include <morph/topology.h>
 
 #include <cmath>
+#include <fstream>
 #include <iostream>
 #include <random>
 
@@ -398,6 +400,38 @@ TEST(ErodeSphere, CoincidentPassesEndingApartLeaveNoSliverGap) {
                           {{{x0, y0, z}, {x0, y1, z}, {x1, y1, z}, {x1, y0, z}, {x2, y0, z}, {x2, y1, z}},
                            {{x0, y0, z}, {x3, y0, z}, {x3, y2, z}, {x0, y2, z}, {x0, y3, z}, {x3, y3, z}}},
                           0.01);
+  expect_closed_within_tolerance(job, 1u);
+}
+
+// The 106 moves of bear.nc within 2.5 of a point where a seam's corner search converged a
+// billionth away from a vertex of the hole's own loop: the new point left an edge no later fan
+// could cross, and one edge stayed non-manifold (the only defect of the whole program).
+TEST(ErodeBallEnd, BearCornerFoundAtAVertexOfItsHoleIsClosed) {
+  const std::string path = std::string(MORPHMILL_SHARED_DIR) + "/gcode/bear.nc";
+  if (!std::ifstream(path)) GTEST_SKIP() << "shared gcode not found at " << MORPHMILL_SHARED_DIR;
+  const morph::GcodeResult program = morph::read_gcode(path);
+  const Vector3d spot(61.4004, 24.6543, -4.4029);
+  auto distance_to = [&](const morph::Move& m) {
+    const Vector3d d = m.end - m.start;
+    const double t =
+        d.squaredNorm() > 0 ? std::clamp((spot - m.start).dot(d) / d.squaredNorm(), 0.0, 1.0) : 0.0;
+    return (m.start + t * d - spot).norm();
+  };
+  std::vector<std::vector<Vector3d>> runs;
+  const morph::Move* previous = nullptr;
+  for (const morph::Move& m : program.path.moves) {
+    if (m.kind != morph::MoveKind::Linear || distance_to(m) >= 2.5) {
+      previous = nullptr;
+      continue;
+    }
+    if (previous == nullptr) runs.push_back({m.start});
+    runs.back().push_back(m.end);
+    previous = &m;
+  }
+  std::size_t moves = 0;
+  for (const auto& run : runs) moves += run.size() - 1;
+  ASSERT_EQ(moves, 106u);
+  const Job job = box_job({0, 0, -20}, {80, 80, 0}, ballend_tool(1.5875, 25.4), runs, 0.01);
   expect_closed_within_tolerance(job, 1u);
 }
 
