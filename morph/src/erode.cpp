@@ -1779,6 +1779,7 @@ ErodeResult erode(const Job& job, const ErodeOptions& options) {
   // a sliver gap along a seam is one loop only when grouped at a coarser spacing.
   for (int widen = 0; widen < 2 && repair_stats.defects > repair_stats.repaired; ++widen) {
     repair.max_radius *= 2.0;
+    repair.max_field_error = 0.8 * tolerance;
     const detail::RepairStats again = detail::repair_small_defects(mesh, patch_of_triangle, repair, field);
     repair_stats.repaired += again.repaired;
     repair_stats.defects = repair_stats.repaired + (again.defects - again.repaired);

@@ -85,6 +85,8 @@ class Repairer {
  private:
   static constexpr int kMaxMerges = 4;
   static constexpr std::size_t kMaxTriangulatedLoop = 200;
+  // Its cubic number of candidate triangles each need the field.
+  static constexpr std::size_t kMaxNearFieldTriangulatedLoop = 64;
   static constexpr std::size_t kInnerApexCandidates = 8;
 
   void add_triangle_to_maps(std::uint32_t t) {
@@ -469,6 +471,10 @@ class Repairer {
       const Fan fan = least_area_triangulation(loop, loop_triangle);
       if (fits(fan, removed)) return emit(fan, removed_order);
     }
+    if (loop.size() <= kMaxNearFieldTriangulatedLoop) {
+      const Fan fan = near_field_triangulation(loop, loop_triangle);
+      if (!fan.triangles.empty() && fits(fan, removed)) return emit(fan, removed_order);
+    }
     return false;
   }
 
@@ -525,24 +531,47 @@ class Repairer {
     return fan;
   }
 
-  /// The loop's triangulation of least total area, over its own vertices only (dynamic
-  /// programming over sub-polygons).
+  /// The loop's triangulation of least total area, over its own vertices only.
   Fan least_area_triangulation(const std::vector<std::uint32_t>& loop,
                                const std::unordered_map<std::uint32_t, std::uint32_t>& loop_triangle) const {
+    return best_triangulation(loop, loop_triangle, false);
+  }
+
+  /// The loop's triangulation of least total area, over its own vertices only, among those whose
+  /// every triangle is near the exact surface: where a crease crosses the hole, the one that
+  /// follows it.
+  Fan near_field_triangulation(const std::vector<std::uint32_t>& loop,
+                               const std::unordered_map<std::uint32_t, std::uint32_t>& loop_triangle) const {
+    return best_triangulation(loop, loop_triangle, true);
+  }
+
+  /// Dynamic programming over the loop's sub-polygons for the least total area; with
+  /// `only_near_field`, triangles off the exact surface (or needles, which `fits` rejects) are
+  /// not candidates.
+  Fan best_triangulation(const std::vector<std::uint32_t>& loop,
+                         const std::unordered_map<std::uint32_t, std::uint32_t>& loop_triangle,
+                         bool only_near_field) const {
+    const double infinity = std::numeric_limits<double>::infinity();
     const std::size_t n = loop.size();
-    auto area = [&](std::size_t i, std::size_t k, std::size_t j) {
-      const Vector3d& a = mesh_.vertices[loop[i]];
-      return (mesh_.vertices[loop[k]] - a).cross(mesh_.vertices[loop[j]] - a).norm();
+    auto cost = [&](std::size_t i, std::size_t k, std::size_t j) {
+      const Vector3d &a = mesh_.vertices[loop[i]], &b = mesh_.vertices[loop[k]], &c = mesh_.vertices[loop[j]];
+      const double area = (b - a).cross(c - a).norm();
+      if (!only_near_field) return area;
+      const double longest = std::max({(b - a).squaredNorm(), (c - b).squaredNorm(), (a - c).squaredNorm()});
+      if (area < 1e-3 * longest || !triangle_near_field(a, b, c, field_, options_.max_field_error))
+        return infinity;
+      return area;
     };
-    // best[i * n + j]: least area of the polygon loop[i..j]; split[i * n + j]: its apex.
+    // best[i * n + j]: the least area of the polygon loop[i..j]; split[i * n + j]: its apex.
     std::vector<double> best(n * n, 0.0);
     std::vector<std::size_t> split(n * n, 0);
     for (std::size_t gap = 2; gap < n; ++gap)
       for (std::size_t i = 0; i + gap < n; ++i) {
         const std::size_t j = i + gap;
-        double least = std::numeric_limits<double>::infinity();
+        double least = infinity;
         for (std::size_t k = i + 1; k < j; ++k) {
-          const double total = best[i * n + k] + best[k * n + j] + area(i, k, j);
+          if (best[i * n + k] == infinity || best[k * n + j] == infinity) continue;
+          const double total = best[i * n + k] + best[k * n + j] + cost(i, k, j);
           if (total < least) {
             least = total;
             split[i * n + j] = k;
@@ -551,6 +580,7 @@ class Repairer {
         best[i * n + j] = least;
       }
     Fan fan;
+    if (best[n - 1] == infinity) return fan;
     std::vector<std::pair<std::size_t, std::size_t>> pending{{0, n - 1}};
     while (!pending.empty()) {
       const auto [i, j] = pending.back();
