@@ -1587,6 +1587,24 @@ std::size_t remove_flat_components(TriangleMesh& mesh, std::vector<detail::Trian
   return dropped;
 }
 
+/// topology_report(mesh).boundary_edges alone: the edges with two distinct ends that exactly one
+/// triangle with three distinct vertices uses.
+std::size_t boundary_edge_count(const TriangleMesh& mesh) {
+  const std::vector<detail::EdgeUse> uses = detail::sorted_edge_uses(mesh);
+  std::size_t count = 0;
+  for (std::size_t begin = 0; begin < uses.size();) {
+    std::size_t end = begin, proper = 0;
+    for (; end < uses.size() && uses[end].key == uses[begin].key; ++end) {
+      const Triangle& t = mesh.triangles[uses[end].triangle];
+      proper += t[0] != t[1] && t[1] != t[2] && t[0] != t[2];
+    }
+    const bool loop = (uses[begin].key >> 32) == (uses[begin].key & 0xffffffffu);
+    count += !loop && proper == 1;
+    begin = end;
+  }
+  return count;
+}
+
 /// Signed distance to the surface a stock patch lies on (its face's plane, the cylinder's side):
 /// zero on that face only, unlike the stock's distance, which vanishes on every face.
 double stock_face_distance(const Patch& p, const Vector3d& x) {
@@ -1777,7 +1795,7 @@ ErodeResult erode(const Job& job, const ErodeOptions& options) {
   stats.defects_repaired = repair_stats.repaired;
   stats.flat_components_removed =
       remove_flat_components(mesh, patch_of_triangle, 1e-3 * tolerance, 100.0 * tolerance * tolerance);
-  stats.open_edges = repair_stats.defects == repair_stats.repaired ? 0 : topology_report(mesh).boundary_edges;
+  stats.open_edges = repair_stats.defects == repair_stats.repaired ? 0 : boundary_edge_count(mesh);
   stats.seam_splits = seam_stats.splits;
   stats.corner_holes = seam_stats.holes_filled;
   stats.triangles = mesh.triangles.size();
