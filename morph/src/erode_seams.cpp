@@ -11,6 +11,7 @@
 #include <tuple>
 #include <unordered_map>
 
+#include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 #include <tbb/parallel_sort.h>
 
@@ -226,6 +227,25 @@ struct HalfEdges {
   }
 };
 
+/// The open border edges of each triangle (bit k: edge k -> k+1 is `half.boundary`), found in
+/// parallel. Triangles flagged 0 in `may_be_open` (if it is given; triangles beyond its end are
+/// looked at) are known to have none.
+std::vector<std::uint8_t> open_edges(const TriangleMesh& mesh, const std::vector<TriangleOrigin>& origin,
+                                     const HalfEdges& half, const std::vector<std::uint8_t>& may_be_open) {
+  std::vector<std::uint8_t> open(mesh.triangles.size(), 0);
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, mesh.triangles.size(), 4096),
+                    [&](const tbb::blocked_range<std::size_t>& range) {
+                      for (std::size_t t = range.begin(); t != range.end(); ++t) {
+                        if (!origin[t].border || (t < may_be_open.size() && !may_be_open[t])) continue;
+                        const Triangle& tri = mesh.triangles[t];
+                        for (int k = 0; k < 3; ++k)
+                          if ((origin[t].border & (1u << k)) && half.boundary(tri[k], tri[(k + 1) % 3]))
+                            open[t] |= static_cast<std::uint8_t>(1u << k);
+                      }
+                    });
+  return open;
+}
+
 /// Merges boundary vertices of different patches closer than `distance` (points of the same
 /// curve sampled by both sides at nearly the same place, typically near corners) so that no
 /// sliver edges are left for the split pass.
@@ -302,9 +322,12 @@ std::size_t snap_boundary(TriangleMesh& mesh, std::vector<TriangleOrigin>& patch
 }
 
 /// One pass of splitting boundary edges at other patches' boundary vertices. Returns the number
-/// of vertices inserted.
+/// of vertices inserted. `may_be_open` (see open_edges; empty: every triangle) is replaced by
+/// the flags of the triangles that may still have an open edge: those made from a triangle with
+/// one (an edge closed before stays closed, as only open edges are split and the rest only
+/// gain uses).
 std::size_t split_pass(TriangleMesh& mesh, std::vector<TriangleOrigin>& patch_of, const SeamOptions& options,
-                       const SurfaceFunction& surface) {
+                       const SurfaceFunction& surface, std::vector<std::uint8_t>& may_be_open) {
   const HalfEdges half(mesh, patch_of);
   struct BoundaryVertex {
     Vector3d tangent = Vector3d::Zero();
@@ -312,11 +335,12 @@ std::size_t split_pass(TriangleMesh& mesh, std::vector<TriangleOrigin>& patch_of
   };
   std::unordered_map<std::uint32_t, BoundaryVertex> info;
   std::vector<std::pair<std::uint32_t, int>> edges;  // (triangle, local edge)
+  const std::vector<std::uint8_t> open = open_edges(mesh, patch_of, half, may_be_open);
+  may_be_open = open;
   for (std::uint32_t t = 0; t < mesh.triangles.size(); ++t)
     for (int k = 0; k < 3; ++k) {
-      if (!(patch_of[t].border & (1u << k))) continue;
+      if (!(open[t] & (1u << k))) continue;
       const std::uint32_t a = mesh.triangles[t][k], b = mesh.triangles[t][(k + 1) % 3];
-      if (!half.boundary(a, b)) continue;
       edges.push_back({t, k});
       const Vector3d dir = (mesh.vertices[b] - mesh.vertices[a]).normalized();
       for (std::uint32_t v : {a, b}) {
@@ -411,6 +435,8 @@ std::size_t split_pass(TriangleMesh& mesh, std::vector<TriangleOrigin>& patch_of
   triangles.reserve(mesh.triangles.size() + inserted * 2);
   tags.reserve(mesh.triangles.size() + inserted * 2);
   patches.reserve(mesh.triangles.size() + inserted * 2);
+  may_be_open.clear();
+  may_be_open.reserve(mesh.triangles.size() + inserted * 2);
   for (std::uint32_t t = 0; t < mesh.triangles.size(); ++t) {
     const Triangle tri = mesh.triangles[t];
     const std::vector<std::pair<double, std::uint32_t>>* on_edge[3] = {nullptr, nullptr, nullptr};
@@ -431,11 +457,13 @@ std::size_t split_pass(TriangleMesh& mesh, std::vector<TriangleOrigin>& patch_of
       triangles.push_back({a, b, c});
       tags.push_back(mesh.tags[t]);
       patches.push_back({patch_of[t].patch, border});
+      may_be_open.push_back(open[t] != 0);
     };
     if (split_edges == 0) {
       triangles.push_back(tri);
       tags.push_back(mesh.tags[t]);
       patches.push_back(patch_of[t]);
+      may_be_open.push_back(open[t] != 0);
       continue;
     }
     const Vector3d normal =
@@ -526,17 +554,18 @@ Vector3d corner_point(const std::vector<std::uint32_t>& patches, const SurfaceFu
 }
 
 std::size_t fill_holes(TriangleMesh& mesh, std::vector<TriangleOrigin>& patch_of, const SeamOptions& options,
-                       const SurfaceFunction& surface, const FieldFunction& field) {
+                       const SurfaceFunction& surface, const FieldFunction& field,
+                       const std::vector<std::uint8_t>& may_be_open) {
   const HalfEdges half(mesh, patch_of);
+  const std::vector<std::uint8_t> open = open_edges(mesh, patch_of, half, may_be_open);
   // Outgoing boundary half-edges per vertex, with their triangle.
   std::unordered_map<std::uint32_t, std::vector<std::pair<std::uint32_t, std::uint32_t>>>
       out;  // v -> (next, tri)
   std::vector<std::pair<std::uint32_t, std::uint32_t>> starts;
   for (std::uint32_t t = 0; t < mesh.triangles.size(); ++t)
     for (int k = 0; k < 3; ++k) {
-      if (!(patch_of[t].border & (1u << k))) continue;
+      if (!(open[t] & (1u << k))) continue;
       const std::uint32_t a = mesh.triangles[t][k], b = mesh.triangles[t][(k + 1) % 3];
-      if (!half.boundary(a, b)) continue;
       out[a].push_back({b, t});
       starts.push_back({a, b});
     }
@@ -767,13 +796,12 @@ std::size_t fill_holes(TriangleMesh& mesh, std::vector<TriangleOrigin>& patch_of
   return filled;
 }
 
-std::size_t count_boundary(const TriangleMesh& mesh, const std::vector<TriangleOrigin>& patch_of) {
+std::size_t count_boundary(const TriangleMesh& mesh, const std::vector<TriangleOrigin>& patch_of,
+                           const std::vector<std::uint8_t>& may_be_open) {
   const HalfEdges half(mesh, patch_of);
   std::size_t n = 0;
-  for (std::size_t i = 0; i < mesh.triangles.size(); ++i) {
-    const Triangle& t = mesh.triangles[i];
-    for (int k = 0; k < 3; ++k) n += (patch_of[i].border & (1u << k)) && half.boundary(t[k], t[(k + 1) % 3]);
-  }
+  for (const std::uint8_t bits : open_edges(mesh, patch_of, half, may_be_open))
+    n += (bits & 1u) + ((bits >> 1) & 1u) + ((bits >> 2) & 1u);
   return n;
 }
 
@@ -801,8 +829,10 @@ SeamStats join_seams(TriangleMesh& mesh, std::vector<TriangleOrigin>& patch_of_t
     stats.welded +=
         snap_boundary(mesh, patch_of_triangle, options.snap_distance, 1e3 * options.weld_distance, surface);
   }
+  // The triangles that may have an open edge (empty: all), narrowed by each split pass.
+  std::vector<std::uint8_t> may_be_open;
   for (int pass = 0; pass < 3; ++pass) {
-    const std::size_t n = split_pass(mesh, patch_of_triangle, options, surface);
+    const std::size_t n = split_pass(mesh, patch_of_triangle, options, surface, may_be_open);
     stats.splits += n;
     if (n == 0) break;
   }
@@ -812,13 +842,13 @@ SeamStats join_seams(TriangleMesh& mesh, std::vector<TriangleOrigin>& patch_of_t
     SeamOptions wide = options;
     wide.match_distance = 2.0 * options.match_distance;
     for (int pass = 0; pass < 3; ++pass) {
-      const std::size_t n = split_pass(mesh, patch_of_triangle, wide, surface);
+      const std::size_t n = split_pass(mesh, patch_of_triangle, wide, surface, may_be_open);
       stats.splits += n;
       if (n == 0) break;
     }
   }
-  { stats.holes_filled = fill_holes(mesh, patch_of_triangle, options, surface, field); }
-  { stats.boundary_edges = count_boundary(mesh, patch_of_triangle); }
+  { stats.holes_filled = fill_holes(mesh, patch_of_triangle, options, surface, field, may_be_open); }
+  { stats.boundary_edges = count_boundary(mesh, patch_of_triangle, may_be_open); }
   return stats;
 }
 
