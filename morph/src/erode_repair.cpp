@@ -19,6 +19,7 @@
 
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
+#include <tbb/parallel_sort.h>
 
 namespace morph::detail {
 
@@ -736,7 +737,7 @@ std::size_t weld_near_defects(TriangleMesh& mesh, std::vector<TriangleOrigin>& p
     std::sort(t.begin(), t.end());
     sorted.push_back({t, i});
   }
-  std::sort(sorted.begin(), sorted.end());
+  tbb::parallel_sort(sorted.begin(), sorted.end());  // (triangle, index) pairs are unique
   auto orientation = [&](std::uint32_t i) {
     const Triangle& t = mesh.triangles[i];
     // Even rotations of the sorted order are one orientation.
