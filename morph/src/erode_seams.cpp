@@ -28,8 +28,16 @@ struct CellKey {
   bool operator==(const CellKey& o) const { return x == o.x && y == o.y && z == o.z; }
 };
 struct CellHash {
+  // Mixed so that the low bits, which pick the slot, depend on every bit of the cell: the plain
+  // products clustered the cells of a seam (longer probes).
   std::size_t operator()(const CellKey& k) const {
-    return static_cast<std::size_t>(k.x * 73856093LL ^ k.y * 19349663LL ^ k.z * 83492791LL);
+    std::uint64_t h = static_cast<std::uint64_t>(k.x) * 0x9E3779B97F4A7C15ull ^
+                      static_cast<std::uint64_t>(k.y) * 0xC2B2AE3D27D4EB4Full ^
+                      static_cast<std::uint64_t>(k.z) * 0x165667B19E3779F9ull;
+    h ^= h >> 32;
+    h *= 0xD6E8FEB86659FD93ull;
+    h ^= h >> 32;
+    return static_cast<std::size_t>(h);
   }
 };
 CellKey cell_of(const Vector3d& p, double cell) {
@@ -116,6 +124,31 @@ std::uint32_t find_near(const CellIndex& index, const std::vector<Vector3d>& poi
         if (found != none) return found;
       }
   return none;
+}
+
+/// For each of `members` (the points `index` holds, cells of edge `distance`), whether another
+/// of them lies within `distance` of it: a necessary condition of find_near finding one, checked
+/// in parallel over the few cells the ball can reach (at most two a side).
+std::vector<std::uint8_t> has_near(const CellIndex& index, const std::vector<Vector3d>& points,
+                                   const std::vector<std::uint32_t>& members, double distance) {
+  std::vector<std::uint8_t> result(members.size(), 0);
+  // A little wider than the ball, so that no rounding of the distance test can reach past it.
+  const double reach = 1.001 * distance;
+  tbb::parallel_for(std::size_t{0}, members.size(), [&](std::size_t i) {
+    const std::uint32_t v = members[i];
+    const Vector3d& p = points[v];
+    const CellKey lo = cell_of(Vector3d(p.array() - reach), distance),
+                  hi = cell_of(Vector3d(p.array() + reach), distance);
+    bool found = false;
+    for (std::int64_t x = lo.x; x <= hi.x && !found; ++x)
+      for (std::int64_t y = lo.y; y <= hi.y && !found; ++y)
+        for (std::int64_t z = lo.z; z <= hi.z && !found; ++z)
+          index.for_each_in({x, y, z}, [&](std::uint32_t u) {
+            found = found || (u != v && (points[u] - p).norm() <= reach);
+          });
+    result[i] = found;
+  });
+  return result;
 }
 
 std::uint64_t edge_key(std::uint32_t a, std::uint32_t b) {
@@ -286,8 +319,11 @@ std::size_t snap_boundary(TriangleMesh& mesh, std::vector<TriangleOrigin>& patch
       if (std::abs(surface(q, mesh.vertices[a])) > on_surface) return false;
     return true;
   };
+  const std::vector<std::uint8_t> near = has_near(index, mesh.vertices, boundary, distance);
   // In increasing index, each vertex merges into the first earlier one kept that qualifies.
-  for (std::uint32_t v : boundary) {
+  for (std::size_t i = 0; i < boundary.size(); ++i) {
+    if (!near[i]) continue;
+    const std::uint32_t v = boundary[i];
     const std::uint32_t found = find_near(
         index, mesh.vertices, mesh.vertices[v], distance, v,
         [&](std::uint32_t u) { return u < v && target[u] == u; },
