@@ -6,6 +6,7 @@
 #include <morphmill/job_io.h>
 #include <morphmill/mesh_io.h>
 #include <tbb/global_control.h>
+#include <tbb/task_group.h>
 
 #include <iomanip>
 #include <iostream>
@@ -41,9 +42,12 @@ void run_erode(const ErodeCommandOptions& options) {
   const morph::ErodeResult result = morph::erode(job, erode_options);
   MeshWriteOptions write_options;
   write_options.binary = !options.ascii;
+  // The summary's topology is computed while the file is written.
+  morph::TopologyReport topology;
+  tbb::task_group summary;
+  summary.run([&] { topology = morph::topology_report(result.mesh); });
   write_mesh(result.mesh, options.mesh_path, write_options);
-
-  const morph::TopologyReport topology = morph::topology_report(result.mesh);
+  summary.wait();
   const morph::ErodeStats& s = result.stats;
   std::cout << "erode " << (job.name.empty() ? options.job_path : job.name) << " at tolerance "
             << (options.tolerance > 0.0 ? options.tolerance : job.tolerance) << ": " << s.moves << " moves ("

@@ -1587,6 +1587,24 @@ std::size_t remove_flat_components(TriangleMesh& mesh, std::vector<detail::Trian
   return dropped;
 }
 
+/// topology_report(mesh).boundary_edges alone: the edges with two distinct ends that exactly one
+/// triangle with three distinct vertices uses.
+std::size_t boundary_edge_count(const TriangleMesh& mesh) {
+  const std::vector<detail::EdgeUse> uses = detail::sorted_edge_uses(mesh);
+  std::size_t count = 0;
+  for (std::size_t begin = 0; begin < uses.size();) {
+    std::size_t end = begin, proper = 0;
+    for (; end < uses.size() && uses[end].key == uses[begin].key; ++end) {
+      const Triangle& t = mesh.triangles[uses[end].triangle];
+      proper += t[0] != t[1] && t[1] != t[2] && t[0] != t[2];
+    }
+    const bool loop = (uses[begin].key >> 32) == (uses[begin].key & 0xffffffffu);
+    count += !loop && proper == 1;
+    begin = end;
+  }
+  return count;
+}
+
 /// Signed distance to the surface a stock patch lies on (its face's plane, the cylinder's side):
 /// zero on that face only, unlike the stock's distance, which vanishes on every face.
 double stock_face_distance(const Patch& p, const Vector3d& x) {
@@ -1721,18 +1739,33 @@ ErodeResult erode(const Job& job, const ErodeOptions& options) {
   const auto t_assemble = Clock::now();
   TriangleMesh& mesh = result.mesh;
   std::vector<detail::TriangleOrigin> patch_of_triangle;
-  for (std::size_t i = 0; i < pieces.size(); ++i) {
-    const PatchMesh& piece = pieces[i];
-    if (piece.triangles.empty()) continue;
-    ++stats.patches_kept;
-    const std::uint32_t offset = static_cast<std::uint32_t>(mesh.vertices.size());
-    mesh.vertices.insert(mesh.vertices.end(), piece.vertices.begin(), piece.vertices.end());
-    for (std::size_t k = 0; k < piece.triangles.size(); ++k) {
-      const Triangle& t = piece.triangles[k];
-      mesh.triangles.push_back({t[0] + offset, t[1] + offset, t[2] + offset});
-      mesh.tags.push_back(patches[i].tag);
-      patch_of_triangle.push_back({static_cast<std::uint32_t>(i), piece.border[k]});
+  {
+    // Where each kept piece's vertices and triangles go, then the copies in parallel.
+    std::vector<std::size_t> first_vertex(pieces.size() + 1, 0), first_triangle(pieces.size() + 1, 0);
+    for (std::size_t i = 0; i < pieces.size(); ++i) {
+      const bool kept = !pieces[i].triangles.empty();
+      stats.patches_kept += kept;
+      first_vertex[i + 1] = first_vertex[i] + (kept ? pieces[i].vertices.size() : 0);
+      first_triangle[i + 1] = first_triangle[i] + pieces[i].triangles.size();
     }
+    mesh.vertices.resize(first_vertex.back());
+    mesh.triangles.resize(first_triangle.back());
+    mesh.tags.resize(first_triangle.back());
+    patch_of_triangle.resize(first_triangle.back());
+    for_each_index(options.policy, 0, pieces.size(), [&](std::size_t i) {
+      PatchMesh& piece = pieces[i];
+      if (piece.triangles.empty()) return;
+      const std::uint32_t offset = static_cast<std::uint32_t>(first_vertex[i]);
+      std::copy(piece.vertices.begin(), piece.vertices.end(), mesh.vertices.begin() + first_vertex[i]);
+      for (std::size_t k = 0; k < piece.triangles.size(); ++k) {
+        const Triangle& t = piece.triangles[k];
+        const std::size_t j = first_triangle[i] + k;
+        mesh.triangles[j] = {t[0] + offset, t[1] + offset, t[2] + offset};
+        mesh.tags[j] = patches[i].tag;
+        patch_of_triangle[j] = {static_cast<std::uint32_t>(i), piece.border[k]};
+      }
+      piece = PatchMesh();
+    });
   }
   detail::SeamOptions seam;
   seam.weld_distance = 1e-9 * scale;
@@ -1787,7 +1820,7 @@ ErodeResult erode(const Job& job, const ErodeOptions& options) {
   stats.defects_repaired = repair_stats.repaired;
   stats.flat_components_removed =
       remove_flat_components(mesh, patch_of_triangle, 1e-3 * tolerance, 100.0 * tolerance * tolerance);
-  stats.open_edges = repair_stats.defects == repair_stats.repaired ? 0 : topology_report(mesh).boundary_edges;
+  stats.open_edges = repair_stats.defects == repair_stats.repaired ? 0 : boundary_edge_count(mesh);
   stats.seam_splits = seam_stats.splits;
   stats.corner_holes = seam_stats.holes_filled;
   stats.triangles = mesh.triangles.size();

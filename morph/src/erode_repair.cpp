@@ -9,6 +9,7 @@
 #include "edge_uses.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstdint>
 #include <limits>
@@ -18,6 +19,7 @@
 
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
+#include <tbb/parallel_sort.h>
 
 namespace morph::detail {
 
@@ -140,6 +142,7 @@ class Repairer {
   /// Scratch space of `manifold_vertex`, reused from vertex to vertex.
   struct FanScratch {
     std::vector<std::uint32_t> around, parent, link;
+    std::vector<std::array<std::uint32_t, 3>> uses;  // (link vertex, direction, triangle)
   };
 
   /// Whether the triangles around v form one fan (a disc or, at a border, a half disc): joined
@@ -198,6 +201,46 @@ class Repairer {
     return bad_edge || !manifold_vertex(v, scratch);
   }
 
+  /// Whether v is plainly sound: its triangles are live and proper, each edge at v is used once
+  /// each way by them, and they form one fan. Then defective_vertex(v) is false; where this
+  /// returns false, defective_vertex decides. Far cheaper, as it looks at v's own fan only.
+  bool plainly_sound(std::uint32_t v, FanScratch& scratch) const {
+    std::vector<std::uint32_t>& around = scratch.around;
+    around.clear();
+    bool plain = true;
+    triangles_of_vertex_.for_each(v, [&](std::uint32_t t) {
+      const Triangle& tri = mesh_.triangles[t];
+      plain = plain && !deleted_[t] && tri[0] != tri[1] && tri[1] != tri[2] && tri[0] != tri[2];
+      around.push_back(t);
+    });
+    if (!plain || around.empty()) return false;
+    auto& uses = scratch.uses;
+    uses.clear();
+    for (std::uint32_t i = 0; i < around.size(); ++i) {
+      const Triangle& tri = mesh_.triangles[around[i]];
+      const int k = tri[0] == v ? 0 : (tri[1] == v ? 1 : 2);
+      uses.push_back({tri[(k + 1) % 3], 1u, i});  // v -> next
+      uses.push_back({tri[(k + 2) % 3], 0u, i});  // previous -> v
+    }
+    std::sort(uses.begin(), uses.end());
+    std::vector<std::uint32_t>& parent = scratch.parent;
+    parent.resize(around.size());
+    std::iota(parent.begin(), parent.end(), 0u);
+    auto find = [&](std::uint32_t x) {
+      while (parent[x] != x) x = parent[x] = parent[parent[x]];
+      return x;
+    };
+    for (std::size_t i = 0; i < uses.size(); i += 2) {
+      if (i + 1 >= uses.size() || uses[i + 1][0] != uses[i][0] || uses[i][1] == uses[i + 1][1] ||
+          (i + 2 < uses.size() && uses[i + 2][0] == uses[i][0]))
+        return false;
+      parent[find(uses[i + 1][2])] = find(uses[i][2]);
+    }
+    std::size_t fans = 0;
+    for (std::uint32_t i = 0; i < around.size(); ++i) fans += find(i) == i;
+    return fans == 1;
+  }
+
   /// Vertices of bad edges and non-manifold vertices, grouped by proximity (max_radius).
   std::vector<std::vector<std::uint32_t>> defect_clusters() const {
     // Each vertex is judged by its own fan alone, so the whole mesh is scanned in parallel.
@@ -206,7 +249,7 @@ class Repairer {
                       [&](const tbb::blocked_range<std::uint32_t>& range) {
                         FanScratch scratch;
                         for (std::uint32_t v = range.begin(); v != range.end(); ++v)
-                          defective[v] = defective_vertex(v, scratch);
+                          defective[v] = !plainly_sound(v, scratch) && defective_vertex(v, scratch);
                       });
     std::vector<std::uint32_t> bad;
     for (std::uint32_t v = 0; v < mesh_.vertices.size(); ++v)
@@ -771,7 +814,7 @@ std::size_t weld_near_defects(TriangleMesh& mesh, std::vector<TriangleOrigin>& p
     std::sort(t.begin(), t.end());
     sorted.push_back({t, i});
   }
-  std::sort(sorted.begin(), sorted.end());
+  tbb::parallel_sort(sorted.begin(), sorted.end());  // (triangle, index) pairs are unique
   auto orientation = [&](std::uint32_t i) {
     const Triangle& t = mesh.triangles[i];
     // Even rotations of the sorted order are one orientation.

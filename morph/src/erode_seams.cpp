@@ -11,6 +11,7 @@
 #include <tuple>
 #include <unordered_map>
 
+#include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 #include <tbb/parallel_sort.h>
 
@@ -27,8 +28,16 @@ struct CellKey {
   bool operator==(const CellKey& o) const { return x == o.x && y == o.y && z == o.z; }
 };
 struct CellHash {
+  // Mixed so that the low bits, which pick the slot, depend on every bit of the cell: the plain
+  // products clustered the cells of a seam (longer probes).
   std::size_t operator()(const CellKey& k) const {
-    return static_cast<std::size_t>(k.x * 73856093LL ^ k.y * 19349663LL ^ k.z * 83492791LL);
+    std::uint64_t h = static_cast<std::uint64_t>(k.x) * 0x9E3779B97F4A7C15ull ^
+                      static_cast<std::uint64_t>(k.y) * 0xC2B2AE3D27D4EB4Full ^
+                      static_cast<std::uint64_t>(k.z) * 0x165667B19E3779F9ull;
+    h ^= h >> 32;
+    h *= 0xD6E8FEB86659FD93ull;
+    h ^= h >> 32;
+    return static_cast<std::size_t>(h);
   }
 };
 CellKey cell_of(const Vector3d& p, double cell) {
@@ -115,6 +124,31 @@ std::uint32_t find_near(const CellIndex& index, const std::vector<Vector3d>& poi
         if (found != none) return found;
       }
   return none;
+}
+
+/// For each of `members` (the points `index` holds, cells of edge `distance`), whether another
+/// of them lies within `distance` of it: a necessary condition of find_near finding one, checked
+/// in parallel over the few cells the ball can reach (at most two a side).
+std::vector<std::uint8_t> has_near(const CellIndex& index, const std::vector<Vector3d>& points,
+                                   const std::vector<std::uint32_t>& members, double distance) {
+  std::vector<std::uint8_t> result(members.size(), 0);
+  // A little wider than the ball, so that no rounding of the distance test can reach past it.
+  const double reach = 1.001 * distance;
+  tbb::parallel_for(std::size_t{0}, members.size(), [&](std::size_t i) {
+    const std::uint32_t v = members[i];
+    const Vector3d& p = points[v];
+    const CellKey lo = cell_of(Vector3d(p.array() - reach), distance),
+                  hi = cell_of(Vector3d(p.array() + reach), distance);
+    bool found = false;
+    for (std::int64_t x = lo.x; x <= hi.x && !found; ++x)
+      for (std::int64_t y = lo.y; y <= hi.y && !found; ++y)
+        for (std::int64_t z = lo.z; z <= hi.z && !found; ++z)
+          index.for_each_in({x, y, z}, [&](std::uint32_t u) {
+            found = found || (u != v && (points[u] - p).norm() <= reach);
+          });
+    result[i] = found;
+  });
+  return result;
 }
 
 std::uint64_t edge_key(std::uint32_t a, std::uint32_t b) {
@@ -226,6 +260,25 @@ struct HalfEdges {
   }
 };
 
+/// The open border edges of each triangle (bit k: edge k -> k+1 is `half.boundary`), found in
+/// parallel. Triangles flagged 0 in `may_be_open` (if it is given; triangles beyond its end are
+/// looked at) are known to have none.
+std::vector<std::uint8_t> open_edges(const TriangleMesh& mesh, const std::vector<TriangleOrigin>& origin,
+                                     const HalfEdges& half, const std::vector<std::uint8_t>& may_be_open) {
+  std::vector<std::uint8_t> open(mesh.triangles.size(), 0);
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, mesh.triangles.size(), 4096),
+                    [&](const tbb::blocked_range<std::size_t>& range) {
+                      for (std::size_t t = range.begin(); t != range.end(); ++t) {
+                        if (!origin[t].border || (t < may_be_open.size() && !may_be_open[t])) continue;
+                        const Triangle& tri = mesh.triangles[t];
+                        for (int k = 0; k < 3; ++k)
+                          if ((origin[t].border & (1u << k)) && half.boundary(tri[k], tri[(k + 1) % 3]))
+                            open[t] |= static_cast<std::uint8_t>(1u << k);
+                      }
+                    });
+  return open;
+}
+
 /// Merges boundary vertices of different patches closer than `distance` (points of the same
 /// curve sampled by both sides at nearly the same place, typically near corners) so that no
 /// sliver edges are left for the split pass.
@@ -266,8 +319,11 @@ std::size_t snap_boundary(TriangleMesh& mesh, std::vector<TriangleOrigin>& patch
       if (std::abs(surface(q, mesh.vertices[a])) > on_surface) return false;
     return true;
   };
+  const std::vector<std::uint8_t> near = has_near(index, mesh.vertices, boundary, distance);
   // In increasing index, each vertex merges into the first earlier one kept that qualifies.
-  for (std::uint32_t v : boundary) {
+  for (std::size_t i = 0; i < boundary.size(); ++i) {
+    if (!near[i]) continue;
+    const std::uint32_t v = boundary[i];
     const std::uint32_t found = find_near(
         index, mesh.vertices, mesh.vertices[v], distance, v,
         [&](std::uint32_t u) { return u < v && target[u] == u; },
@@ -302,9 +358,12 @@ std::size_t snap_boundary(TriangleMesh& mesh, std::vector<TriangleOrigin>& patch
 }
 
 /// One pass of splitting boundary edges at other patches' boundary vertices. Returns the number
-/// of vertices inserted.
+/// of vertices inserted. `may_be_open` (see open_edges; empty: every triangle) is replaced by
+/// the flags of the triangles that may still have an open edge: those made from a triangle with
+/// one (an edge closed before stays closed, as only open edges are split and the rest only
+/// gain uses).
 std::size_t split_pass(TriangleMesh& mesh, std::vector<TriangleOrigin>& patch_of, const SeamOptions& options,
-                       const SurfaceFunction& surface) {
+                       const SurfaceFunction& surface, std::vector<std::uint8_t>& may_be_open) {
   const HalfEdges half(mesh, patch_of);
   struct BoundaryVertex {
     Vector3d tangent = Vector3d::Zero();
@@ -312,11 +371,12 @@ std::size_t split_pass(TriangleMesh& mesh, std::vector<TriangleOrigin>& patch_of
   };
   std::unordered_map<std::uint32_t, BoundaryVertex> info;
   std::vector<std::pair<std::uint32_t, int>> edges;  // (triangle, local edge)
+  const std::vector<std::uint8_t> open = open_edges(mesh, patch_of, half, may_be_open);
+  may_be_open = open;
   for (std::uint32_t t = 0; t < mesh.triangles.size(); ++t)
     for (int k = 0; k < 3; ++k) {
-      if (!(patch_of[t].border & (1u << k))) continue;
+      if (!(open[t] & (1u << k))) continue;
       const std::uint32_t a = mesh.triangles[t][k], b = mesh.triangles[t][(k + 1) % 3];
-      if (!half.boundary(a, b)) continue;
       edges.push_back({t, k});
       const Vector3d dir = (mesh.vertices[b] - mesh.vertices[a]).normalized();
       for (std::uint32_t v : {a, b}) {
@@ -411,6 +471,8 @@ std::size_t split_pass(TriangleMesh& mesh, std::vector<TriangleOrigin>& patch_of
   triangles.reserve(mesh.triangles.size() + inserted * 2);
   tags.reserve(mesh.triangles.size() + inserted * 2);
   patches.reserve(mesh.triangles.size() + inserted * 2);
+  may_be_open.clear();
+  may_be_open.reserve(mesh.triangles.size() + inserted * 2);
   for (std::uint32_t t = 0; t < mesh.triangles.size(); ++t) {
     const Triangle tri = mesh.triangles[t];
     const std::vector<std::pair<double, std::uint32_t>>* on_edge[3] = {nullptr, nullptr, nullptr};
@@ -431,11 +493,13 @@ std::size_t split_pass(TriangleMesh& mesh, std::vector<TriangleOrigin>& patch_of
       triangles.push_back({a, b, c});
       tags.push_back(mesh.tags[t]);
       patches.push_back({patch_of[t].patch, border});
+      may_be_open.push_back(open[t] != 0);
     };
     if (split_edges == 0) {
       triangles.push_back(tri);
       tags.push_back(mesh.tags[t]);
       patches.push_back(patch_of[t]);
+      may_be_open.push_back(open[t] != 0);
       continue;
     }
     const Vector3d normal =
@@ -526,17 +590,18 @@ Vector3d corner_point(const std::vector<std::uint32_t>& patches, const SurfaceFu
 }
 
 std::size_t fill_holes(TriangleMesh& mesh, std::vector<TriangleOrigin>& patch_of, const SeamOptions& options,
-                       const SurfaceFunction& surface, const FieldFunction& field) {
+                       const SurfaceFunction& surface, const FieldFunction& field,
+                       const std::vector<std::uint8_t>& may_be_open) {
   const HalfEdges half(mesh, patch_of);
+  const std::vector<std::uint8_t> open = open_edges(mesh, patch_of, half, may_be_open);
   // Outgoing boundary half-edges per vertex, with their triangle.
   std::unordered_map<std::uint32_t, std::vector<std::pair<std::uint32_t, std::uint32_t>>>
       out;  // v -> (next, tri)
   std::vector<std::pair<std::uint32_t, std::uint32_t>> starts;
   for (std::uint32_t t = 0; t < mesh.triangles.size(); ++t)
     for (int k = 0; k < 3; ++k) {
-      if (!(patch_of[t].border & (1u << k))) continue;
+      if (!(open[t] & (1u << k))) continue;
       const std::uint32_t a = mesh.triangles[t][k], b = mesh.triangles[t][(k + 1) % 3];
-      if (!half.boundary(a, b)) continue;
       out[a].push_back({b, t});
       starts.push_back({a, b});
     }
@@ -784,13 +849,12 @@ std::size_t fill_holes(TriangleMesh& mesh, std::vector<TriangleOrigin>& patch_of
   return filled;
 }
 
-std::size_t count_boundary(const TriangleMesh& mesh, const std::vector<TriangleOrigin>& patch_of) {
+std::size_t count_boundary(const TriangleMesh& mesh, const std::vector<TriangleOrigin>& patch_of,
+                           const std::vector<std::uint8_t>& may_be_open) {
   const HalfEdges half(mesh, patch_of);
   std::size_t n = 0;
-  for (std::size_t i = 0; i < mesh.triangles.size(); ++i) {
-    const Triangle& t = mesh.triangles[i];
-    for (int k = 0; k < 3; ++k) n += (patch_of[i].border & (1u << k)) && half.boundary(t[k], t[(k + 1) % 3]);
-  }
+  for (const std::uint8_t bits : open_edges(mesh, patch_of, half, may_be_open))
+    n += (bits & 1u) + ((bits >> 1) & 1u) + ((bits >> 2) & 1u);
   return n;
 }
 
@@ -818,8 +882,10 @@ SeamStats join_seams(TriangleMesh& mesh, std::vector<TriangleOrigin>& patch_of_t
     stats.welded +=
         snap_boundary(mesh, patch_of_triangle, options.snap_distance, 1e3 * options.weld_distance, surface);
   }
+  // The triangles that may have an open edge (empty: all), narrowed by each split pass.
+  std::vector<std::uint8_t> may_be_open;
   for (int pass = 0; pass < 3; ++pass) {
-    const std::size_t n = split_pass(mesh, patch_of_triangle, options, surface);
+    const std::size_t n = split_pass(mesh, patch_of_triangle, options, surface, may_be_open);
     stats.splits += n;
     if (n == 0) break;
   }
@@ -829,13 +895,13 @@ SeamStats join_seams(TriangleMesh& mesh, std::vector<TriangleOrigin>& patch_of_t
     SeamOptions wide = options;
     wide.match_distance = 2.0 * options.match_distance;
     for (int pass = 0; pass < 3; ++pass) {
-      const std::size_t n = split_pass(mesh, patch_of_triangle, wide, surface);
+      const std::size_t n = split_pass(mesh, patch_of_triangle, wide, surface, may_be_open);
       stats.splits += n;
       if (n == 0) break;
     }
   }
-  { stats.holes_filled = fill_holes(mesh, patch_of_triangle, options, surface, field); }
-  { stats.boundary_edges = count_boundary(mesh, patch_of_triangle); }
+  { stats.holes_filled = fill_holes(mesh, patch_of_triangle, options, surface, field, may_be_open); }
+  { stats.boundary_edges = count_boundary(mesh, patch_of_triangle, may_be_open); }
   return stats;
 }
 
