@@ -87,6 +87,7 @@ class Repairer {
  private:
   static constexpr int kMaxMerges = 4;
   static constexpr std::size_t kMaxTriangulatedLoop = 200;
+  static constexpr std::size_t kMaxRefinedTriangles = 1000;
   // Its cubic number of candidate triangles each need the field.
   static constexpr std::size_t kMaxNearFieldTriangulatedLoop = 64;
   static constexpr std::size_t kInnerApexCandidates = 8;
@@ -310,6 +311,7 @@ class Repairer {
   }
 
   std::size_t repair(const std::vector<std::uint32_t>& cluster) {
+    refined_ = false;
     if (repair_with_balls(cluster)) return 1;
     return fill_open_loop(cluster) ? 1 : 0;
   }
@@ -518,6 +520,15 @@ class Repairer {
       const Fan fan = near_field_triangulation(loop, loop_triangle);
       if (!fan.triangles.empty() && fits(fan, removed)) return emit(fan, removed_order);
     }
+    // A crease across a curved hole: the fan refined where it leaves the surface, each new point
+    // on the exact surface, until every triangle fits (the triangles across the crease shrink
+    // towards it).
+    // Costly (up to kMaxRefinedTriangles triangles, each checked): once per defect, on the
+    // smallest hole its balls leave.
+    if (!refined_)
+      for (Fan fan :
+           {ringed_fan(loop, loop_triangle, apex, 1, radius), least_area_triangulation(loop, loop_triangle)})
+        if (refined_ = true; refine(fan, radius) && fits(fan, removed)) return emit(fan, removed_order);
     return false;
   }
 
@@ -639,6 +650,78 @@ class Repairer {
     return fan;
   }
 
+  /// Splits the fan's inner edges at their midpoints moved onto the exact surface, the longest
+  /// edge of the worst triangle first, until every triangle is within the field error or the fan
+  /// has kMaxRefinedTriangles. The fan's border (its edges used once) is never split: the ring
+  /// shares it.
+  bool refine(Fan& fan, double reach) const {
+    auto error = [&](const std::array<std::int64_t, 3>& t) {
+      const Vector3d a = point_of(fan, t[0]), b = point_of(fan, t[1]), c = point_of(fan, t[2]);
+      return triangle_near_field(a, b, c, field_, options_.max_field_error) ? 0.0 : 1.0;
+    };
+    auto key = [](std::int64_t a, std::int64_t b) { return std::pair{std::min(a, b), std::max(a, b)}; };
+    std::vector<double> errors;
+    for (const auto& t : fan.triangles) errors.push_back(error(t));
+    while (true) {
+      const auto worst = std::max_element(errors.begin(), errors.end());
+      if (worst == errors.end() || *worst == 0.0) return true;
+      if (fan.triangles.size() + 2 > kMaxRefinedTriangles) return false;
+      const std::size_t t = static_cast<std::size_t>(worst - errors.begin());
+      // The triangle's inner edge whose midpoint is furthest off the surface (an edge across a
+      // crease), of equals the longest.
+      int best_edge = -1;
+      std::pair<double, double> farthest{-1.0, 0.0};
+      for (int k = 0; k < 3; ++k) {
+        const std::int64_t a = fan.triangles[t][k], b = fan.triangles[t][(k + 1) % 3];
+        int shared = 0;
+        for (const auto& other : fan.triangles)
+          for (int m = 0; m < 3; ++m) shared += key(other[m], other[(m + 1) % 3]) == key(a, b);
+        if (shared != 2) continue;
+        const Vector3d pa = point_of(fan, a), pb = point_of(fan, b);
+        const std::pair<double, double> measure{std::abs(field_(0.5 * (pa + pb))), (pa - pb).norm()};
+        if (measure > farthest) {
+          farthest = measure;
+          best_edge = k;
+        }
+      }
+      if (best_edge < 0) return false;
+      const std::int64_t a = fan.triangles[t][best_edge], b = fan.triangles[t][(best_edge + 1) % 3];
+      const Vector3d middle = 0.5 * (point_of(fan, a) + point_of(fan, b));
+      // A midpoint inside the part, under a convex crease, would go to the nearer face; lifted
+      // off the part along the triangles' normals, Newton's method takes it to the crease.
+      Vector3d normal = Vector3d::Zero();
+      for (const auto& u : fan.triangles)
+        for (int k = 0; k < 3; ++k)
+          if (key(u[k], u[(k + 1) % 3]) == key(a, b)) {
+            const Vector3d p = point_of(fan, u[0]);
+            normal += (point_of(fan, u[1]) - p).cross(point_of(fan, u[2]) - p).normalized();
+          }
+      const double inside = field_(middle);
+      const Vector3d start = inside < 0.0 && normal.norm() > 0.0
+                                 ? Vector3d(middle - 2.0 * inside * normal.normalized())
+                                 : middle;
+      Vector3d onto = onto_surface(start, reach);
+      if (!(std::abs(field_(onto)) <= options_.max_field_error)) onto = onto_surface(middle, reach);
+      if (!(std::abs(field_(onto)) <= options_.max_field_error)) return false;
+      fan.points.push_back(onto);
+      const std::int64_t m = -static_cast<std::int64_t>(fan.points.size());
+      // Both triangles with the edge become two each.
+      const std::size_t count = fan.triangles.size();
+      for (std::size_t u = 0; u < count; ++u)
+        for (int k = 0; k < 3; ++k) {
+          const std::int64_t p = fan.triangles[u][k], q = fan.triangles[u][(k + 1) % 3];
+          if (key(p, q) != key(a, b)) continue;
+          const std::int64_t r = fan.triangles[u][(k + 2) % 3];
+          fan.triangles[u] = {p, m, r};
+          fan.triangles.push_back({m, q, r});
+          fan.ring_triangle.push_back(fan.ring_triangle[u]);
+          errors[u] = error(fan.triangles[u]);
+          errors.push_back(error(fan.triangles.back()));
+          break;
+        }
+    }
+  }
+
   Vector3d point_of(const Fan& fan, std::int64_t index) const {
     return index >= 0 ? mesh_.vertices[static_cast<std::size_t>(index)]
                       : fan.points[static_cast<std::size_t>(-1 - index)];
@@ -705,6 +788,7 @@ class Repairer {
   const RepairOptions& options_;
   const FieldFunction& field_;
   std::vector<bool> deleted_;
+  bool refined_ = false;  // whether the current defect's fans were refined already
   VertexTriangles triangles_of_vertex_;
 };
 
