@@ -354,8 +354,8 @@ class Repairer {
       if (v == first) break;
     }
     if (loop.size() != loop_next.size()) return false;
-    const Fan fan = least_area_triangulation(loop, loop_triangle);
-    return fits(fan, nothing) && emit(fan, {});
+    const Fan fan = least_area_triangulation(loop, loop_triangle, nothing);
+    return !fan.triangles.empty() && fits(fan, nothing) && emit(fan, {});
   }
 
   bool repair_with_balls(std::vector<std::uint32_t> cluster) {
@@ -513,11 +513,11 @@ class Repairer {
     }
     // A long narrow hole (a gap along a seam) has no centre a fan could use without needles.
     if (loop.size() <= kMaxTriangulatedLoop) {
-      const Fan fan = least_area_triangulation(loop, loop_triangle);
-      if (fits(fan, removed)) return emit(fan, removed_order);
+      const Fan fan = least_area_triangulation(loop, loop_triangle, removed);
+      if (!fan.triangles.empty() && fits(fan, removed)) return emit(fan, removed_order);
     }
     if (loop.size() <= kMaxNearFieldTriangulatedLoop) {
-      const Fan fan = near_field_triangulation(loop, loop_triangle);
+      const Fan fan = near_field_triangulation(loop, loop_triangle, removed);
       if (!fan.triangles.empty() && fits(fan, removed)) return emit(fan, removed_order);
     }
     // A crease across a curved hole: the fan refined where it leaves the surface, each new point
@@ -526,8 +526,8 @@ class Repairer {
     // Costly (up to kMaxRefinedTriangles triangles, each checked): once per defect, on the
     // smallest hole its balls leave.
     if (!refined_)
-      for (Fan fan :
-           {ringed_fan(loop, loop_triangle, apex, 1, radius), least_area_triangulation(loop, loop_triangle)})
+      for (Fan fan : {ringed_fan(loop, loop_triangle, apex, 1, radius),
+                      least_area_triangulation(loop, loop_triangle, removed)})
         if (refined_ = true; refine(fan, radius) && fits(fan, removed)) return emit(fan, removed_order);
     return false;
   }
@@ -587,27 +587,39 @@ class Repairer {
 
   /// The loop's triangulation of least total area, over its own vertices only.
   Fan least_area_triangulation(const std::vector<std::uint32_t>& loop,
-                               const std::unordered_map<std::uint32_t, std::uint32_t>& loop_triangle) const {
-    return best_triangulation(loop, loop_triangle, false);
+                               const std::unordered_map<std::uint32_t, std::uint32_t>& loop_triangle,
+                               const std::unordered_set<std::uint32_t>& removed) const {
+    return best_triangulation(loop, loop_triangle, removed, false);
   }
 
   /// The loop's triangulation of least total area, over its own vertices only, among those whose
   /// every triangle is near the exact surface: where a crease crosses the hole, the one that
   /// follows it.
   Fan near_field_triangulation(const std::vector<std::uint32_t>& loop,
-                               const std::unordered_map<std::uint32_t, std::uint32_t>& loop_triangle) const {
-    return best_triangulation(loop, loop_triangle, true);
+                               const std::unordered_map<std::uint32_t, std::uint32_t>& loop_triangle,
+                               const std::unordered_set<std::uint32_t>& removed) const {
+    return best_triangulation(loop, loop_triangle, removed, true);
   }
 
-  /// Dynamic programming over the loop's sub-polygons for the least total area; with
-  /// `only_near_field`, triangles off the exact surface (or needles, which `fits` rejects) are
-  /// not candidates.
+  /// Dynamic programming over the loop's sub-polygons for the least total area. No diagonal may
+  /// be an edge the mesh keeps outside the hole (two loop vertices joined around it; `fits`
+  /// rejects such a fill as non-manifold); with `only_near_field`, triangles off the exact
+  /// surface (or needles, which `fits` rejects too) are not candidates either.
   Fan best_triangulation(const std::vector<std::uint32_t>& loop,
                          const std::unordered_map<std::uint32_t, std::uint32_t>& loop_triangle,
-                         bool only_near_field) const {
+                         const std::unordered_set<std::uint32_t>& removed, bool only_near_field) const {
     const double infinity = std::numeric_limits<double>::infinity();
     const std::size_t n = loop.size();
+    // kept[i * n + j], i < j, diagonals only: 1 if the mesh keeps the edge, 0 if not, -1 unknown.
+    std::vector<signed char> kept(n * n, -1);
+    auto diagonal_kept = [&](std::size_t i, std::size_t j) {
+      if (j == i + 1 || (i == 0 && j == n - 1)) return false;
+      signed char& known = kept[i * n + j];
+      if (known < 0) known = uses(loop[i], loop[j], removed).empty() ? 0 : 1;
+      return known == 1;
+    };
     auto cost = [&](std::size_t i, std::size_t k, std::size_t j) {
+      if (diagonal_kept(i, k) || diagonal_kept(k, j) || diagonal_kept(i, j)) return infinity;
       const Vector3d &a = mesh_.vertices[loop[i]], &b = mesh_.vertices[loop[k]], &c = mesh_.vertices[loop[j]];
       const double area = (b - a).cross(c - a).norm();
       if (!only_near_field) return area;
@@ -728,6 +740,7 @@ class Repairer {
   }
 
   bool fits(const Fan& fan, const std::unordered_set<std::uint32_t>& removed) const {
+    if (fan.triangles.empty()) return false;  // no triangulation was found
     // A fan between existing vertices must not repeat an edge the ring already has.
     std::unordered_map<std::uint64_t, int> fan_uses;
     for (const auto& tri : fan.triangles)
