@@ -144,6 +144,22 @@ class Repairer {
   struct FanScratch {
     std::vector<std::uint32_t> around, parent, link;
     std::vector<std::array<std::uint32_t, 3>> uses;  // (link vertex, direction, triangle)
+
+    /// Disjoint sets over the triangles in `around`, each on its own.
+    void separate_fans() {
+      parent.resize(around.size());
+      std::iota(parent.begin(), parent.end(), 0u);
+    }
+    std::uint32_t fan_of(std::uint32_t x) {
+      while (parent[x] != x) x = parent[x] = parent[parent[x]];
+      return x;
+    }
+    void join_fans(std::uint32_t a, std::uint32_t b) { parent[fan_of(a)] = fan_of(b); }
+    std::size_t fan_count() {
+      std::size_t fans = 0;
+      for (std::uint32_t i = 0; i < around.size(); ++i) fans += fan_of(i) == i;
+      return fans;
+    }
   };
 
   /// Whether the triangles around v form one fan (a disc or, at a border, a half disc): joined
@@ -155,13 +171,7 @@ class Repairer {
       if (!deleted_[t]) around.push_back(t);
     });
     if (around.empty()) return true;
-    std::vector<std::uint32_t>& parent = scratch.parent;
-    parent.resize(around.size());
-    std::iota(parent.begin(), parent.end(), 0u);
-    auto find = [&](std::uint32_t x) {
-      while (parent[x] != x) x = parent[x] = parent[parent[x]];
-      return x;
-    };
+    scratch.separate_fans();
     std::vector<std::uint32_t>& link = scratch.link;
     link.clear();
     for (std::uint32_t t : around)
@@ -179,12 +189,10 @@ class Repairer {
         if (first == UINT32_MAX)
           first = i;
         else
-          parent[find(i)] = find(first);
+          scratch.join_fans(i, first);
       }
     }
-    std::size_t fans = 0;
-    for (std::uint32_t i = 0; i < around.size(); ++i) fans += find(i) == i;
-    return fans == 1;
+    return scratch.fan_count() == 1;
   }
 
   /// Whether v is on a non-manifold or open edge or is a non-manifold vertex itself.
@@ -224,22 +232,14 @@ class Repairer {
       uses.push_back({tri[(k + 2) % 3], 0u, i});  // previous -> v
     }
     std::sort(uses.begin(), uses.end());
-    std::vector<std::uint32_t>& parent = scratch.parent;
-    parent.resize(around.size());
-    std::iota(parent.begin(), parent.end(), 0u);
-    auto find = [&](std::uint32_t x) {
-      while (parent[x] != x) x = parent[x] = parent[parent[x]];
-      return x;
-    };
+    scratch.separate_fans();
     for (std::size_t i = 0; i < uses.size(); i += 2) {
       if (i + 1 >= uses.size() || uses[i + 1][0] != uses[i][0] || uses[i][1] == uses[i + 1][1] ||
           (i + 2 < uses.size() && uses[i + 2][0] == uses[i][0]))
         return false;
-      parent[find(uses[i + 1][2])] = find(uses[i][2]);
+      scratch.join_fans(uses[i + 1][2], uses[i][2]);
     }
-    std::size_t fans = 0;
-    for (std::uint32_t i = 0; i < around.size(); ++i) fans += find(i) == i;
-    return fans == 1;
+    return scratch.fan_count() == 1;
   }
 
   /// Vertices of bad edges and non-manifold vertices, grouped by proximity (max_radius).
