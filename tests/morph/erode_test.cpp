@@ -7,6 +7,7 @@
 #include <morph/sweep_distance.h>
 #include <morph/topology.h>
 
+#include <algorithm>
 #include <cmath>
 #include <fstream>
 #include <iostream>
@@ -432,6 +433,25 @@ TEST(ErodeBallEnd, BearCornerFoundAtAVertexOfItsHoleIsClosed) {
   for (const auto& run : runs) moves += run.size() - 1;
   ASSERT_EQ(moves, 106u);
   const Job job = box_job({0, 0, -20}, {80, 80, 0}, ballend_tool(1.5875, 25.4), runs, 0.01);
+  expect_closed_within_tolerance(job, 1u);
+}
+
+// Two rows of the 100k-move raster benchmark (0.104 mm moves of a 1/8 in ball end over a wavy
+// surface, rows 1 mm apart, one forward and one back): their joints line up across the cusp
+// between the rows, where each joint's thin cap and the next side patch meet the cusp 0.00104
+// apart and folded a sliver over (9 non-manifold edges, one per joint).
+TEST(ErodeBallEnd, AlignedJointsOfAdjacentRowsLeaveNoFold) {
+  auto height = [](double x, double y) { return -6.0 + 3.0 * std::sin(x / 9.0) * std::cos(y / 13.0); };
+  std::vector<std::vector<Vector3d>> rows(2);
+  for (int k = 0; k <= 1000; ++k) {
+    const double x = -2.0 + 104.0 * k / 1000.0;
+    if (x < 85.5 || x > 88.0) continue;
+    rows[0].push_back(Vector3d(x, 82.5, height(x, 82.5)));
+    rows[1].push_back(Vector3d(x, 83.5, height(x, 83.5)));
+  }
+  std::reverse(rows[1].begin(), rows[1].end());
+  ASSERT_EQ(rows[0].size(), 24u);
+  const Job job = box_job({0, 0, -20}, {100, 100, 0}, ballend_tool(1.5875, 25.4), rows, 0.01);
   expect_closed_within_tolerance(job, 1u);
 }
 
