@@ -280,6 +280,38 @@ std::pair<double, double> sweep_distance_bounds(const Tool& tool, const Vector3d
   return {std::min(parts.ball, parts.body_lower), parts.ball};
 }
 
+/// A plane bounding a sphere's or a ball end's sweep from outside: the sweep lies in
+/// {y : n.y <= h}, so n.x - h is a lower bound of its signed distance at every x (the sweep is
+/// convex, |n| = 1; `h` includes a margin for the rounding of the distances and of the bound).
+/// n is chosen to face `x` from the sweep, where the bound is nearly the distance. Other tools,
+/// or x on the centre line: n = 0, h = infinity (no bound).
+struct SupportPlane {
+  Vector3d n = Vector3d::Zero();
+  double h = std::numeric_limits<double>::infinity();
+  double at(const Vector3d& x) const { return n.dot(x) - h; }
+};
+
+SupportPlane support_plane(const Tool& tool, const Vector3d& a, const Vector3d& b, const Vector3d& x) {
+  SupportPlane plane;
+  if (tool.type != ToolType::Sphere && tool.type != ToolType::BallEnd) return plane;
+  const double r = tool.radius;
+  const bool ballend = tool.type == ToolType::BallEnd;
+  const Vector3d c0 = ballend ? Vector3d(a.x(), a.y(), a.z() + r) : a, d = b - a;
+  const double dd = d.squaredNorm();
+  const double t = dd > 0.0 ? std::clamp((x - c0).dot(d) / dd, 0.0, 1.0) : 0.0;
+  Vector3d n = x - (c0 + t * d);
+  // Above the tip's centre a ball end's body is nearer: face x horizontally. With n.z <= 0 the
+  // body (above the tip's centre, no wider) adds nothing to the support: the tip's capsule's.
+  if (ballend && n.z() > 0.0) n.z() = 0.0;
+  const double length = n.norm();
+  if (!(length > 1e-9 * r)) return plane;
+  n /= length;
+  plane.n = n;
+  plane.h = std::max(n.dot(c0), n.dot(c0 + d)) + r +
+            1e-12 * (1.0 + c0.cwiseAbs().maxCoeff() + d.cwiseAbs().maxCoeff() + r + x.cwiseAbs().maxCoeff());
+  return plane;
+}
+
 /// Everything a patch's trimming function needs, shared read-only by all threads.
 struct Context {
   const Job* job = nullptr;
@@ -357,6 +389,7 @@ class Trimmer {
   struct SweepTerm {
     int segment;
     double lower;
+    SupportPlane plane;  // a lower bound of its distance anywhere (less two ties)
   };
   /// Sweep terms, the one of least `lower` first, their centre, and an upper bound of the least
   /// of their distances there (infinity if unknown).
@@ -401,6 +434,7 @@ class Trimmer {
       const double least = std::min({own, best, cap});
       const double below = term ? std::nextafter(least, inf) : least;
       if (list.terms[k].lower - moved >= below) continue;
+      if (list.terms[k].plane.at(x) - 2.0 * ctx_.tie >= below) continue;
       const double bound = box_bound(j, x);
       if (bound - 2.0 * ctx_.tie >= below) continue;
       const double d = distance(j, x, u, v, below);
@@ -425,29 +459,46 @@ class Trimmer {
   /// At X(u, v): writes to `near` the terms of `list` whose distance there is at most `slack`
   /// above the least distance of them (their `lower`: a bound of it), and returns an
   /// upper bound of that least distance. The other terms of `list` cannot be the least one
-  /// anywhere within (slack - 4 ties) / 2 of that point.
-  double near_terms(double u, double v, const TermList& list, double slack,
-                    std::vector<SweepTerm>& near) const {
+  /// anywhere within (slack - 4 ties) / 2 of that point. With `fresh_planes` the terms' support
+  /// planes are made to face X(u, v) (tight near it), else they keep those of `list`.
+  double near_terms(double u, double v, const TermList& list, double slack, std::vector<SweepTerm>& near,
+                    bool fresh_planes = true) const {
     const Vector3d x = evaluate(patch_, u, v);
     const double moved = (x - list.centre).norm() + 4.0 * ctx_.tie;
     near.clear();
     double best = list.upper + moved;
     // `best`: an upper bound of the least distance; each term kept with a lower bound of its
-    // own (cheap bounds: the exact distances only matter for the values).
+    // own (cheap bounds: the exact distances only matter for the values). First the bounds that
+    // cost no distance: the list's, the support plane's, the box's.
     for (std::size_t k = 0; k < list.count; ++k) {
       const int j = list.terms[k].segment;
       const double below = best + slack;
       if (list.terms[k].lower - moved >= below) continue;
+      const double plane = list.terms[k].plane.at(x) - 2.0 * ctx_.tie;
+      if (plane >= below) continue;
       if (box_bound(j, x) - 2.0 * ctx_.tie >= below) continue;
-      const Segment& s = ctx_.segments[j];
+      near.push_back({j, plane, list.terms[k].plane});
+    }
+    // Then the tip's capsule (an upper bound) and the body's bound for the terms that can lower
+    // `best` (a plane bound at or above it shows that a term cannot), the least bound first.
+    auto refine = [&](SweepTerm& t) {
+      const Segment& s = ctx_.segments[t.segment];
       const auto [lower, upper] = sweep_distance_bounds(*s.tool, s.a, s.b, x);
-      if (lower - ctx_.tie >= below) continue;
       best = std::min(best, upper + ctx_.tie);
-      near.push_back({j, lower - ctx_.tie});
+      t.lower = std::max(t.lower, lower - ctx_.tie);
+    };
+    if (!near.empty()) {
+      const auto first = std::min_element(
+          near.begin(), near.end(), [](const SweepTerm& a, const SweepTerm& b) { return a.lower < b.lower; });
+      refine(*first);
+      for (SweepTerm& t : near)
+        if (&t != &*first && t.lower < best) refine(t);
     }
     near.erase(
         std::remove_if(near.begin(), near.end(), [&](const SweepTerm& t) { return t.lower > best + slack; }),
         near.end());
+    if (fresh_planes)
+      for (SweepTerm& t : near) t.plane = plane_at(t.segment, x);
     nearest_first(near);
     return best;
   }
@@ -460,7 +511,7 @@ class Trimmer {
     std::vector<SweepTerm> terms;
     *upper = std::numeric_limits<double>::infinity();
     if (!use_tree_) {
-      for (int j : candidates_) terms.push_back({j, box_bound(j, x) - 2.0 * ctx_.tie});
+      for (int j : candidates_) terms.push_back({j, box_bound(j, x) - 2.0 * ctx_.tie, plane_at(j, x)});
       nearest_first(terms);
       return terms;
     }
@@ -477,7 +528,7 @@ class Trimmer {
       const int js = static_cast<int>(j);
       if (js == patch_.exclude[0] || js == patch_.exclude[1]) return;
       const double lower = box_bound(js, x) - 2.0 * ctx_.tie;
-      if (lower <= reach) terms.push_back({js, lower});
+      if (lower <= reach) terms.push_back({js, lower, plane_at(js, x)});
     });
     nearest_first(terms);
     return terms;
@@ -563,6 +614,10 @@ class Trimmer {
     double g = -ctx_.stock_distance(x) - ctx_.tie;
     for (int r = 0; r < patch_.rule_count; ++r) g = std::min(g, rule_value(r, x, u, v));
     return g;
+  }
+  SupportPlane plane_at(int j, const Vector3d& x) const {
+    const Segment& s = ctx_.segments[j];
+    return support_plane(*s.tool, s.a, s.b, x);
   }
   // The searches' lower bound of segment j's distance: its box's exterior distance, -max_depth
   // inside the box. Less two ties it is a true lower bound (the tie shift, rounding).
@@ -766,6 +821,10 @@ PatchMesh trim_patch(const Context& ctx, const Patch& patch) {
   }
 }
 
+// Blocks of at most this many cells give their terms support planes facing their centre;
+// larger ones pass on their parent's (a plane costs about what a distance bound does).
+constexpr int kFreshCells = 16;
+
 PatchMesh trim_on_grid(const Context& ctx, const Patch& patch, const Trimmer& g,
                        const std::vector<double>& us, const std::vector<double>& vs,
                        std::vector<double>* extra_u, std::vector<double>* extra_v) {
@@ -907,7 +966,9 @@ PatchMesh trim_on_grid(const Context& ctx, const Patch& patch, const Trimmer& g,
           continue;
         }
       }
-      const double upper = g.near_terms(uc, vc, term_list(task.list), 2.0 * radius + 4.0 * ctx.tie, near);
+      const bool fresh = (b.i1 - b.i0) * (b.j1 - b.j0) <= kFreshCells;
+      const double upper =
+          g.near_terms(uc, vc, term_list(task.list), 2.0 * radius + 4.0 * ctx.tie, near, fresh);
       const auto list = static_cast<std::uint32_t>(lists.size());
       lists.push_back({static_cast<std::uint32_t>(term_pool.size()), static_cast<std::uint32_t>(near.size()),
                        evaluate(patch, uc, vc), upper});
@@ -947,6 +1008,7 @@ PatchMesh trim_on_grid(const Context& ctx, const Patch& patch, const Trimmer& g,
       bool operator<(const Span& o) const { return bound < o.bound; }
     };
     std::vector<Span> heap;
+    std::vector<Trimmer::SweepTerm> scan_terms;
     auto scan = [&](int i0, int j0, bool along_u) {
       const std::size_t key =
           2 * (static_cast<std::size_t>(wrap_u(i0)) * sv + wrap_v(j0)) + (along_u ? 1 : 0);
@@ -967,13 +1029,26 @@ PatchMesh trim_on_grid(const Context& ctx, const Patch& patch, const Trimmer& g,
         return Span{a, b, ga, gb, span_length < shortest ? -1.0 : 0.5 * (ga + gb + lipschitz * span_length)};
       };
       heap.assign(1, make_span(p0, p1, g0, g1));
+      if (heap[0].bound <= 0.0) return;
+      // The samples come from the terms that can be the least one on the edge (about its
+      // midpoint, as for the edge roots): far fewer distances than from the cell's.
+      Trimmer::TermList scan_list{nullptr, 0, Vector3d::Zero(), 0.0};
+      if (!cell_list.empty()) {
+        const double u0 = pu(i0), u1 = pu(i1), v0 = pv(j0), v1 = pv(j1);
+        const double um = 0.5 * (u0 + u1), vm = 0.5 * (v0 + v1);
+        const double radius = 1.001 * block_radius(patch, u0, u1, v0, v1) + margin;
+        const double upper = g.near_terms(um, vm, term_list(cell_list[current_cell]),
+                                          2.0 * radius + 4.0 * ctx.tie, scan_terms);
+        scan_list = Trimmer::TermList{scan_terms.data(), scan_terms.size(), evaluate(patch, um, vm), upper};
+      }
+      auto sample = [&](double u, double v) { return scan_list.terms ? g(u, v, scan_list) : eval(u, v); };
       for (int samples = 0; samples < 24 && !heap.empty(); ++samples) {
         std::pop_heap(heap.begin(), heap.end());
         const Span sp = heap.back();
         heap.pop_back();
         if (sp.bound <= 0.0) break;
         const double m = 0.5 * (sp.a + sp.b);
-        const double gm = sign * (along_u ? eval(m, pv(j0)) : eval(pu(i0), m));
+        const double gm = sign * (along_u ? sample(m, pv(j0)) : sample(pu(i0), m));
         if (gm > 0.0) {
           (along_u ? *extra_u : *extra_v).push_back(m);
           return;
