@@ -182,7 +182,7 @@ struct BallEndParts {
   Vector3d c0, d;  // the tip sphere's centre at the start, and its move
   double ball;
   double body_lower;
-  double margin;  // rounding of the body's computed distances
+  double margin = 0.0;  // rounding of the body's computed distances (0 where the tip decides)
 };
 
 BallEndParts ball_end_parts(const Tool& tool, const Vector3d& a, const Vector3d& b, const Vector3d& p) {
@@ -203,11 +203,12 @@ BallEndParts ball_end_parts(const Tool& tool, const Vector3d& a, const Vector3d&
     const double th = hh > 0.0 ? std::clamp(ph.dot(dh) / hh, 0.0, 1.0) : 0.0;
     across = (ph - th * dh).norm() - r;
   }
+  parts.body_lower = std::max(lowest - p.z(), across);
+  // (Then the tip decides: the margin is not needed.)
+  if (parts.body_lower >= parts.ball) return parts;
   // Rounding of the body's computed values, relative to the coordinates' magnitude: a bound
   // that clears it by this much is below every value the search could compute.
   parts.margin = 1e-12 * (1.0 + p.cwiseAbs().maxCoeff() + c0.cwiseAbs().maxCoeff() + d.cwiseAbs().maxCoeff());
-  parts.body_lower = std::max(lowest - p.z(), across);
-  if (parts.body_lower >= parts.ball) return parts;
   // A sharper bound: the body sweep lies in the vertical prism over that track widened by r (a
   // stadium), from the lowest centre to the highest centre plus the body length: the exact
   // distance to that prism, less the margin.
@@ -291,24 +292,45 @@ struct SupportPlane {
   double at(const Vector3d& x) const { return n.dot(x) - h; }
 };
 
-SupportPlane support_plane(const Tool& tool, const Vector3d& a, const Vector3d& b, const Vector3d& x) {
+/// A sphere's or a ball end's sweep seen from outside: the tip's centre line c0 + t d (t in
+/// [0, 1]) and radius; with n.z <= 0 the ball end's body (above the tip's centre, no wider)
+/// adds nothing to the support function, which is then the capsule's.
+struct Capsule {
+  Vector3d c0 = Vector3d::Zero(), d = Vector3d::Zero();
+  double inv_dd = 0.0;  // 1 / |d|^2, 0 for a point
+  double r = 0.0;
+  double margin = 0.0;  // rounding of the distances and of the bound (but for x's part)
+  bool valid = false;   // a sphere or a ball end
+  bool ballend = false;
+
+  Capsule() = default;
+  Capsule(const Tool& tool, const Vector3d& a, const Vector3d& b) {
+    if (tool.type != ToolType::Sphere && tool.type != ToolType::BallEnd) return;
+    valid = true;
+    ballend = tool.type == ToolType::BallEnd;
+    r = tool.radius;
+    c0 = ballend ? Vector3d(a.x(), a.y(), a.z() + r) : a;
+    d = b - a;
+    const double dd = d.squaredNorm();
+    inv_dd = dd > 0.0 ? 1.0 / dd : 0.0;
+    margin = 1e-12 * (1.0 + c0.cwiseAbs().maxCoeff() + d.cwiseAbs().maxCoeff() + r + tool.length);
+  }
+};
+
+/// The support plane of the sweep facing x (`x_margin`: 1e-12 |x|, the rounding of n.x).
+SupportPlane support_plane(const Capsule& c, const Vector3d& x, double x_margin) {
   SupportPlane plane;
-  if (tool.type != ToolType::Sphere && tool.type != ToolType::BallEnd) return plane;
-  const double r = tool.radius;
-  const bool ballend = tool.type == ToolType::BallEnd;
-  const Vector3d c0 = ballend ? Vector3d(a.x(), a.y(), a.z() + r) : a, d = b - a;
-  const double dd = d.squaredNorm();
-  const double t = dd > 0.0 ? std::clamp((x - c0).dot(d) / dd, 0.0, 1.0) : 0.0;
-  Vector3d n = x - (c0 + t * d);
-  // Above the tip's centre a ball end's body is nearer: face x horizontally. With n.z <= 0 the
-  // body (above the tip's centre, no wider) adds nothing to the support: the tip's capsule's.
-  if (ballend && n.z() > 0.0) n.z() = 0.0;
+  if (!c.valid) return plane;
+  const double t = std::clamp((x - c.c0).dot(c.d) * c.inv_dd, 0.0, 1.0);
+  Vector3d n = x - (c.c0 + t * c.d);
+  // Above the tip's centre a ball end's body is nearer: face x horizontally.
+  if (c.ballend && n.z() > 0.0) n.z() = 0.0;
   const double length = n.norm();
-  if (!(length > 1e-9 * r)) return plane;
+  if (!(length > 1e-9 * c.r)) return plane;
   n /= length;
+  const double base = n.dot(c.c0), along = n.dot(c.d);
   plane.n = n;
-  plane.h = std::max(n.dot(c0), n.dot(c0 + d)) + r +
-            1e-12 * (1.0 + c0.cwiseAbs().maxCoeff() + d.cwiseAbs().maxCoeff() + r + x.cwiseAbs().maxCoeff());
+  plane.h = base + std::max(0.0, along) + c.r + c.margin + x_margin;
   return plane;
 }
 
@@ -316,6 +338,7 @@ SupportPlane support_plane(const Tool& tool, const Vector3d& a, const Vector3d& 
 struct Context {
   const Job* job = nullptr;
   std::vector<Segment> segments;
+  std::vector<Capsule> capsules;  // per segment, for support planes
   AabbTree tree;
   std::optional<MeshDistance> stock_mesh;
   Eigen::AlignedBox3d stock_box;
@@ -456,14 +479,13 @@ class Trimmer {
     return best;
   }
 
-  /// At X(u, v): writes to `near` the terms of `list` whose distance there is at most `slack`
+  /// At x = X(u, v): writes to `near` the terms of `list` whose distance there is at most `slack`
   /// above the least distance of them (their `lower`: a bound of it), and returns an
   /// upper bound of that least distance. The other terms of `list` cannot be the least one
   /// anywhere within (slack - 4 ties) / 2 of that point. With `fresh_planes` the terms' support
   /// planes are made to face X(u, v) (tight near it), else they keep those of `list`.
-  double near_terms(double u, double v, const TermList& list, double slack, std::vector<SweepTerm>& near,
+  double near_terms(const Vector3d& x, const TermList& list, double slack, std::vector<SweepTerm>& near,
                     bool fresh_planes = true) const {
-    const Vector3d x = evaluate(patch_, u, v);
     const double moved = (x - list.centre).norm() + 4.0 * ctx_.tie;
     near.clear();
     double best = list.upper + moved;
@@ -476,7 +498,8 @@ class Trimmer {
       if (list.terms[k].lower - moved >= below) continue;
       const double plane = list.terms[k].plane.at(x) - 2.0 * ctx_.tie;
       if (plane >= below) continue;
-      if (box_bound(j, x) - 2.0 * ctx_.tie >= below) continue;
+      // The box only where no plane is known (a plane beats it where there is one).
+      if (std::isinf(list.terms[k].plane.h) && box_bound(j, x) - 2.0 * ctx_.tie >= below) continue;
       near.push_back({j, plane, list.terms[k].plane});
     }
     // Then the tip's capsule (an upper bound) and the body's bound for the terms that can lower
@@ -497,8 +520,10 @@ class Trimmer {
     near.erase(
         std::remove_if(near.begin(), near.end(), [&](const SweepTerm& t) { return t.lower > best + slack; }),
         near.end());
-    if (fresh_planes)
-      for (SweepTerm& t : near) t.plane = plane_at(t.segment, x);
+    if (fresh_planes) {
+      const double margin = x_margin(x);
+      for (SweepTerm& t : near) t.plane = plane_at(t.segment, x, margin);
+    }
     nearest_first(near);
     return best;
   }
@@ -511,7 +536,8 @@ class Trimmer {
     std::vector<SweepTerm> terms;
     *upper = std::numeric_limits<double>::infinity();
     if (!use_tree_) {
-      for (int j : candidates_) terms.push_back({j, box_bound(j, x) - 2.0 * ctx_.tie, plane_at(j, x)});
+      for (int j : candidates_)
+        terms.push_back({j, box_bound(j, x) - 2.0 * ctx_.tie, plane_at(j, x, x_margin(x))});
       nearest_first(terms);
       return terms;
     }
@@ -528,7 +554,7 @@ class Trimmer {
       const int js = static_cast<int>(j);
       if (js == patch_.exclude[0] || js == patch_.exclude[1]) return;
       const double lower = box_bound(js, x) - 2.0 * ctx_.tie;
-      if (lower <= reach) terms.push_back({js, lower, plane_at(js, x)});
+      if (lower <= reach) terms.push_back({js, lower, plane_at(js, x, x_margin(x))});
     });
     nearest_first(terms);
     return terms;
@@ -615,10 +641,10 @@ class Trimmer {
     for (int r = 0; r < patch_.rule_count; ++r) g = std::min(g, rule_value(r, x, u, v));
     return g;
   }
-  SupportPlane plane_at(int j, const Vector3d& x) const {
-    const Segment& s = ctx_.segments[j];
-    return support_plane(*s.tool, s.a, s.b, x);
+  SupportPlane plane_at(int j, const Vector3d& x, double margin) const {
+    return support_plane(ctx_.capsules[static_cast<std::size_t>(j)], x, margin);
   }
+  static double x_margin(const Vector3d& x) { return 1e-12 * x.cwiseAbs().maxCoeff(); }
   // The searches' lower bound of segment j's distance: its box's exterior distance, -max_depth
   // inside the box. Less two ties it is a true lower bound (the tie shift, rounding).
   double box_bound(int j, const Vector3d& x) const {
@@ -627,8 +653,10 @@ class Trimmer {
   }
   double rule_value(int r, const Vector3d& x, double u, double v) const {
     const OwnRule& rule = patch_.rules[r];
-    return rule.position ? (x - patch_.rule_centre).dot(rule.dir) / patch_.rule_radius
-                         : solid_normal(patch_, u, v).dot(rule.dir);
+    if (rule.position) return (x - patch_.rule_centre).dot(rule.dir) / patch_.rule_radius;
+    // On a sphere the normal from x = X(u, v) itself: solid_normal's value, without evaluating X again.
+    if (patch_.form == Form::Sphere) return ((x - patch_.o) / patch_.R).dot(rule.dir);
+    return solid_normal(patch_, u, v).dot(rule.dir);
   }
   // Distance to segment j's sweep, shifted by the tie-break where the patch lies on that sweep's
   // surface. Facing the same way (a repeated pass; a sweep inside the stock reaching one of its
@@ -967,11 +995,12 @@ PatchMesh trim_on_grid(const Context& ctx, const Patch& patch, const Trimmer& g,
         }
       }
       const bool fresh = (b.i1 - b.i0) * (b.j1 - b.j0) <= kFreshCells;
+      const Vector3d centre = evaluate(patch, uc, vc);
       const double upper =
-          g.near_terms(uc, vc, term_list(task.list), 2.0 * radius + 4.0 * ctx.tie, near, fresh);
+          g.near_terms(centre, term_list(task.list), 2.0 * radius + 4.0 * ctx.tie, near, fresh);
       const auto list = static_cast<std::uint32_t>(lists.size());
       lists.push_back({static_cast<std::uint32_t>(term_pool.size()), static_cast<std::uint32_t>(near.size()),
-                       evaluate(patch, uc, vc), upper});
+                       centre, upper});
       term_pool.insert(term_pool.end(), near.begin(), near.end());
       for (const Block& half : halves(b)) stack.push_back({half, list});
     }
@@ -1037,9 +1066,10 @@ PatchMesh trim_on_grid(const Context& ctx, const Patch& patch, const Trimmer& g,
         const double u0 = pu(i0), u1 = pu(i1), v0 = pv(j0), v1 = pv(j1);
         const double um = 0.5 * (u0 + u1), vm = 0.5 * (v0 + v1);
         const double radius = 1.001 * block_radius(patch, u0, u1, v0, v1) + margin;
-        const double upper = g.near_terms(um, vm, term_list(cell_list[current_cell]),
+        const Vector3d centre = evaluate(patch, um, vm);
+        const double upper = g.near_terms(centre, term_list(cell_list[current_cell]),
                                           2.0 * radius + 4.0 * ctx.tie, scan_terms);
-        scan_list = Trimmer::TermList{scan_terms.data(), scan_terms.size(), evaluate(patch, um, vm), upper};
+        scan_list = Trimmer::TermList{scan_terms.data(), scan_terms.size(), centre, upper};
       }
       auto sample = [&](double u, double v) { return scan_list.terms ? g(u, v, scan_list) : eval(u, v); };
       for (int samples = 0; samples < 24 && !heap.empty(); ++samples) {
@@ -1111,9 +1141,10 @@ PatchMesh trim_on_grid(const Context& ctx, const Patch& patch, const Trimmer& g,
       const double u0 = pu(ia), u1 = pu(ib), v0 = pv(ja), v1 = pv(jb);
       const double um = 0.5 * (u0 + u1), vm = 0.5 * (v0 + v1);
       const double radius = 1.001 * block_radius(patch, u0, u1, v0, v1) + margin;
+      const Vector3d centre = evaluate(patch, um, vm);
       const double upper =
-          g.near_terms(um, vm, term_list(cell_list[current_cell]), 2.0 * radius + 4.0 * ctx.tie, edge_terms);
-      edge_list = Trimmer::TermList{edge_terms.data(), edge_terms.size(), evaluate(patch, um, vm), upper};
+          g.near_terms(centre, term_list(cell_list[current_cell]), 2.0 * radius + 4.0 * ctx.tie, edge_terms);
+      edge_list = Trimmer::TermList{edge_terms.data(), edge_terms.size(), centre, upper};
       t = edge_root([&](double u, double v) { return g(u, v, edge_list); }, val(ia, ja), val(ib, jb), at);
     }
     // A root at a grid node is that node (no sliver triangles between them). "At" means within
@@ -1771,6 +1802,8 @@ ErodeResult erode(const Job& job, const ErodeOptions& options) {
     }
   }
   stats.segments = ctx.segments.size();
+  ctx.capsules.reserve(ctx.segments.size());
+  for (const Segment& s : ctx.segments) ctx.capsules.emplace_back(*s.tool, s.a, s.b);
   {
     std::vector<Eigen::AlignedBox3d> boxes;
     boxes.reserve(ctx.segments.size());
@@ -1850,11 +1883,16 @@ ErodeResult erode(const Job& job, const ErodeOptions& options) {
   seam.hole_diameter = 4.0 * budget.cell;
   const detail::FieldFunction field = [&](const Vector3d& x) {
     double nearest = std::numeric_limits<double>::infinity();
+    // The search updates on smaller distances only: capped at its running minimum, they are
+    // exact wherever that changes (the body's search stops once it cannot).
+    double least = std::numeric_limits<double>::infinity();
     ctx.tree.nearest(
         x,
         [&](std::size_t j) {
           const Segment& s = ctx.segments[j];
-          return sweep_distance(*s.tool, s.a, s.b, x);
+          const double d = sweep_distance(*s.tool, s.a, s.b, x, least);
+          least = std::min(least, d);
+          return d;
         },
         &nearest, ctx.max_depth);
     return std::max(ctx.stock_distance(x), -nearest);
