@@ -182,7 +182,7 @@ struct BallEndParts {
   Vector3d c0, d;  // the tip sphere's centre at the start, and its move
   double ball;
   double body_lower;
-  double margin;  // rounding of the body's computed distances
+  double margin = 0.0;  // rounding of the body's computed distances (0 where the tip decides)
 };
 
 BallEndParts ball_end_parts(const Tool& tool, const Vector3d& a, const Vector3d& b, const Vector3d& p) {
@@ -203,11 +203,12 @@ BallEndParts ball_end_parts(const Tool& tool, const Vector3d& a, const Vector3d&
     const double th = hh > 0.0 ? std::clamp(ph.dot(dh) / hh, 0.0, 1.0) : 0.0;
     across = (ph - th * dh).norm() - r;
   }
+  parts.body_lower = std::max(lowest - p.z(), across);
+  // (Then the tip decides: the margin is not needed.)
+  if (parts.body_lower >= parts.ball) return parts;
   // Rounding of the body's computed values, relative to the coordinates' magnitude: a bound
   // that clears it by this much is below every value the search could compute.
   parts.margin = 1e-12 * (1.0 + p.cwiseAbs().maxCoeff() + c0.cwiseAbs().maxCoeff() + d.cwiseAbs().maxCoeff());
-  parts.body_lower = std::max(lowest - p.z(), across);
-  if (parts.body_lower >= parts.ball) return parts;
   // A sharper bound: the body sweep lies in the vertical prism over that track widened by r (a
   // stadium), from the lowest centre to the highest centre plus the body length: the exact
   // distance to that prism, less the margin.
@@ -280,10 +281,64 @@ std::pair<double, double> sweep_distance_bounds(const Tool& tool, const Vector3d
   return {std::min(parts.ball, parts.body_lower), parts.ball};
 }
 
+/// A plane bounding a sphere's or a ball end's sweep from outside: the sweep lies in
+/// {y : n.y <= h}, so n.x - h is a lower bound of its signed distance at every x (the sweep is
+/// convex, |n| = 1; `h` includes a margin for the rounding of the distances and of the bound).
+/// n is chosen to face `x` from the sweep, where the bound is nearly the distance. Other tools,
+/// or x on the centre line: n = 0, h = infinity (no bound).
+struct SupportPlane {
+  Vector3d n = Vector3d::Zero();
+  double h = std::numeric_limits<double>::infinity();
+  double at(const Vector3d& x) const { return n.dot(x) - h; }
+};
+
+/// A sphere's or a ball end's sweep seen from outside: the tip's centre line c0 + t d (t in
+/// [0, 1]) and radius; with n.z <= 0 the ball end's body (above the tip's centre, no wider)
+/// adds nothing to the support function, which is then the capsule's.
+struct Capsule {
+  Vector3d c0 = Vector3d::Zero(), d = Vector3d::Zero();
+  double inv_dd = 0.0;  // 1 / |d|^2, 0 for a point
+  double r = 0.0;
+  double margin = 0.0;  // rounding of the distances and of the bound (but for x's part)
+  bool valid = false;   // a sphere or a ball end
+  bool ballend = false;
+
+  Capsule() = default;
+  Capsule(const Tool& tool, const Vector3d& a, const Vector3d& b) {
+    if (tool.type != ToolType::Sphere && tool.type != ToolType::BallEnd) return;
+    valid = true;
+    ballend = tool.type == ToolType::BallEnd;
+    r = tool.radius;
+    c0 = ballend ? Vector3d(a.x(), a.y(), a.z() + r) : a;
+    d = b - a;
+    const double dd = d.squaredNorm();
+    inv_dd = dd > 0.0 ? 1.0 / dd : 0.0;
+    margin = 1e-12 * (1.0 + c0.cwiseAbs().maxCoeff() + d.cwiseAbs().maxCoeff() + r + tool.length);
+  }
+};
+
+/// The support plane of the sweep facing x (`x_margin`: 1e-12 |x|, the rounding of n.x).
+SupportPlane support_plane(const Capsule& c, const Vector3d& x, double x_margin) {
+  SupportPlane plane;
+  if (!c.valid) return plane;
+  const double t = std::clamp((x - c.c0).dot(c.d) * c.inv_dd, 0.0, 1.0);
+  Vector3d n = x - (c.c0 + t * c.d);
+  // Above the tip's centre a ball end's body is nearer: face x horizontally.
+  if (c.ballend && n.z() > 0.0) n.z() = 0.0;
+  const double length = n.norm();
+  if (!(length > 1e-9 * c.r)) return plane;
+  n /= length;
+  const double base = n.dot(c.c0), along = n.dot(c.d);
+  plane.n = n;
+  plane.h = base + std::max(0.0, along) + c.r + c.margin + x_margin;
+  return plane;
+}
+
 /// Everything a patch's trimming function needs, shared read-only by all threads.
 struct Context {
   const Job* job = nullptr;
   std::vector<Segment> segments;
+  std::vector<Capsule> capsules;  // per segment, for support planes
   AabbTree tree;
   std::optional<MeshDistance> stock_mesh;
   Eigen::AlignedBox3d stock_box;
@@ -357,6 +412,7 @@ class Trimmer {
   struct SweepTerm {
     int segment;
     double lower;
+    SupportPlane plane;  // a lower bound of its distance anywhere (less two ties)
   };
   /// Sweep terms, the one of least `lower` first, their centre, and an upper bound of the least
   /// of their distances there (infinity if unknown).
@@ -401,6 +457,7 @@ class Trimmer {
       const double least = std::min({own, best, cap});
       const double below = term ? std::nextafter(least, inf) : least;
       if (list.terms[k].lower - moved >= below) continue;
+      if (list.terms[k].plane.at(x) - 2.0 * ctx_.tie >= below) continue;
       const double bound = box_bound(j, x);
       if (bound - 2.0 * ctx_.tie >= below) continue;
       const double d = distance(j, x, u, v, below);
@@ -422,32 +479,51 @@ class Trimmer {
     return best;
   }
 
-  /// At X(u, v): writes to `near` the terms of `list` whose distance there is at most `slack`
+  /// At x = X(u, v): writes to `near` the terms of `list` whose distance there is at most `slack`
   /// above the least distance of them (their `lower`: a bound of it), and returns an
   /// upper bound of that least distance. The other terms of `list` cannot be the least one
-  /// anywhere within (slack - 4 ties) / 2 of that point.
-  double near_terms(double u, double v, const TermList& list, double slack,
-                    std::vector<SweepTerm>& near) const {
-    const Vector3d x = evaluate(patch_, u, v);
+  /// anywhere within (slack - 4 ties) / 2 of that point. With `fresh_planes` the terms' support
+  /// planes are made to face X(u, v) (tight near it), else they keep those of `list`.
+  double near_terms(const Vector3d& x, const TermList& list, double slack, std::vector<SweepTerm>& near,
+                    bool fresh_planes = true) const {
     const double moved = (x - list.centre).norm() + 4.0 * ctx_.tie;
     near.clear();
     double best = list.upper + moved;
     // `best`: an upper bound of the least distance; each term kept with a lower bound of its
-    // own (cheap bounds: the exact distances only matter for the values).
+    // own (cheap bounds: the exact distances only matter for the values). First the bounds that
+    // cost no distance: the list's, the support plane's, the box's.
     for (std::size_t k = 0; k < list.count; ++k) {
       const int j = list.terms[k].segment;
       const double below = best + slack;
       if (list.terms[k].lower - moved >= below) continue;
-      if (box_bound(j, x) - 2.0 * ctx_.tie >= below) continue;
-      const Segment& s = ctx_.segments[j];
+      const double plane = list.terms[k].plane.at(x) - 2.0 * ctx_.tie;
+      if (plane >= below) continue;
+      // The box only where no plane is known (a plane beats it where there is one).
+      if (std::isinf(list.terms[k].plane.h) && box_bound(j, x) - 2.0 * ctx_.tie >= below) continue;
+      near.push_back({j, plane, list.terms[k].plane});
+    }
+    // Then the tip's capsule (an upper bound) and the body's bound for the terms that can lower
+    // `best` (a plane bound at or above it shows that a term cannot), the least bound first.
+    auto refine = [&](SweepTerm& t) {
+      const Segment& s = ctx_.segments[t.segment];
       const auto [lower, upper] = sweep_distance_bounds(*s.tool, s.a, s.b, x);
-      if (lower - ctx_.tie >= below) continue;
       best = std::min(best, upper + ctx_.tie);
-      near.push_back({j, lower - ctx_.tie});
+      t.lower = std::max(t.lower, lower - ctx_.tie);
+    };
+    if (!near.empty()) {
+      const auto first = std::min_element(
+          near.begin(), near.end(), [](const SweepTerm& a, const SweepTerm& b) { return a.lower < b.lower; });
+      refine(*first);
+      for (SweepTerm& t : near)
+        if (&t != &*first && t.lower < best) refine(t);
     }
     near.erase(
         std::remove_if(near.begin(), near.end(), [&](const SweepTerm& t) { return t.lower > best + slack; }),
         near.end());
+    if (fresh_planes) {
+      const double margin = x_margin(x);
+      for (SweepTerm& t : near) t.plane = plane_at(t.segment, x, margin);
+    }
     nearest_first(near);
     return best;
   }
@@ -460,7 +536,8 @@ class Trimmer {
     std::vector<SweepTerm> terms;
     *upper = std::numeric_limits<double>::infinity();
     if (!use_tree_) {
-      for (int j : candidates_) terms.push_back({j, box_bound(j, x) - 2.0 * ctx_.tie});
+      for (int j : candidates_)
+        terms.push_back({j, box_bound(j, x) - 2.0 * ctx_.tie, plane_at(j, x, x_margin(x))});
       nearest_first(terms);
       return terms;
     }
@@ -477,7 +554,7 @@ class Trimmer {
       const int js = static_cast<int>(j);
       if (js == patch_.exclude[0] || js == patch_.exclude[1]) return;
       const double lower = box_bound(js, x) - 2.0 * ctx_.tie;
-      if (lower <= reach) terms.push_back({js, lower});
+      if (lower <= reach) terms.push_back({js, lower, plane_at(js, x, x_margin(x))});
     });
     nearest_first(terms);
     return terms;
@@ -564,6 +641,10 @@ class Trimmer {
     for (int r = 0; r < patch_.rule_count; ++r) g = std::min(g, rule_value(r, x, u, v));
     return g;
   }
+  SupportPlane plane_at(int j, const Vector3d& x, double margin) const {
+    return support_plane(ctx_.capsules[static_cast<std::size_t>(j)], x, margin);
+  }
+  static double x_margin(const Vector3d& x) { return 1e-12 * x.cwiseAbs().maxCoeff(); }
   // The searches' lower bound of segment j's distance: its box's exterior distance, -max_depth
   // inside the box. Less two ties it is a true lower bound (the tie shift, rounding).
   double box_bound(int j, const Vector3d& x) const {
@@ -572,8 +653,10 @@ class Trimmer {
   }
   double rule_value(int r, const Vector3d& x, double u, double v) const {
     const OwnRule& rule = patch_.rules[r];
-    return rule.position ? (x - patch_.rule_centre).dot(rule.dir) / patch_.rule_radius
-                         : solid_normal(patch_, u, v).dot(rule.dir);
+    if (rule.position) return (x - patch_.rule_centre).dot(rule.dir) / patch_.rule_radius;
+    // On a sphere the normal from x = X(u, v) itself: solid_normal's value, without evaluating X again.
+    if (patch_.form == Form::Sphere) return ((x - patch_.o) / patch_.R).dot(rule.dir);
+    return solid_normal(patch_, u, v).dot(rule.dir);
   }
   // Distance to segment j's sweep, shifted by the tie-break where the patch lies on that sweep's
   // surface. Facing the same way (a repeated pass; a sweep inside the stock reaching one of its
@@ -766,6 +849,10 @@ PatchMesh trim_patch(const Context& ctx, const Patch& patch) {
   }
 }
 
+// Blocks of at most this many cells give their terms support planes facing their centre;
+// larger ones pass on their parent's (a plane costs about what a distance bound does).
+constexpr int kFreshCells = 16;
+
 PatchMesh trim_on_grid(const Context& ctx, const Patch& patch, const Trimmer& g,
                        const std::vector<double>& us, const std::vector<double>& vs,
                        std::vector<double>* extra_u, std::vector<double>* extra_v) {
@@ -907,10 +994,13 @@ PatchMesh trim_on_grid(const Context& ctx, const Patch& patch, const Trimmer& g,
           continue;
         }
       }
-      const double upper = g.near_terms(uc, vc, term_list(task.list), 2.0 * radius + 4.0 * ctx.tie, near);
+      const bool fresh = (b.i1 - b.i0) * (b.j1 - b.j0) <= kFreshCells;
+      const Vector3d centre = evaluate(patch, uc, vc);
+      const double upper =
+          g.near_terms(centre, term_list(task.list), 2.0 * radius + 4.0 * ctx.tie, near, fresh);
       const auto list = static_cast<std::uint32_t>(lists.size());
       lists.push_back({static_cast<std::uint32_t>(term_pool.size()), static_cast<std::uint32_t>(near.size()),
-                       evaluate(patch, uc, vc), upper});
+                       centre, upper});
       term_pool.insert(term_pool.end(), near.begin(), near.end());
       for (const Block& half : halves(b)) stack.push_back({half, list});
     }
@@ -947,6 +1037,7 @@ PatchMesh trim_on_grid(const Context& ctx, const Patch& patch, const Trimmer& g,
       bool operator<(const Span& o) const { return bound < o.bound; }
     };
     std::vector<Span> heap;
+    std::vector<Trimmer::SweepTerm> scan_terms;
     auto scan = [&](int i0, int j0, bool along_u) {
       const std::size_t key =
           2 * (static_cast<std::size_t>(wrap_u(i0)) * sv + wrap_v(j0)) + (along_u ? 1 : 0);
@@ -967,13 +1058,27 @@ PatchMesh trim_on_grid(const Context& ctx, const Patch& patch, const Trimmer& g,
         return Span{a, b, ga, gb, span_length < shortest ? -1.0 : 0.5 * (ga + gb + lipschitz * span_length)};
       };
       heap.assign(1, make_span(p0, p1, g0, g1));
+      if (heap[0].bound <= 0.0) return;
+      // The samples come from the terms that can be the least one on the edge (about its
+      // midpoint, as for the edge roots): far fewer distances than from the cell's.
+      Trimmer::TermList scan_list{nullptr, 0, Vector3d::Zero(), 0.0};
+      if (!cell_list.empty()) {
+        const double u0 = pu(i0), u1 = pu(i1), v0 = pv(j0), v1 = pv(j1);
+        const double um = 0.5 * (u0 + u1), vm = 0.5 * (v0 + v1);
+        const double radius = 1.001 * block_radius(patch, u0, u1, v0, v1) + margin;
+        const Vector3d centre = evaluate(patch, um, vm);
+        const double upper = g.near_terms(centre, term_list(cell_list[current_cell]),
+                                          2.0 * radius + 4.0 * ctx.tie, scan_terms);
+        scan_list = Trimmer::TermList{scan_terms.data(), scan_terms.size(), centre, upper};
+      }
+      auto sample = [&](double u, double v) { return scan_list.terms ? g(u, v, scan_list) : eval(u, v); };
       for (int samples = 0; samples < 24 && !heap.empty(); ++samples) {
         std::pop_heap(heap.begin(), heap.end());
         const Span sp = heap.back();
         heap.pop_back();
         if (sp.bound <= 0.0) break;
         const double m = 0.5 * (sp.a + sp.b);
-        const double gm = sign * (along_u ? eval(m, pv(j0)) : eval(pu(i0), m));
+        const double gm = sign * (along_u ? sample(m, pv(j0)) : sample(pu(i0), m));
         if (gm > 0.0) {
           (along_u ? *extra_u : *extra_v).push_back(m);
           return;
@@ -1036,9 +1141,10 @@ PatchMesh trim_on_grid(const Context& ctx, const Patch& patch, const Trimmer& g,
       const double u0 = pu(ia), u1 = pu(ib), v0 = pv(ja), v1 = pv(jb);
       const double um = 0.5 * (u0 + u1), vm = 0.5 * (v0 + v1);
       const double radius = 1.001 * block_radius(patch, u0, u1, v0, v1) + margin;
+      const Vector3d centre = evaluate(patch, um, vm);
       const double upper =
-          g.near_terms(um, vm, term_list(cell_list[current_cell]), 2.0 * radius + 4.0 * ctx.tie, edge_terms);
-      edge_list = Trimmer::TermList{edge_terms.data(), edge_terms.size(), evaluate(patch, um, vm), upper};
+          g.near_terms(centre, term_list(cell_list[current_cell]), 2.0 * radius + 4.0 * ctx.tie, edge_terms);
+      edge_list = Trimmer::TermList{edge_terms.data(), edge_terms.size(), centre, upper};
       t = edge_root([&](double u, double v) { return g(u, v, edge_list); }, val(ia, ja), val(ib, jb), at);
     }
     // A root at a grid node is that node (no sliver triangles between them). "At" means within
@@ -1696,6 +1802,8 @@ ErodeResult erode(const Job& job, const ErodeOptions& options) {
     }
   }
   stats.segments = ctx.segments.size();
+  ctx.capsules.reserve(ctx.segments.size());
+  for (const Segment& s : ctx.segments) ctx.capsules.emplace_back(*s.tool, s.a, s.b);
   {
     std::vector<Eigen::AlignedBox3d> boxes;
     boxes.reserve(ctx.segments.size());
@@ -1775,11 +1883,16 @@ ErodeResult erode(const Job& job, const ErodeOptions& options) {
   seam.hole_diameter = 4.0 * budget.cell;
   const detail::FieldFunction field = [&](const Vector3d& x) {
     double nearest = std::numeric_limits<double>::infinity();
+    // The search updates on smaller distances only: capped at its running minimum, they are
+    // exact wherever that changes (the body's search stops once it cannot).
+    double least = std::numeric_limits<double>::infinity();
     ctx.tree.nearest(
         x,
         [&](std::size_t j) {
           const Segment& s = ctx.segments[j];
-          return sweep_distance(*s.tool, s.a, s.b, x);
+          const double d = sweep_distance(*s.tool, s.a, s.b, x, least);
+          least = std::min(least, d);
+          return d;
         },
         &nearest, ctx.max_depth);
     return std::max(ctx.stock_distance(x), -nearest);
