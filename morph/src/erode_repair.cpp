@@ -342,20 +342,27 @@ class Repairer {
       });
       if (failed) return false;
     }
-    if (loop_next.size() != cluster.size() || loop_next.size() < 3 || loop_next.size() > kMaxTriangulatedLoop)
-      return false;
+    if (loop_next.size() != cluster.size() || loop_next.size() > kMaxTriangulatedLoop) return false;
     std::vector<std::uint32_t> loop;
-    const std::uint32_t first = std::min_element(loop_next.begin(), loop_next.end())->first;
+    if (!single_loop(loop_next, loop)) return false;
+    const Fan fan = least_area_triangulation(loop, loop_triangle, nothing);
+    return !fan.triangles.empty() && fits(fan, nothing) && emit(fan, {});
+  }
+
+  /// The cycle of `next` (a -> b for each open edge) from its least vertex into `loop`; false
+  /// unless it is one cycle through all of them, at least three.
+  static bool single_loop(const std::unordered_map<std::uint32_t, std::uint32_t>& next,
+                          std::vector<std::uint32_t>& loop) {
+    if (next.size() < 3) return false;
+    const std::uint32_t first = std::min_element(next.begin(), next.end())->first;
     for (std::uint32_t v = first;;) {
       loop.push_back(v);
-      auto it = loop_next.find(v);
-      if (it == loop_next.end() || loop.size() > loop_next.size()) return false;
+      auto it = next.find(v);
+      if (it == next.end() || loop.size() > next.size()) return false;
       v = it->second;
       if (v == first) break;
     }
-    if (loop.size() != loop_next.size()) return false;
-    const Fan fan = least_area_triangulation(loop, loop_triangle, nothing);
-    return !fan.triangles.empty() && fits(fan, nothing) && emit(fan, {});
+    return loop.size() == next.size();
   }
 
   bool repair_with_balls(std::vector<std::uint32_t> cluster) {
@@ -467,18 +474,8 @@ class Repairer {
           if (!deleted_[t] && removed.insert(t).second) removed_order.push_back(t);
         });
     }
-    if (loop_next.size() < 3) return false;
     std::vector<std::uint32_t> loop;
-    const std::uint32_t first = std::min_element(loop_next.begin(), loop_next.end())->first;
-    for (std::uint32_t v = first;;) {
-      loop.push_back(v);
-      auto it = loop_next.find(v);
-      if (it == loop_next.end()) return false;
-      v = it->second;
-      if (v == first) break;
-      if (loop.size() > loop_next.size()) return false;
-    }
-    if (loop.size() != loop_next.size()) return false;
+    if (!single_loop(loop_next, loop)) return false;
     // The fan's centre: the nearest point of the exact surface to the hole's centroid, with rings
     // of points of the exact surface between it and the loop where one fan would cut too deep
     // into a curved surface; or, where the hole straddles a crease that a new point would
@@ -522,9 +519,8 @@ class Repairer {
     }
     // A crease across a curved hole: the fan refined where it leaves the surface, each new point
     // on the exact surface, until every triangle fits (the triangles across the crease shrink
-    // towards it).
-    // Costly (up to kMaxRefinedTriangles triangles, each checked): once per defect, on the
-    // smallest hole its balls leave.
+    // towards it). Costly (up to kMaxRefinedTriangles triangles, each checked): once per
+    // defect, on the smallest hole its balls leave.
     if (!refined_)
       for (Fan fan : {ringed_fan(loop, loop_triangle, apex, 1, radius),
                       least_area_triangulation(loop, loop_triangle, removed)})
