@@ -345,8 +345,14 @@ class Repairer {
     if (loop_next.size() != cluster.size() || loop_next.size() > kMaxTriangulatedLoop) return false;
     std::vector<std::uint32_t> loop;
     if (!single_loop(loop_next, loop)) return false;
-    const Fan fan = least_area_triangulation(loop, loop_triangle, nothing);
-    return !fan.triangles.empty() && fits(fan, nothing) && emit(fan, {});
+    Fan fan = least_area_triangulation(loop, loop_triangle, nothing);
+    if (fan.triangles.empty()) return false;
+    if (fits(fan, nothing)) return emit(fan, {});
+    // A ridge where three cuts meet under the loop: its own triangles sag below the ridge, the
+    // refined ones follow it.
+    double reach = 0.0;
+    for (std::uint32_t v : loop) reach = std::max(reach, (mesh_.vertices[v] - mesh_.vertices[loop[0]]).norm());
+    return refine(fan, reach) && fits(fan, nothing) && emit(fan, {});
   }
 
   /// The cycle of `next` (a -> b for each open edge) from its least vertex into `loop`; false

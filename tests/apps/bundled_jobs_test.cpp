@@ -53,13 +53,12 @@ TEST_P(BundledJobs, ErodeToAClosedManifoldOfTheKnownPiecesWithinTolerance) {
   EXPECT_LE(largest_field_error(result.mesh, morph::ErosionField(job)), job.tolerance);
 }
 
-// chips.json is not listed: three holes (18 open edges) remain where a pass's planar body wall
-// meets its neighbours' ball ends in a ridge across the hole (issue 3).
 INSTANTIATE_TEST_SUITE_P(Jobs, BundledJobs,
                          ::testing::Values(BundledJob{"single_slot", 1}, BundledJob{"through_slots", 3},
                                            BundledJob{"leave_reenter", 1}, BundledJob{"cylinder_groove", 1},
                                            BundledJob{"mesh_stock", 1}, BundledJob{"slots", 1},
-                                           BundledJob{"helix_pocket", 1}, BundledJob{"crossing_rose", 1}),
+                                           BundledJob{"helix_pocket", 1}, BundledJob{"crossing_rose", 1},
+                                           BundledJob{"chips", 1}),
                          [](const ::testing::TestParamInfo<BundledJob>& info) { return info.param.name; });
 
 }  // namespace

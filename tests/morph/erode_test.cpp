@@ -404,14 +404,9 @@ TEST(ErodeSphere, CoincidentPassesEndingApartLeaveNoSliverGap) {
   expect_closed_within_tolerance(job, 1u);
 }
 
-// The 106 moves of bear.nc within 2.5 of a point where a seam's corner search converged a
-// billionth away from a vertex of the hole's own loop: the new point left an edge no later fan
-// could cross, and one edge stayed non-manifold (the only defect of the whole program).
-TEST(ErodeBallEnd, BearCornerFoundAtAVertexOfItsHoleIsClosed) {
-  const std::string path = std::string(MORPHMILL_SHARED_DIR) + "/gcode/bear.nc";
-  if (!std::ifstream(path)) GTEST_SKIP() << "shared gcode not found at " << MORPHMILL_SHARED_DIR;
-  const morph::GcodeResult program = morph::read_gcode(path);
-  const Vector3d spot(61.4004, 24.6543, -4.4029);
+/// The runs of consecutive linear moves of a program that pass within `reach` of `spot`.
+std::vector<std::vector<Vector3d>> runs_near(const morph::GcodeResult& program, const Vector3d& spot,
+                                             double reach) {
   auto distance_to = [&](const morph::Move& m) {
     const Vector3d d = m.end - m.start;
     const double t =
@@ -419,20 +414,46 @@ TEST(ErodeBallEnd, BearCornerFoundAtAVertexOfItsHoleIsClosed) {
     return (m.start + t * d - spot).norm();
   };
   std::vector<std::vector<Vector3d>> runs;
-  const morph::Move* previous = nullptr;
+  bool in_run = false;
   for (const morph::Move& m : program.path.moves) {
-    if (m.kind != morph::MoveKind::Linear || distance_to(m) >= 2.5) {
-      previous = nullptr;
+    if (m.kind != morph::MoveKind::Linear || distance_to(m) >= reach) {
+      in_run = false;
       continue;
     }
-    if (previous == nullptr) runs.push_back({m.start});
+    if (!in_run) runs.push_back({m.start});
     runs.back().push_back(m.end);
-    previous = &m;
+    in_run = true;
   }
+  return runs;
+}
+
+std::size_t move_count(const std::vector<std::vector<Vector3d>>& runs) {
   std::size_t moves = 0;
   for (const auto& run : runs) moves += run.size() - 1;
-  ASSERT_EQ(moves, 106u);
+  return moves;
+}
+
+// The 106 moves of bear.nc within 2.5 of a point where a seam's corner search converged a
+// billionth away from a vertex of the hole's own loop: the new point left an edge no later fan
+// could cross, and one edge stayed non-manifold (the only defect of the whole program).
+TEST(ErodeBallEnd, BearCornerFoundAtAVertexOfItsHoleIsClosed) {
+  const std::string path = std::string(MORPHMILL_SHARED_DIR) + "/gcode/bear.nc";
+  if (!std::ifstream(path)) GTEST_SKIP() << "shared gcode not found at " << MORPHMILL_SHARED_DIR;
+  const auto runs = runs_near(morph::read_gcode(path), Vector3d(61.4004, 24.6543, -4.4029), 2.5);
+  ASSERT_EQ(move_count(runs), 106u);
   const Job job = box_job({0, 0, -20}, {80, 80, 0}, ballend_tool(1.5875, 25.4), runs, 0.01);
+  expect_closed_within_tolerance(job, 1u);
+}
+
+// The 92 moves of the bundled 3D_Chips program within 6 of a peak where the cuts of three
+// passes meet (two neighbours' ball ends and a third pass's body): the seams leave a pentagon
+// there whose own triangles sag 0.014 under the ridge, more than the tolerance allows a fill,
+// and the pentagon was the whole program's last open hole.
+TEST(ErodeBallEnd, ChipsPeakOfThreeCutsIsClosed) {
+  const auto runs = runs_near(morph::read_gcode(std::string(MORPHMILL_TEST_DATA) + "/gcode/3D_Chips.ngc"),
+                              Vector3d(44.94, 25.93, -1.82), 6.0);
+  ASSERT_EQ(move_count(runs), 92u);
+  const Job job = box_job({-50, -50, -50}, {50, 50, 0}, ballend_tool(5.0, 50.0), runs, 0.01);
   expect_closed_within_tolerance(job, 1u);
 }
 
