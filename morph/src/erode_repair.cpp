@@ -351,7 +351,8 @@ class Repairer {
     // A ridge where three cuts meet under the loop: its own triangles sag below the ridge, the
     // refined ones follow it.
     double reach = 0.0;
-    for (std::uint32_t v : loop) reach = std::max(reach, (mesh_.vertices[v] - mesh_.vertices[loop[0]]).norm());
+    for (std::uint32_t v : loop)
+      reach = std::max(reach, (mesh_.vertices[v] - mesh_.vertices[loop[0]]).norm());
     return refine(fan, reach) && fits(fan, nothing) && emit(fan, {});
   }
 
