@@ -899,22 +899,30 @@ std::size_t weld_near_defects(TriangleMesh& mesh, std::vector<TriangleOrigin>& p
         }
   }
   if (merged == 0) return 0;
-  for (Triangle& t : mesh.triangles)
-    for (std::uint32_t& v : t) v = find(v);
+  // Every root is its own root now (path halving left chains), so the relabelling below can
+  // run in parallel.
+  for (std::uint32_t v = 0; v < parent.size(); ++v) parent[v] = parent[parent[v]];
   // Triangles the welds made degenerate go, and so do pairs of one triangle and its reverse (a
   // sliver folded flat); of equal triangles one stays.
   std::vector<bool> remove(mesh.triangles.size(), false);
-  std::vector<std::pair<Triangle, std::uint32_t>> sorted;
-  for (std::uint32_t i = 0; i < mesh.triangles.size(); ++i) {
-    Triangle t = mesh.triangles[i];
-    if (t[0] == t[1] || t[1] == t[2] || t[2] == t[0]) {
-      remove[i] = true;
-      continue;
-    }
-    std::sort(t.begin(), t.end());
-    sorted.push_back({t, i});
-  }
+  const Triangle degenerate{UINT32_MAX, UINT32_MAX, UINT32_MAX};  // sorts last
+  std::vector<std::pair<Triangle, std::uint32_t>> sorted(mesh.triangles.size());
+  tbb::parallel_for(tbb::blocked_range<std::uint32_t>(0, static_cast<std::uint32_t>(mesh.triangles.size())),
+                    [&](const tbb::blocked_range<std::uint32_t>& range) {
+                      for (std::uint32_t i = range.begin(); i != range.end(); ++i) {
+                        Triangle& t = mesh.triangles[i];
+                        for (std::uint32_t& v : t) v = parent[v];
+                        Triangle key = t;
+                        std::sort(key.begin(), key.end());
+                        const bool collapsed = key[0] == key[1] || key[1] == key[2];
+                        sorted[i] = {collapsed ? degenerate : key, i};
+                      }
+                    });
   tbb::parallel_sort(sorted.begin(), sorted.end());  // (triangle, index) pairs are unique
+  while (!sorted.empty() && sorted.back().first == degenerate) {
+    remove[sorted.back().second] = true;
+    sorted.pop_back();
+  }
   auto orientation = [&](std::uint32_t i) {
     const Triangle& t = mesh.triangles[i];
     // Even rotations of the sorted order are one orientation.

@@ -106,29 +106,46 @@ class CellIndex {
   std::vector<Slot> slots_;
 };
 
-/// The first point of `index` (cells of edge `distance`) within `distance` of p that is
-/// `present` (already entered, in the order the caller enters points) and that `accept`s,
-/// searching the 27 cells around p in a fixed order and each cell in increasing index: the
-/// first point a grid filled in increasing index would give. `none` if there is none.
+/// Cells of a search index for points within `distance` of each other: far wider than the
+/// distance, so that a search nearly always looks in one cell only (a cell per distance made
+/// every search probe 27 cells of a table far larger than the caches).
+constexpr double kCellsPerSearch = 64.0;
+
+/// Calls f(point) for the points of `index` in the cells that the box of half-width `reach`
+/// about p overlaps.
+template <class F>
+void for_each_in_reach(const CellIndex& index, const Vector3d& p, double reach, F&& f) {
+  const CellKey lo = cell_of(Vector3d(p.array() - reach), index.cell()),
+                hi = cell_of(Vector3d(p.array() + reach), index.cell());
+  for (std::int64_t x = lo.x; x <= hi.x; ++x)
+    for (std::int64_t y = lo.y; y <= hi.y; ++y)
+      for (std::int64_t z = lo.z; z <= hi.z; ++z) index.for_each_in({x, y, z}, f);
+}
+
+/// The first point of `index` within `distance` of p that is `present` (already entered, in the
+/// order the caller enters points) and that `accept`s, in the order of a search of the 27 cells
+/// of edge `distance` around p (x, then y, then z offset from -1 to 1), each cell in increasing
+/// index: the first point a grid of such cells filled in increasing index would give. `none` if
+/// there is none.
 template <class Present, class Accept>
 std::uint32_t find_near(const CellIndex& index, const std::vector<Vector3d>& points, const Vector3d& p,
                         double distance, std::uint32_t none, Present&& present, Accept&& accept) {
   const CellKey c = cell_of(p, distance);
-  std::uint32_t found = none;
-  for (int dx = -1; dx <= 1; ++dx)
-    for (int dy = -1; dy <= 1; ++dy)
-      for (int dz = -1; dz <= 1; ++dz) {
-        index.for_each_in({c.x + dx, c.y + dy, c.z + dz}, [&](std::uint32_t u) {
-          if (found == none && present(u) && (points[u] - p).norm() <= distance && accept(u)) found = u;
-        });
-        if (found != none) return found;
-      }
+  // (search order of its cell of edge `distance`, point)
+  std::vector<std::pair<std::int64_t, std::uint32_t>> candidates;
+  for_each_in_reach(index, p, 1.001 * distance, [&](std::uint32_t u) {
+    if (!present(u) || !((points[u] - p).norm() <= distance)) return;
+    const CellKey cu = cell_of(points[u], distance);
+    candidates.push_back({((cu.x - c.x + 1) * 3 + (cu.y - c.y + 1)) * 3 + (cu.z - c.z + 1), u});
+  });
+  std::sort(candidates.begin(), candidates.end());
+  for (const auto& [order, u] : candidates)
+    if (accept(u)) return u;
   return none;
 }
 
-/// For each of `members` (the points `index` holds, cells of edge `distance`), whether another
-/// of them lies within `distance` of it: a necessary condition of find_near finding one, checked
-/// in parallel over the few cells the ball can reach (at most two a side).
+/// For each of `members` (the points `index` holds), whether another of them lies within
+/// `distance` of it: a necessary condition of find_near finding one, checked in parallel.
 std::vector<std::uint8_t> has_near(const CellIndex& index, const std::vector<Vector3d>& points,
                                    const std::vector<std::uint32_t>& members, double distance) {
   std::vector<std::uint8_t> result(members.size(), 0);
@@ -137,15 +154,9 @@ std::vector<std::uint8_t> has_near(const CellIndex& index, const std::vector<Vec
   tbb::parallel_for(std::size_t{0}, members.size(), [&](std::size_t i) {
     const std::uint32_t v = members[i];
     const Vector3d& p = points[v];
-    const CellKey lo = cell_of(Vector3d(p.array() - reach), distance),
-                  hi = cell_of(Vector3d(p.array() + reach), distance);
     bool found = false;
-    for (std::int64_t x = lo.x; x <= hi.x && !found; ++x)
-      for (std::int64_t y = lo.y; y <= hi.y && !found; ++y)
-        for (std::int64_t z = lo.z; z <= hi.z && !found; ++z)
-          index.for_each_in({x, y, z}, [&](std::uint32_t u) {
-            found = found || (u != v && (points[u] - p).norm() <= reach);
-          });
+    for_each_in_reach(index, p, reach,
+                      [&](std::uint32_t u) { found = found || (u != v && (points[u] - p).norm() <= reach); });
     result[i] = found;
   });
   return result;
@@ -168,11 +179,15 @@ std::size_t weld(TriangleMesh& mesh, std::vector<TriangleOrigin>& patch_of, doub
   std::vector<std::uint32_t> border_vertices;
   for (std::uint32_t v = 0; v < mesh.vertices.size(); ++v)
     if (on_border[v]) border_vertices.push_back(v);
-  const CellIndex index(mesh.vertices, border_vertices, distance);
+  const CellIndex index(mesh.vertices, border_vertices, kCellsPerSearch * distance);
   std::size_t merged = 0;
   for (std::uint32_t v = 0; v < mesh.vertices.size(); ++v) target[v] = v;
-  // In increasing index, each vertex merges into the first earlier one kept.
-  for (std::uint32_t v : border_vertices) {
+  // In increasing index, each vertex merges into the first earlier one kept; most have no other
+  // vertex near at all, which the parallel check rules out first.
+  const std::vector<std::uint8_t> near = has_near(index, mesh.vertices, border_vertices, distance);
+  for (std::size_t i = 0; i < border_vertices.size(); ++i) {
+    if (!near[i]) continue;
+    const std::uint32_t v = border_vertices[i];
     const std::uint32_t found = find_near(
         index, mesh.vertices, mesh.vertices[v], distance, v,
         [&](std::uint32_t u) { return u < v && target[u] == u; }, [](std::uint32_t) { return true; });
@@ -302,7 +317,7 @@ std::size_t snap_boundary(TriangleMesh& mesh, std::vector<TriangleOrigin>& patch
   std::sort(boundary.begin(), boundary.end());
   std::vector<std::uint32_t> target(mesh.vertices.size());
   for (std::uint32_t v = 0; v < target.size(); ++v) target[v] = v;
-  const CellIndex index(mesh.vertices, boundary, distance);
+  const CellIndex index(mesh.vertices, boundary, kCellsPerSearch * distance);
   std::size_t merged = 0;
   auto disjoint = [&](std::uint32_t a, std::uint32_t b) {
     for (std::uint32_t p : patches_of_vertex[a])
@@ -401,52 +416,64 @@ std::size_t split_pass(TriangleMesh& mesh, std::vector<TriangleOrigin>& patch_of
     std::uint32_t t;
     int k;
   };
-  std::vector<Match> matches;
-  for (const auto& [t, k] : edges) {
-    const std::uint32_t a = mesh.triangles[t][k], b = mesh.triangles[t][(k + 1) % 3];
-    const Vector3d& pa = mesh.vertices[a];
-    const Vector3d& pb = mesh.vertices[b];
-    const Vector3d ab = pb - pa;
-    const double len2 = ab.squaredNorm();
-    if (len2 <= 0.0) continue;
-    // The cells near the edge, piece by piece: a long edge (a big flat stock triangle's side)
-    // has a bounding box of far too many cells, but only the cells along it can hold matches.
+  // The edges in blocks, in parallel; the matches joined in edge order, as one loop would list
+  // them, so that their sort below gives the same order.
+  constexpr std::size_t kEdgesPerBlock = 512;
+  std::vector<std::vector<Match>> block_matches((edges.size() + kEdgesPerBlock - 1) / kEdgesPerBlock);
+  tbb::parallel_for(std::size_t{0}, block_matches.size(), [&](std::size_t block) {
+    std::vector<Match>& matches = block_matches[block];
     std::vector<std::uint32_t> near;
-    const double length = std::sqrt(len2);
-    const int pieces = static_cast<int>(std::min(1e6, std::ceil(length / cell)));
-    for (int piece = 0; piece < pieces; ++piece) {
-      const Vector3d p0 = pa + (static_cast<double>(piece) / pieces) * ab;
-      const Vector3d p1 = pa + (static_cast<double>(piece + 1) / pieces) * ab;
-      Eigen::AlignedBox3d box(p0.cwiseMin(p1), p0.cwiseMax(p1));
-      box.min().array() -= options.match_distance;
-      box.max().array() += options.match_distance;
-      const CellKey lo = cell_of(box.min(), cell), hi = cell_of(box.max(), cell);
-      for (std::int64_t x = lo.x; x <= hi.x; ++x)
-        for (std::int64_t y = lo.y; y <= hi.y; ++y)
-          for (std::int64_t z = lo.z; z <= hi.z; ++z) {
-            index.for_each_in({x, y, z}, [&](std::uint32_t w) { near.push_back(w); });
-          }
+    for (std::size_t e = block * kEdgesPerBlock; e < std::min(edges.size(), (block + 1) * kEdgesPerBlock);
+         ++e) {
+      const auto [t, k] = edges[e];
+      const std::uint32_t a = mesh.triangles[t][k], b = mesh.triangles[t][(k + 1) % 3];
+      const Vector3d& pa = mesh.vertices[a];
+      const Vector3d& pb = mesh.vertices[b];
+      const Vector3d ab = pb - pa;
+      const double len2 = ab.squaredNorm();
+      if (len2 <= 0.0) continue;
+      // The cells near the edge, piece by piece: a long edge (a big flat stock triangle's side)
+      // has a bounding box of far too many cells, but only the cells along it can hold matches.
+      near.clear();
+      const double length = std::sqrt(len2);
+      const int pieces = static_cast<int>(std::min(1e6, std::ceil(length / cell)));
+      for (int piece = 0; piece < pieces; ++piece) {
+        const Vector3d p0 = pa + (static_cast<double>(piece) / pieces) * ab;
+        const Vector3d p1 = pa + (static_cast<double>(piece + 1) / pieces) * ab;
+        Eigen::AlignedBox3d box(p0.cwiseMin(p1), p0.cwiseMax(p1));
+        box.min().array() -= options.match_distance;
+        box.max().array() += options.match_distance;
+        const CellKey lo = cell_of(box.min(), cell), hi = cell_of(box.max(), cell);
+        for (std::int64_t x = lo.x; x <= hi.x; ++x)
+          for (std::int64_t y = lo.y; y <= hi.y; ++y)
+            for (std::int64_t z = lo.z; z <= hi.z; ++z) {
+              index.for_each_in({x, y, z}, [&](std::uint32_t w) { near.push_back(w); });
+            }
+      }
+      std::sort(near.begin(), near.end());
+      near.erase(std::unique(near.begin(), near.end()), near.end());
+      for (std::uint32_t w : near) {
+        if (w == a || w == b) continue;
+        const BoundaryVertex& bv = info.at(w);
+        if (std::find(bv.patches.begin(), bv.patches.end(), patch_of[t].patch) != bv.patches.end()) continue;
+        const Vector3d& pw = mesh.vertices[w];
+        const double lambda = (pw - pa).dot(ab) / len2;
+        if (!(lambda > 1e-9 && lambda < 1.0 - 1e-9)) continue;
+        const double distance = (pw - (pa + lambda * ab)).norm();
+        // A chord of length c of a curve bending no tighter than c/2 stays within c/4 of it.
+        if (distance > options.match_distance || distance > 0.25 * std::sqrt(len2)) continue;
+        // The other side runs the curve the opposite way.
+        if (bv.tangent.dot(ab) >= 0.0) continue;
+        // And lies on this side's surface: a vertex of another curve meeting this one at a corner
+        // is near the chord without being on the curve.
+        if (std::abs(surface(patch_of[t].patch, pw)) > 1e3 * options.weld_distance) continue;
+        matches.push_back({w, patch_of[t].patch, distance, lambda, t, k});
+      }
     }
-    std::sort(near.begin(), near.end());
-    near.erase(std::unique(near.begin(), near.end()), near.end());
-    for (std::uint32_t w : near) {
-      if (w == a || w == b) continue;
-      const BoundaryVertex& bv = info.at(w);
-      if (std::find(bv.patches.begin(), bv.patches.end(), patch_of[t].patch) != bv.patches.end()) continue;
-      const Vector3d& pw = mesh.vertices[w];
-      const double lambda = (pw - pa).dot(ab) / len2;
-      if (!(lambda > 1e-9 && lambda < 1.0 - 1e-9)) continue;
-      const double distance = (pw - (pa + lambda * ab)).norm();
-      // A chord of length c of a curve bending no tighter than c/2 stays within c/4 of it.
-      if (distance > options.match_distance || distance > 0.25 * std::sqrt(len2)) continue;
-      // The other side runs the curve the opposite way.
-      if (bv.tangent.dot(ab) >= 0.0) continue;
-      // And lies on this side's surface: a vertex of another curve meeting this one at a corner
-      // is near the chord without being on the curve.
-      if (std::abs(surface(patch_of[t].patch, pw)) > 1e3 * options.weld_distance) continue;
-      matches.push_back({w, patch_of[t].patch, distance, lambda, t, k});
-    }
-  }
+  });
+  std::vector<Match> matches;
+  for (const std::vector<Match>& block : block_matches)
+    matches.insert(matches.end(), block.begin(), block.end());
   std::sort(matches.begin(), matches.end(), [](const Match& x, const Match& y) {
     if (x.w != y.w) return x.w < y.w;
     if (x.patch != y.patch) return x.patch < y.patch;
@@ -478,6 +505,7 @@ std::size_t split_pass(TriangleMesh& mesh, std::vector<TriangleOrigin>& patch_of
     const std::vector<std::pair<double, std::uint32_t>>* on_edge[3] = {nullptr, nullptr, nullptr};
     int split_edges = 0;
     for (int k = 0; k < 3; ++k) {
+      if (!(open[t] & (1u << k))) continue;  // only open edges are split
       auto it = splits.find(edge_key(t, static_cast<std::uint32_t>(k)));
       if (it != splits.end()) {
         on_edge[k] = &it->second;
