@@ -1916,22 +1916,26 @@ ErodeResult erode(const Job& job, const ErodeOptions& options) {
   detail::RepairOptions repair;
   repair.max_radius = 2.0 * budget.cell;
   repair.max_field_error = 0.5 * tolerance;
-  detail::RepairStats repair_stats = detail::repair_small_defects(mesh, patch_of_triangle, repair, field);
+  // The second pass retries only the defects a repair of the first came near.
+  detail::RepairMemory first_passes;
+  detail::RepairStats repair_stats =
+      detail::repair_small_defects(mesh, patch_of_triangle, repair, field, &first_passes);
   // Another pass over what is left: the defects it finds are those not yet repaired.
-  auto repair_again = [&] {
-    const detail::RepairStats again = detail::repair_small_defects(mesh, patch_of_triangle, repair, field);
+  auto repair_again = [&](detail::RepairMemory* memory) {
+    const detail::RepairStats again =
+        detail::repair_small_defects(mesh, patch_of_triangle, repair, field, memory);
     repair_stats.repaired += again.repaired;
     repair_stats.defects = repair_stats.repaired + (again.defects - again.repaired);
   };
   // A second pass sees the spots whose ring was itself defective until a neighbour was mended.
-  if (repair_stats.repaired > 0 && repair_stats.repaired < repair_stats.defects) repair_again();
+  if (repair_stats.repaired > 0 && repair_stats.repaired < repair_stats.defects) repair_again(&first_passes);
   // Defects wider than the cell: where several sweeps lie within the tolerance of each other
   // (equal tools crossing at one depth) trimming cannot tell them apart and their pieces overlap;
   // a sliver gap along a seam is one loop only when grouped at a coarser spacing.
   for (int widen = 0; widen < 2 && repair_stats.defects > repair_stats.repaired; ++widen) {
     repair.max_radius *= 2.0;
     repair.max_field_error = 0.8 * tolerance;
-    repair_again();
+    repair_again(nullptr);
   }
   stats.defects_repaired = repair_stats.repaired;
   stats.flat_components_removed =

@@ -13,7 +13,9 @@
 #include <cmath>
 #include <cstdint>
 #include <limits>
+#include <map>
 #include <numeric>
+#include <set>
 #include <unordered_map>
 #include <unordered_set>
 
@@ -45,11 +47,16 @@ class VertexTriangles {
   void add(std::uint32_t v, std::uint32_t t) { added_[v].push_back(t); }
 
   bool empty(std::uint32_t v) const {
+    if (reads_) reads_->push_back(v);
     return (v + 1 >= row_start_.size() || row_start_[v] == row_start_[v + 1]) && added_.count(v) == 0;
   }
 
+  /// Vertices whose triangles are looked up are listed in `*reads` while it is set.
+  void record_reads(std::vector<std::uint32_t>* reads) { reads_ = reads; }
+
   template <class F>
   void for_each(std::uint32_t v, F&& f) const {
+    if (reads_) reads_->push_back(v);
     if (v + 1 < row_start_.size())
       for (std::uint32_t i = row_start_[v]; i < row_start_[v + 1]; ++i) f(entries_[i]);
     if (added_.empty()) return;
@@ -62,16 +69,18 @@ class VertexTriangles {
   std::vector<std::uint32_t> row_start_;
   std::vector<std::uint32_t> entries_;
   std::unordered_map<std::uint32_t, std::vector<std::uint32_t>> added_;
+  std::vector<std::uint32_t>* reads_ = nullptr;
 };
 
 class Repairer {
  public:
   Repairer(TriangleMesh& mesh, std::vector<TriangleOrigin>& patch_of, const RepairOptions& options,
-           const FieldFunction& field)
+           const FieldFunction& field, RepairMemory* memory)
       : mesh_(mesh),
         patch_of_(patch_of),
         options_(options),
         field_(field),
+        memory_(memory),
         deleted_(mesh.triangles.size(), false),
         triangles_of_vertex_(mesh) {}
 
@@ -79,7 +88,22 @@ class Repairer {
     RepairStats stats;
     const std::vector<std::vector<std::uint32_t>> clusters = defect_clusters();
     stats.defects = clusters.size();
-    for (const std::vector<std::uint32_t>& cluster : clusters) stats.repaired += repair(cluster);
+    std::vector<std::uint32_t> reads;
+    for (const std::vector<std::uint32_t>& cluster : clusters) {
+      if (memory_ && fails_as_before(cluster)) continue;
+      reads.clear();
+      if (memory_) triangles_of_vertex_.record_reads(&reads);
+      const std::size_t repaired = repair(cluster);
+      triangles_of_vertex_.record_reads(nullptr);
+      stats.repaired += repaired;
+      if (memory_ && repaired == 0) {
+        std::vector<RepairMemory::Point> read_points;
+        for (std::uint32_t v : reads) read_points.push_back(point_key(v));
+        std::sort(read_points.begin(), read_points.end());
+        read_points.erase(std::unique(read_points.begin(), read_points.end()), read_points.end());
+        memory_->failed[cluster_key(cluster)] = std::move(read_points);
+      }
+    }
     compact();
     return stats;
   }
@@ -775,7 +799,36 @@ class Repairer {
     return true;
   }
 
+  RepairMemory::Point point_key(std::uint32_t v) const {
+    return {mesh_.vertices[v].x(), mesh_.vertices[v].y(), mesh_.vertices[v].z()};
+  }
+
+  std::vector<RepairMemory::Point> cluster_key(const std::vector<std::uint32_t>& cluster) const {
+    std::vector<RepairMemory::Point> key;
+    for (std::uint32_t v : cluster) key.push_back(point_key(v));
+    std::sort(key.begin(), key.end());
+    return key;
+  }
+
+  /// Whether the cluster failed before, with the same options, and no repair since changed the
+  /// triangles around any vertex it looked at: then it fails the same way again (what it did
+  /// depended on nothing else, the vertices' order included, which compaction keeps).
+  bool fails_as_before(const std::vector<std::uint32_t>& cluster) const {
+    const auto it = memory_->failed.find(cluster_key(cluster));
+    if (it == memory_->failed.end()) return false;
+    for (const RepairMemory::Point& p : it->second)
+      if (memory_->changed.count(p)) return false;
+    return true;
+  }
+
   bool emit(const Fan& fan, const std::vector<std::uint32_t>& removed_order) {
+    if (memory_) {
+      for (std::uint32_t t : removed_order)
+        for (std::uint32_t v : mesh_.triangles[t]) memory_->changed.insert(point_key(v));
+      for (const auto& tri : fan.triangles)
+        for (std::int64_t index : tri)
+          if (index >= 0) memory_->changed.insert(point_key(static_cast<std::uint32_t>(index)));
+    }
     for (std::uint32_t t : removed_order) deleted_[t] = true;
     const auto first_new = static_cast<std::int64_t>(mesh_.vertices.size());
     for (const Vector3d& p : fan.points) {
@@ -803,6 +856,7 @@ class Repairer {
   std::vector<TriangleOrigin>& patch_of_;
   const RepairOptions& options_;
   const FieldFunction& field_;
+  RepairMemory* memory_;
   std::vector<bool> deleted_;
   bool refined_ = false;  // whether the current defect's fans were refined already
   VertexTriangles triangles_of_vertex_;
@@ -952,9 +1006,10 @@ std::size_t weld_near_defects(TriangleMesh& mesh, std::vector<TriangleOrigin>& p
 }
 
 RepairStats repair_small_defects(TriangleMesh& mesh, std::vector<TriangleOrigin>& patch_of_triangle,
-                                 const RepairOptions& options, const FieldFunction& field) {
+                                 const RepairOptions& options, const FieldFunction& field,
+                                 RepairMemory* memory) {
   if (mesh.triangles.empty()) return {};
-  return Repairer(mesh, patch_of_triangle, options, field).run();
+  return Repairer(mesh, patch_of_triangle, options, field, memory).run();
 }
 
 }  // namespace morph::detail

@@ -4,7 +4,10 @@
 // fan around a point of the exact surface.
 #include <morph/mesh.h>
 
+#include <array>
 #include <cstddef>
+#include <map>
+#include <set>
 #include <vector>
 
 #include "erode_seams.h"
@@ -42,7 +45,18 @@ void remove_triangles(TriangleMesh& mesh, std::vector<TriangleOrigin>& patch_of_
 std::size_t weld_near_defects(TriangleMesh& mesh, std::vector<TriangleOrigin>& patch_of_triangle,
                               double distance);
 
+/// What one repair pass leaves for the next with the same options: the defects it could not
+/// repair, each with the vertices (by position: passes renumber them) whose triangles it looked
+/// at, and the vertices whose triangles a repair changed. A defect found again whose vertices
+/// none of those repairs touched would fail again and is not retried.
+struct RepairMemory {
+  using Point = std::array<double, 3>;
+  std::map<std::vector<Point>, std::vector<Point>> failed;  // defect's vertices -> vertices read
+  std::set<Point> changed;
+};
+
 RepairStats repair_small_defects(TriangleMesh& mesh, std::vector<TriangleOrigin>& patch_of_triangle,
-                                 const RepairOptions& options, const FieldFunction& field);
+                                 const RepairOptions& options, const FieldFunction& field,
+                                 RepairMemory* memory = nullptr);
 
 }  // namespace morph::detail
