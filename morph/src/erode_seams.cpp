@@ -8,6 +8,8 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <limits>
+#include <map>
 #include <tuple>
 #include <unordered_map>
 
@@ -617,6 +619,144 @@ Vector3d corner_point(const std::vector<std::uint32_t>& patches, const SurfaceFu
   return x;
 }
 
+/// How a hole is closed, decided from its loop alone (the loop's vertices, its triangles'
+/// patches, the exact surfaces and field), so that holes can be planned in parallel.
+struct FillPlan {
+  enum class Kind { kNone, kVertexFan, kRinged, kCornerFan } kind = Kind::kNone;
+  std::size_t centre = 0;                    // kVertexFan: the loop vertex fanned from
+  std::vector<std::vector<Vector3d>> rings;  // kRinged: rings[k][i], 0 < k < levels
+  Vector3d corner = Vector3d::Zero();        // kRinged, kCornerFan
+};
+
+FillPlan plan_fill(const TriangleMesh& mesh, const std::vector<TriangleOrigin>& patch_of,
+                   const SeamOptions& options, const SurfaceFunction& surface, const FieldFunction& field,
+                   const std::vector<std::uint32_t>& loop, const std::vector<std::uint32_t>& loop_triangles,
+                   std::size_t best, const Eigen::AlignedBox3d& box, const Vector3d& centroid,
+                   double best_residual) {
+  constexpr std::size_t kMaxCornerPatches = 6;  // at most 20 triples
+  FillPlan plan;
+  std::vector<std::uint32_t> patches;
+  for (std::uint32_t t : loop_triangles)
+    if (std::find(patches.begin(), patches.end(), patch_of[t].patch) == patches.end())
+      patches.push_back(patch_of[t].patch);
+  // A fan whose triangles leave the exact surface (a loop doubling back along a sliver fanned
+  // into a fin) is no fill; the local repair, which checks more, gets the hole instead.
+  auto fan_fits = [&](const Vector3d& apex, std::size_t skip) {
+    for (std::size_t i = 0; i < loop.size(); ++i) {
+      if (i == skip || (i + 1) % loop.size() == skip) continue;
+      const Vector3d &a = mesh.vertices[loop[i]], &b = mesh.vertices[loop[(i + 1) % loop.size()]];
+      if (!triangle_near_field(a, b, apex, field, 2.0 * options.match_distance)) return false;
+    }
+    return true;
+  };
+  auto vertex_fan = [&](std::size_t centre) {
+    plan.kind = FillPlan::Kind::kVertexFan;
+    plan.centre = centre;
+    return plan;
+  };
+  if (best_residual <= 1e-7 && fan_fits(mesh.vertices[loop[best]], best)) return vertex_fan(best);
+  const Vector3d start = mesh.vertices[loop[best]];
+  // A corner far outside the hole is where the same surfaces meet again, not this corner.
+  Eigen::AlignedBox3d near_box = box;
+  near_box.min().array() -= 0.25 * box.diagonal().norm();
+  near_box.max().array() += 0.25 * box.diagonal().norm();
+  auto is_corner = [&](const Vector3d& x) {
+    return x != start && near_box.contains(x) && std::abs(field(x)) <= 1e3 * options.weld_distance;
+  };
+  Vector3d found = corner_point(patches, surface, start, box.diagonal().norm());
+  bool valid = is_corner(found);
+  // Four or more surfaces around a hole need not share a point (a tool surface beside the
+  // corner without reaching it): then a corner of three of them on the exact surface, the
+  // nearest to the hole's centroid whose fan fits, else the nearest.
+  if (!valid && patches.size() > 3 && patches.size() <= kMaxCornerPatches) {
+    std::vector<std::pair<double, Vector3d>> corners;
+    for (std::size_t a = 0; a < patches.size(); ++a)
+      for (std::size_t b = a + 1; b < patches.size(); ++b)
+        for (std::size_t c = b + 1; c < patches.size(); ++c) {
+          const Vector3d x =
+              corner_point({patches[a], patches[b], patches[c]}, surface, start, box.diagonal().norm());
+          if (is_corner(x)) corners.push_back({(x - centroid).norm(), x});
+        }
+    std::stable_sort(corners.begin(), corners.end(),
+                     [](const auto& p, const auto& q) { return p.first < q.first; });
+    if (!corners.empty()) {
+      valid = true;
+      found = corners.front().second;
+      for (const auto& [distance, x] : corners)
+        if (fan_fits(x, loop.size())) {
+          found = x;
+          break;
+        }
+    }
+  }
+  // Newton steps along the field's gradient.
+  auto onto_field = [&](Vector3d x) {
+    for (int it = 0; it < 20; ++it) {
+      const double f = field(x);
+      if (std::abs(f) <= 1e-3 * options.weld_distance) break;
+      Vector3d gradient;
+      const double h = 1e-7 * std::max(1.0, box.diagonal().norm());
+      for (int k = 0; k < 3; ++k)
+        gradient[k] = (field(x + h * Vector3d::Unit(k)) - field(x - h * Vector3d::Unit(k))) / (2 * h);
+      if (gradient.squaredNorm() < 1e-12) break;
+      x -= f * gradient / gradient.squaredNorm();
+    }
+    return x;
+  };
+  // Otherwise the centroid moved onto the exact surface; a hole where even that fails is left
+  // to the local repair, which checks its fans.
+  Vector3d corner = found;
+  if (!valid) {
+    corner = onto_field(centroid);
+    if (!(std::abs(field(corner)) <= 1e3 * options.weld_distance) || !near_box.contains(corner)) return plan;
+  }
+  // A corner found within the weld distance of one of the loop's own vertices is that vertex: a
+  // new point there would leave an edge a billionth long that no later fan can cross.
+  {
+    std::size_t nearest = 0;
+    for (std::size_t i = 1; i < loop.size(); ++i)
+      if ((mesh.vertices[loop[i]] - corner).squaredNorm() <
+          (mesh.vertices[loop[nearest]] - corner).squaredNorm())
+        nearest = i;
+    if ((mesh.vertices[loop[nearest]] - corner).norm() <= options.weld_distance &&
+        fan_fits(mesh.vertices[loop[nearest]], nearest))
+      return vertex_fan(nearest);
+  }
+  plan.corner = corner;
+  if (fan_fits(corner, loop.size())) {
+    plan.kind = FillPlan::Kind::kCornerFan;
+    return plan;
+  }
+  // A curved or creased hole: rings of exact-surface points between the loop and the corner
+  // take the fan's triangles closer to the surface.
+  const std::size_t n = loop.size();
+  for (int levels = 2; levels <= 3; ++levels) {
+    // rings[k][i], k = 0 the loop, k = levels the corner.
+    std::vector<std::vector<Vector3d>> rings(levels + 1, std::vector<Vector3d>(n, corner));
+    bool fits = true;
+    for (std::size_t i = 0; i < n; ++i) rings[0][i] = mesh.vertices[loop[i]];
+    for (int k = 1; k < levels && fits; ++k)
+      for (std::size_t i = 0; i < n && fits; ++i) {
+        const double t = static_cast<double>(k) / levels;
+        rings[k][i] = onto_field((1.0 - t) * rings[0][i] + t * corner);
+        fits = std::abs(field(rings[k][i])) <= 1e3 * options.weld_distance;
+      }
+    const double limit = 2.0 * options.match_distance;
+    for (int k = 0; k < levels && fits; ++k)
+      for (std::size_t i = 0; i < n && fits; ++i) {
+        const std::size_t j = (i + 1) % n;
+        fits = triangle_near_field(rings[k][j], rings[k][i], rings[k + 1][i], field, limit) &&
+               (k + 1 == levels ||
+                triangle_near_field(rings[k][j], rings[k + 1][i], rings[k + 1][j], field, limit));
+      }
+    if (!fits) continue;
+    plan.kind = FillPlan::Kind::kRinged;
+    plan.rings.assign(rings.begin() + 1, rings.end() - 1);
+    return plan;
+  }
+  return plan;
+}
+
 std::size_t fill_holes(TriangleMesh& mesh, std::vector<TriangleOrigin>& patch_of, const SeamOptions& options,
                        const SurfaceFunction& surface, const FieldFunction& field,
                        const std::vector<std::uint8_t>& may_be_open) {
@@ -633,15 +773,21 @@ std::size_t fill_holes(TriangleMesh& mesh, std::vector<TriangleOrigin>& patch_of
       out[a].push_back({b, t});
       starts.push_back({a, b});
     }
-  std::unordered_map<std::uint64_t, bool> used;
-  std::size_t filled = 0;
-  for (const auto& [a0, b0] : starts) {
-    if (used.count(edge_key(a0, b0))) continue;
+  // A hole to close: its loop, the triangle of each loop edge, and what plan_fill needs.
+  struct Hole {
+    std::vector<std::uint32_t> loop, loop_triangles;
+    std::size_t best = 0;
+    Eigen::AlignedBox3d box;
+    Vector3d centroid;
+    double best_residual = 0.0;
+  };
+  // The next hole from start edge a0 -> b0 over edges not `used`; false if there is none there.
+  auto find_hole = [&](std::uint32_t a0, std::uint32_t b0,
+                       const std::unordered_map<std::uint64_t, bool>& used, Hole& hole) {
     // Shortest loop of unused boundary edges back to a0 (breadth first): where two holes touch
     // at a vertex (a trimming curve ending exactly on another patch's border), that vertex has
     // two outgoing boundary edges and a plain walk could not choose.
     constexpr std::size_t kMaxLoop = 32;
-    constexpr std::size_t kMaxCornerPatches = 6;  // at most 20 triples
     std::vector<std::uint32_t> frontier{b0};
     std::unordered_map<std::uint32_t, std::pair<std::uint32_t, std::uint32_t>>
         reached;  // v -> (previous, triangle)
@@ -671,206 +817,119 @@ std::size_t fill_holes(TriangleMesh& mesh, std::vector<TriangleOrigin>& patch_of
       }
       frontier = std::move(next);
     }
-    if (!closed) continue;
-    std::vector<std::uint32_t> loop;
-    std::vector<std::uint32_t> loop_triangles;  // triangle of the edge loop[i] -> loop[i+1]
+    if (!closed) return false;
+    hole.loop.clear();
+    hole.loop_triangles.clear();
     for (std::uint32_t v = a0;;) {
       const auto [previous, t] = reached.at(v);
-      loop.push_back(previous);
-      loop_triangles.push_back(t);
+      hole.loop.push_back(previous);
+      hole.loop_triangles.push_back(t);
       v = previous;
       if (v == a0) break;
     }
-    std::reverse(loop.begin(), loop.end());
-    std::reverse(loop_triangles.begin(), loop_triangles.end());
-    if (loop.size() < 3) continue;
-    Eigen::AlignedBox3d box;
-    Vector3d centroid = Vector3d::Zero();
-    for (std::uint32_t v : loop) {
-      box.extend(mesh.vertices[v]);
-      centroid += mesh.vertices[v];
+    std::reverse(hole.loop.begin(), hole.loop.end());
+    std::reverse(hole.loop_triangles.begin(), hole.loop_triangles.end());
+    if (hole.loop.size() < 3) return false;
+    hole.box = Eigen::AlignedBox3d();
+    hole.centroid = Vector3d::Zero();
+    for (std::uint32_t v : hole.loop) {
+      hole.box.extend(mesh.vertices[v]);
+      hole.centroid += mesh.vertices[v];
     }
-    centroid /= static_cast<double>(loop.size());
-    if (box.diagonal().norm() > options.hole_diameter) continue;
+    hole.centroid /= static_cast<double>(hole.loop.size());
+    if (hole.box.diagonal().norm() > options.hole_diameter) return false;
     std::vector<std::uint32_t> patches;
-    for (std::uint32_t t : loop_triangles)
+    for (std::uint32_t t : hole.loop_triangles)
       if (std::find(patches.begin(), patches.end(), patch_of[t].patch) == patches.end())
         patches.push_back(patch_of[t].patch);
     // The loop vertex nearest to lying on every surface: often the corner itself (a hole left
     // where a trimming curve ends exactly at a corner), else where the corner search starts, so
     // that it finds the corner next to the hole, not another point where the same surfaces meet
     // (which may lie inside a third move's sweep).
-    std::size_t best = 0;
-    double best_residual = std::numeric_limits<double>::infinity();
-    for (std::size_t i = 0; i < loop.size(); ++i) {
+    hole.best = 0;
+    hole.best_residual = std::numeric_limits<double>::infinity();
+    for (std::size_t i = 0; i < hole.loop.size(); ++i) {
       double residual = 0.0;
       for (std::uint32_t q : patches)
-        residual = std::max(residual, std::abs(surface(q, mesh.vertices[loop[i]])));
-      if (residual < best_residual) {
-        best_residual = residual;
-        best = i;
+        residual = std::max(residual, std::abs(surface(q, mesh.vertices[hole.loop[i]])));
+      if (residual < hole.best_residual) {
+        hole.best_residual = residual;
+        hole.best = i;
       }
     }
+    return true;
+  };
+  auto plan_of = [&](const Hole& hole) {
+    return plan_fill(mesh, patch_of, options, surface, field, hole.loop, hole.loop_triangles, hole.best,
+                     hole.box, hole.centroid, hole.best_residual);
+  };
+  // The holes as the walk below meets them if every one is closed, planned in parallel. Where
+  // one is not, its edges are free again and the walk may meet holes not planned here: those
+  // are planned as they come.
+  std::vector<Hole> holes;
+  {
+    std::unordered_map<std::uint64_t, bool> used;
+    Hole hole;
+    for (const auto& [a0, b0] : starts) {
+      if (used.count(edge_key(a0, b0)) || !find_hole(a0, b0, used, hole)) continue;
+      for (std::size_t i = 0; i < hole.loop.size(); ++i)
+        used[edge_key(hole.loop[i], hole.loop[(i + 1) % hole.loop.size()])] = true;
+      holes.push_back(hole);
+    }
+  }
+  std::vector<FillPlan> plans(holes.size());
+  tbb::parallel_for(std::size_t{0}, holes.size(), [&](std::size_t i) { plans[i] = plan_of(holes[i]); });
+  std::map<std::vector<std::uint32_t>, std::size_t> planned;  // loop -> index in holes
+  for (std::size_t i = 0; i < holes.size(); ++i) planned.emplace(holes[i].loop, i);
+
+  std::unordered_map<std::uint64_t, bool> used;
+  std::size_t filled = 0;
+  Hole hole;
+  for (const auto& [a0, b0] : starts) {
+    if (used.count(edge_key(a0, b0)) || !find_hole(a0, b0, used, hole)) continue;
+    const auto& loop = hole.loop;
+    const auto& loop_triangles = hole.loop_triangles;
+    auto it = planned.find(loop);
+    const FillPlan plan = it != planned.end() && holes[it->second].loop_triangles == loop_triangles
+                              ? plans[it->second]
+                              : plan_of(hole);
+    if (plan.kind == FillPlan::Kind::kNone) continue;
     for (std::size_t i = 0; i < loop.size(); ++i) used[edge_key(loop[i], loop[(i + 1) % loop.size()])] = true;
-    // A fan whose triangles leave the exact surface (a loop doubling back along a sliver fanned
-    // into a fin) is no fill; the local repair, which checks more, gets the hole instead.
-    auto fan_fits = [&](const Vector3d& apex, std::size_t skip) {
-      for (std::size_t i = 0; i < loop.size(); ++i) {
-        if (i == skip || (i + 1) % loop.size() == skip) continue;
-        const Vector3d &a = mesh.vertices[loop[i]], &b = mesh.vertices[loop[(i + 1) % loop.size()]];
-        if (!triangle_near_field(a, b, apex, field, 2.0 * options.match_distance)) return false;
-      }
-      return true;
-    };
-    auto emit_vertex_fan = [&](std::size_t centre) {
-      for (std::size_t i = 0; i < loop.size(); ++i) {
-        const std::uint32_t va = loop[i], vb = loop[(i + 1) % loop.size()];
-        if (i == centre || (i + 1) % loop.size() == centre) continue;
-        mesh.triangles.push_back({vb, va, loop[centre]});
-        mesh.tags.push_back(mesh.tags[loop_triangles[i]]);
-        patch_of.push_back({patch_of[loop_triangles[i]].patch, 7});
-      }
-      ++filled;
-    };
-    if (best_residual <= 1e-7 && fan_fits(mesh.vertices[loop[best]], best)) {
-      emit_vertex_fan(best);
-      continue;
-    }
-    const Vector3d start = mesh.vertices[loop[best]];
-    // A corner far outside the hole is where the same surfaces meet again, not this corner.
-    Eigen::AlignedBox3d near_box = box;
-    near_box.min().array() -= 0.25 * box.diagonal().norm();
-    near_box.max().array() += 0.25 * box.diagonal().norm();
-    auto is_corner = [&](const Vector3d& x) {
-      return x != start && near_box.contains(x) && std::abs(field(x)) <= 1e3 * options.weld_distance;
-    };
-    Vector3d found = corner_point(patches, surface, start, box.diagonal().norm());
-    bool valid = is_corner(found);
-    // Four or more surfaces around a hole need not share a point (a tool surface beside the
-    // corner without reaching it): then a corner of three of them on the exact surface, the
-    // nearest to the hole's centroid whose fan fits, else the nearest.
-    if (!valid && patches.size() > 3 && patches.size() <= kMaxCornerPatches) {
-      std::vector<std::pair<double, Vector3d>> corners;
-      for (std::size_t a = 0; a < patches.size(); ++a)
-        for (std::size_t b = a + 1; b < patches.size(); ++b)
-          for (std::size_t c = b + 1; c < patches.size(); ++c) {
-            const Vector3d x =
-                corner_point({patches[a], patches[b], patches[c]}, surface, start, box.diagonal().norm());
-            if (is_corner(x)) corners.push_back({(x - centroid).norm(), x});
-          }
-      std::stable_sort(corners.begin(), corners.end(),
-                       [](const auto& p, const auto& q) { return p.first < q.first; });
-      if (!corners.empty()) {
-        valid = true;
-        found = corners.front().second;
-        for (const auto& [distance, x] : corners)
-          if (fan_fits(x, loop.size())) {
-            found = x;
-            break;
-          }
-      }
-    }
-    // Newton steps along the field's gradient.
-    auto onto_field = [&](Vector3d x) {
-      for (int it = 0; it < 20; ++it) {
-        const double f = field(x);
-        if (std::abs(f) <= 1e-3 * options.weld_distance) break;
-        Vector3d gradient;
-        const double h = 1e-7 * std::max(1.0, box.diagonal().norm());
-        for (int k = 0; k < 3; ++k)
-          gradient[k] = (field(x + h * Vector3d::Unit(k)) - field(x - h * Vector3d::Unit(k))) / (2 * h);
-        if (gradient.squaredNorm() < 1e-12) break;
-        x -= f * gradient / gradient.squaredNorm();
-      }
-      return x;
-    };
-    // Otherwise the centroid moved onto the exact surface; a hole where even that fails is left
-    // to the local repair, which checks its fans.
-    Vector3d corner = found;
-    if (!valid) {
-      corner = onto_field(centroid);
-      if (!(std::abs(field(corner)) <= 1e3 * options.weld_distance) || !near_box.contains(corner)) {
-        for (std::size_t i = 0; i < loop.size(); ++i)
-          used.erase(edge_key(loop[i], loop[(i + 1) % loop.size()]));
-        continue;
-      }
-    }
-    // A corner found within the weld distance of one of the loop's own vertices is that vertex: a
-    // new point there would leave an edge a billionth long that no later fan can cross.
-    {
-      std::size_t nearest = 0;
-      for (std::size_t i = 1; i < loop.size(); ++i)
-        if ((mesh.vertices[loop[i]] - corner).squaredNorm() <
-            (mesh.vertices[loop[nearest]] - corner).squaredNorm())
-          nearest = i;
-      if ((mesh.vertices[loop[nearest]] - corner).norm() <= options.weld_distance &&
-          fan_fits(mesh.vertices[loop[nearest]], nearest)) {
-        emit_vertex_fan(nearest);
-        continue;
-      }
-    }
-    if (!fan_fits(corner, loop.size())) {
-      // A curved or creased hole: rings of exact-surface points between the loop and the corner
-      // take the fan's triangles closer to the surface.
-      const std::size_t n = loop.size();
-      bool ringed = false;
-      for (int levels = 2; levels <= 3 && !ringed; ++levels) {
-        // rings[k][i], k = 0 the loop, k = levels the corner.
-        std::vector<std::vector<Vector3d>> rings(levels + 1, std::vector<Vector3d>(n, corner));
-        bool fits = true;
-        for (std::size_t i = 0; i < n; ++i) rings[0][i] = mesh.vertices[loop[i]];
-        for (int k = 1; k < levels && fits; ++k)
-          for (std::size_t i = 0; i < n && fits; ++i) {
-            const double t = static_cast<double>(k) / levels;
-            rings[k][i] = onto_field((1.0 - t) * rings[0][i] + t * corner);
-            fits = std::abs(field(rings[k][i])) <= 1e3 * options.weld_distance;
-          }
-        const double limit = 2.0 * options.match_distance;
-        for (int k = 0; k < levels && fits; ++k)
-          for (std::size_t i = 0; i < n && fits; ++i) {
-            const std::size_t j = (i + 1) % n;
-            fits = triangle_near_field(rings[k][j], rings[k][i], rings[k + 1][i], field, limit) &&
-                   (k + 1 == levels ||
-                    triangle_near_field(rings[k][j], rings[k + 1][i], rings[k + 1][j], field, limit));
-          }
-        if (!fits) continue;
-        // Vertex indices: the loop's own, then the inner rings' new points, then the corner.
-        const auto first = static_cast<std::uint32_t>(mesh.vertices.size());
-        auto index = [&](int k, std::size_t i) {
-          if (k == 0) return loop[i];
-          if (k == levels) return first + static_cast<std::uint32_t>((levels - 1) * n);
-          return first + static_cast<std::uint32_t>((k - 1) * n + i);
-        };
-        for (int k = 1; k < levels; ++k)
-          mesh.vertices.insert(mesh.vertices.end(), rings[k].begin(), rings[k].end());
-        mesh.vertices.push_back(corner);
-        for (std::size_t i = 0; i < n; ++i) {
-          const std::size_t j = (i + 1) % n;
-          for (int k = 0; k < levels; ++k) {
-            std::vector<Triangle> fan{{index(k, j), index(k, i), index(k + 1, i)}};
-            if (k + 1 < levels) fan.push_back({index(k, j), index(k + 1, i), index(k + 1, j)});
-            for (const Triangle& t : fan) {
-              mesh.triangles.push_back(t);
-              mesh.tags.push_back(mesh.tags[loop_triangles[i]]);
-              patch_of.push_back({patch_of[loop_triangles[i]].patch, 7});
-            }
-          }
-        }
-        ++filled;
-        ringed = true;
-      }
-      if (!ringed)
-        for (std::size_t i = 0; i < loop.size(); ++i)
-          used.erase(edge_key(loop[i], loop[(i + 1) % loop.size()]));
-      continue;
-    }
-    const std::uint32_t c = static_cast<std::uint32_t>(mesh.vertices.size());
-    mesh.vertices.push_back(corner);
-    for (std::size_t i = 0; i < loop.size(); ++i) {
-      const std::uint32_t va = loop[i], vb = loop[(i + 1) % loop.size()];
-      mesh.triangles.push_back({vb, va, c});
+    auto push = [&](const Triangle& t, std::size_t i) {
+      mesh.triangles.push_back(t);
       mesh.tags.push_back(mesh.tags[loop_triangles[i]]);
       patch_of.push_back({patch_of[loop_triangles[i]].patch, 7});
+    };
+    const std::size_t n = loop.size();
+    if (plan.kind == FillPlan::Kind::kVertexFan) {
+      for (std::size_t i = 0; i < n; ++i) {
+        const std::uint32_t va = loop[i], vb = loop[(i + 1) % n];
+        if (i == plan.centre || (i + 1) % n == plan.centre) continue;
+        push({vb, va, loop[plan.centre]}, i);
+      }
+    } else if (plan.kind == FillPlan::Kind::kRinged) {
+      const int levels = static_cast<int>(plan.rings.size()) + 1;
+      // Vertex indices: the loop's own, then the inner rings' new points, then the corner.
+      const auto first = static_cast<std::uint32_t>(mesh.vertices.size());
+      auto index = [&](int k, std::size_t i) {
+        if (k == 0) return loop[i];
+        if (k == levels) return first + static_cast<std::uint32_t>((levels - 1) * n);
+        return first + static_cast<std::uint32_t>((k - 1) * n + i);
+      };
+      for (const std::vector<Vector3d>& ring : plan.rings)
+        mesh.vertices.insert(mesh.vertices.end(), ring.begin(), ring.end());
+      mesh.vertices.push_back(plan.corner);
+      for (std::size_t i = 0; i < n; ++i) {
+        const std::size_t j = (i + 1) % n;
+        for (int k = 0; k < levels; ++k) {
+          push({index(k, j), index(k, i), index(k + 1, i)}, i);
+          if (k + 1 < levels) push({index(k, j), index(k + 1, i), index(k + 1, j)}, i);
+        }
+      }
+    } else {
+      const std::uint32_t c = static_cast<std::uint32_t>(mesh.vertices.size());
+      mesh.vertices.push_back(plan.corner);
+      for (std::size_t i = 0; i < n; ++i) push({loop[(i + 1) % n], loop[i], c}, i);
     }
     ++filled;
   }
