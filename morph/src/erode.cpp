@@ -352,6 +352,71 @@ struct Context {
   }
 };
 
+/// A depth at which x lies inside segment j's sweep (negative: not shown inside): the depth in
+/// the tip's capsule, or in the ball end's body at the tool position nearest horizontally. Each
+/// is a convex piece of the sweep.
+double certified_depth(const Context& ctx, int j, const Vector3d& x) {
+  const Capsule& c = ctx.capsules[static_cast<std::size_t>(j)];
+  const double t = std::clamp((x - c.c0).dot(c.d) * c.inv_dd, 0.0, 1.0);
+  double depth = c.r - (x - (c.c0 + t * c.d)).norm();
+  if (c.ballend) {
+    const Eigen::Vector2d ph(x.x() - c.c0.x(), x.y() - c.c0.y()), dh(c.d.x(), c.d.y());
+    const double hh = dh.squaredNorm();
+    const double th = hh > 0.0 ? std::clamp(ph.dot(dh) / hh, 0.0, 1.0) : 0.0;
+    const double length = ctx.segments[static_cast<std::size_t>(j)].tool->length;
+    depth = std::max(depth, -detail::capped_cylinder_distance(x - (c.c0 + th * c.d), c.r, 0.0, length));
+  }
+  return depth;
+}
+
+/// Whether segment j's sweep holds, beyond the tie shifts, every point within `gap` of the convex
+/// hull of `corners`: each corner lies at least `gap` (and a margin) inside a convex piece of the
+/// sweep, and the sweep is convex, so it holds the hull of those balls.
+bool sweep_holds(const Context& ctx, int j, const std::array<Vector3d, 4>& corners, double gap) {
+  if (!ctx.capsules[static_cast<std::size_t>(j)].valid) return false;
+  const double need = gap + 1e3 * ctx.tie;
+  for (const Vector3d& x : corners)
+    if (certified_depth(ctx, j, x) < need) return false;
+  return true;
+}
+
+/// Whether some segment's sweep (not one the patch leaves out) holds every point within `gap` of
+/// the convex hull of `corners` (see sweep_holds): g < 0 there.
+bool inside_one_sweep(const Context& ctx, const Patch& patch, const std::array<Vector3d, 4>& corners,
+                      double gap) {
+  Eigen::AlignedBox3d box(corners[0]);
+  for (const Vector3d& x : corners) box.extend(x);
+  bool inside = false;
+  ctx.tree.for_each_overlapping(box, [&](std::size_t j) {
+    const int js = static_cast<int>(j);
+    if (inside || js == patch.exclude[0] || js == patch.exclude[1]) return;
+    inside = sweep_holds(ctx, js, corners, gap);
+  });
+  return inside;
+}
+
+/// How far the image of the parameter block [u0, u1] x [v0, v1] can lie from the convex hull
+/// of its corners' images; infinity where no bound is known (arcs of a half turn or more).
+double hull_gap(const Patch& p, double u0, double u1, double v0, double v1) {
+  // Sagitta of a circular arc of the given radius and angle (infinity from a half turn on).
+  auto sagitta = [](double radius, double angle) {
+    return angle < M_PI ? radius * (1.0 - std::cos(0.5 * angle)) : std::numeric_limits<double>::infinity();
+  };
+  switch (p.form) {
+    case Form::Plane:
+    case Form::Triangle:  // bilinear: inside the hull
+      return 0.0;
+    case Form::Tube:  // straight along u; along v an arc, within its sagitta of its chord
+      return sagitta(p.R, std::abs(p.t1 - p.t0) * (v1 - v0));
+    case Form::Sphere:  // a parallel's arc near the chord between two meridians' arcs, each near its chord
+      return sagitta(p.R, std::abs(p.f1 - p.f0) * (u1 - u0)) +
+             sagitta(p.R, std::abs(p.t1 - p.t0) * (v1 - v0));
+    case Form::Disc:  // straight along u; along v an arc of radius at most u1 R
+      return sagitta(u1 * p.R, 2.0 * M_PI * (v1 - v0));
+  }
+  return std::numeric_limits<double>::infinity();
+}
+
 /// Per-patch evaluator of the keep function g: g > 0 where the patch bounds the result.
 class Trimmer {
  public:
@@ -580,6 +645,29 @@ class Trimmer {
       }
     }
     return l;
+  }
+
+  /// Whether one sweep term of `list` holds, beyond the tie shifts, every point within `gap` of
+  /// the convex hull of `corners`: then g < 0 all over that set. Each corner must lie at least
+  /// `gap` (and a margin) inside a convex piece of the sweep (its tip's capsule, or the tool's body
+  /// at one position); the sweep is convex, so it holds the hull of those balls.
+  bool inside_one_sweep(const TermList& list, const std::array<Vector3d, 4>& corners, double gap) const {
+    const double need = gap + 1e3 * ctx_.tie;
+    for (std::size_t k = 0; k < list.count; ++k) {
+      const SweepTerm& term = list.terms[k];
+      const Capsule& c = ctx_.capsules[static_cast<std::size_t>(term.segment)];
+      if (!c.valid) continue;
+      bool inside = true;
+      for (const Vector3d& x : corners) {
+        // The plane bounds the distance from below: a corner it puts less than `need` deep is not.
+        if (term.plane.at(x) - 2.0 * ctx_.tie > -need || certified_depth(ctx_, term.segment, x) < need) {
+          inside = false;
+          break;
+        }
+      }
+      if (inside) return true;
+    }
+    return false;
   }
 
   /// The value of one term of g at (u, v).
@@ -832,6 +920,16 @@ PatchMesh trim_on_grid(const Context& ctx, const Patch& patch, const Trimmer& g,
 /// where a kept strip narrower than a cell slips between the nodes (a pass grazing a face or an
 /// edge keeps a sliver of its sweep), a grid line is added through it and the patch redone.
 PatchMesh trim_patch(const Context& ctx, const Patch& patch) {
+  {
+    // A patch entirely inside another sweep (a ball end's body wall inside the next row's body):
+    // g < 0 all over it, nothing is kept; evaluating every node would find the same.
+    const double gap = hull_gap(patch, 0.0, 1.0, 0.0, 1.0);
+    if (std::isfinite(gap)) {
+      const std::array<Vector3d, 4> corners{evaluate(patch, 0.0, 0.0), evaluate(patch, 1.0, 0.0),
+                                            evaluate(patch, 0.0, 1.0), evaluate(patch, 1.0, 1.0)};
+      if (inside_one_sweep(ctx, patch, corners, 1.001 * gap + 100.0 * ctx.tie + 1e-12)) return PatchMesh();
+    }
+  }
   const Trimmer g(ctx, patch);
   std::vector<double> us(patch.nu + 1), vs(patch.nv + 1);
   for (int i = 0; i <= patch.nu; ++i) us[i] = static_cast<double>(i) / patch.nu;
@@ -987,7 +1085,18 @@ PatchMesh trim_on_grid(const Context& ctx, const Patch& patch, const Trimmer& g,
       if (proofs) {
         const double reach = lipschitz * radius;
         const double gc = g(uc, vc, term_list(task.list));
-        if (gc < -reach || gc > reach) {
+        bool inside = false;
+        if (gc < 0.0 && gc >= -reach) {
+          // Inside one sweep at every corner: removed (a sweep is convex, g is not).
+          const double gap = hull_gap(patch, pu(b.i0), pu(b.i1), pv(b.j0), pv(b.j1));
+          if (std::isfinite(gap)) {
+            const std::array<Vector3d, 4> corners{
+                evaluate(patch, pu(b.i0), pv(b.j0)), evaluate(patch, pu(b.i1), pv(b.j0)),
+                evaluate(patch, pu(b.i0), pv(b.j1)), evaluate(patch, pu(b.i1), pv(b.j1))};
+            inside = g.inside_one_sweep(term_list(task.list), corners, 1.001 * gap + margin);
+          }
+        }
+        if (gc < -reach || gc > reach || inside) {
           for (int i = b.i0; i < b.i1; ++i)
             for (int j = b.j0; j < b.j1; ++j)
               cell_state[static_cast<std::size_t>(i) * nv + j] = gc > 0.0 ? kKept : kRemoved;
