@@ -1168,6 +1168,16 @@ PatchMesh trim_on_grid(const Context& ctx, const Patch& patch, const Trimmer& g,
       };
       heap.assign(1, make_span(p0, p1, g0, g1));
       if (heap[0].bound <= 0.0) return;
+      if (sign > 0.0 && !cell_list.empty()) {
+        // Both ends inside one sweep, deeper than the edge's image strays from its chord: g < 0
+        // all along it (the sweep is convex), no sample would find a kept point.
+        const double gap = hull_gap(patch, pu(i0), pu(i1), pv(j0), pv(j1));
+        if (std::isfinite(gap)) {
+          const Vector3d x0 = evaluate(patch, pu(i0), pv(j0)), x1 = evaluate(patch, pu(i1), pv(j1));
+          if (g.inside_one_sweep(term_list(cell_list[current_cell]), {x0, x1, x0, x1}, 1.001 * gap + margin))
+            return;
+        }
+      }
       // The samples come from the terms that can be the least one on the edge (about its
       // midpoint, as for the edge roots): far fewer distances than from the cell's.
       Trimmer::TermList scan_list{nullptr, 0, Vector3d::Zero(), 0.0};
