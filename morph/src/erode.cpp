@@ -317,6 +317,26 @@ struct Capsule {
   }
 };
 
+/// Whether the sweep's signed distance at x is at least `bound` (false: not shown), from closed
+/// forms without square roots: the tip's capsule, and for a ball end the body's bounds (above the
+/// lowest centre, within r horizontally of the centres' track). No bound where `bound` is not
+/// finite or the capsule is not valid.
+bool sweep_at_least(const Capsule& c, const Vector3d& x, double bound) {
+  if (!c.valid || !(bound < std::numeric_limits<double>::infinity())) return false;
+  const double reach = bound + c.r;  // the capsule: |x - centre| - r >= bound
+  if (reach > 0.0) {
+    const double t = std::clamp((x - c.c0).dot(c.d) * c.inv_dd, 0.0, 1.0);
+    if ((x - (c.c0 + t * c.d)).squaredNorm() < reach * reach) return false;
+  }
+  if (!c.ballend) return true;
+  const double lowest = std::min(c.c0.z(), c.c0.z() + c.d.z());
+  if (lowest - x.z() >= bound || reach <= 0.0) return true;
+  const Eigen::Vector2d ph(x.x() - c.c0.x(), x.y() - c.c0.y()), dh(c.d.x(), c.d.y());
+  const double hh = dh.squaredNorm();
+  const double th = hh > 0.0 ? std::clamp(ph.dot(dh) / hh, 0.0, 1.0) : 0.0;
+  return (ph - th * dh).squaredNorm() >= reach * reach;
+}
+
 /// The support plane of the sweep facing x (`x_margin`: 1e-12 |x|, the rounding of n.x).
 SupportPlane support_plane(const Capsule& c, const Vector3d& x, double x_margin) {
   SupportPlane plane;
@@ -689,6 +709,9 @@ class Trimmer {
         [&](std::size_t j) {
           const int js = static_cast<int>(j);
           if (js == patch_.exclude[0] || js == patch_.exclude[1])
+            return std::numeric_limits<double>::infinity();
+          // Proven no nearer than the least so far (the tie shift included): it cannot win.
+          if (sweep_at_least(ctx_.capsules[j], x, *best + 2.0 * ctx_.tie + 1e3 * ctx_.tie))
             return std::numeric_limits<double>::infinity();
           const double d = distance(js, x, u, v, *best);
           *best = std::min(*best, d);
@@ -2000,20 +2023,44 @@ ErodeResult erode(const Job& job, const ErodeOptions& options) {
   seam.match_distance = 0.5 * tolerance;
   seam.cell = budget.cell;
   seam.hole_diameter = 4.0 * budget.cell;
+  // Far above the rounding of the distances.
+  const double skip_margin = 1e3 * ctx.tie;
   const detail::FieldFunction field = [&](const Vector3d& x) {
-    double nearest = std::numeric_limits<double>::infinity();
-    // The search updates on smaller distances only: capped at its running minimum, they are
-    // exact wherever that changes (the body's search stops once it cannot).
+    // The least sweep distance at x: its exact value wherever a sweep holds x or comes nearer
+    // than the least of those holding x; others only as far as they could lower it. Capped at
+    // its running minimum, each distance is exact wherever that changes (the body's search
+    // stops once it cannot); a sweep proven no nearer is skipped. The same minimum as the
+    // tree's best-first search, without its queue.
     double least = std::numeric_limits<double>::infinity();
-    ctx.tree.nearest(
-        x,
-        [&](std::size_t j) {
-          const Segment& s = ctx.segments[j];
-          const double d = sweep_distance(*s.tool, s.a, s.b, x, least);
-          least = std::min(least, d);
-          return d;
-        },
-        &nearest, ctx.max_depth);
+    auto visit = [&](std::size_t j) {
+      if (sweep_at_least(ctx.capsules[j], x, least + skip_margin)) return;
+      const Segment& s = ctx.segments[j];
+      least = std::min(least, sweep_distance(*s.tool, s.a, s.b, x, least));
+    };
+    ctx.tree.for_each_overlapping(Eigen::AlignedBox3d(x, x), visit);
+    double nearest = least;
+    if (!std::isfinite(least)) {
+      // No sweep's bounds hold x: the tree's search.
+      ctx.tree.nearest(
+          x,
+          [&](std::size_t j) {
+            const Segment& s = ctx.segments[j];
+            const double d = sweep_distance(*s.tool, s.a, s.b, x, least);
+            least = std::min(least, d);
+            return d;
+          },
+          &nearest, ctx.max_depth);
+    } else if (least > 0.0) {
+      // Outside every sweep holding x: those whose bounds come nearer than that may be nearer.
+      Eigen::AlignedBox3d query(x, x);
+      query.min().array() -= least;
+      query.max().array() += least;
+      ctx.tree.for_each_overlapping(query, [&](std::size_t j) {
+        const double outside = ctx.segments[j].box.exteriorDistance(x);
+        if (outside > 0.0 && outside < least) visit(j);
+      });
+      nearest = least;
+    }
     return std::max(ctx.stock_distance(x), -nearest);
   };
   const detail::SeamStats seam_stats = detail::join_seams(
