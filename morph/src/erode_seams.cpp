@@ -401,17 +401,20 @@ std::size_t split_pass(TriangleMesh& mesh, std::vector<TriangleOrigin>& patch_of
     std::uint32_t t;
     int k;
   };
-  std::vector<Match> matches;
-  for (const auto& [t, k] : edges) {
+  // Found in parallel, edge by edge, and gathered in the edges' order.
+  constexpr std::size_t kEdgesPerChunk = 512;
+  std::vector<std::vector<Match>> chunk_matches((edges.size() + kEdgesPerChunk - 1) / kEdgesPerChunk);
+  auto match_edge = [&](std::uint32_t t, int k, std::vector<Match>& matches,
+                        std::vector<std::uint32_t>& near) {
     const std::uint32_t a = mesh.triangles[t][k], b = mesh.triangles[t][(k + 1) % 3];
     const Vector3d& pa = mesh.vertices[a];
     const Vector3d& pb = mesh.vertices[b];
     const Vector3d ab = pb - pa;
     const double len2 = ab.squaredNorm();
-    if (len2 <= 0.0) continue;
+    if (len2 <= 0.0) return;
     // The cells near the edge, piece by piece: a long edge (a big flat stock triangle's side)
     // has a bounding box of far too many cells, but only the cells along it can hold matches.
-    std::vector<std::uint32_t> near;
+    near.clear();
     const double length = std::sqrt(len2);
     const int pieces = static_cast<int>(std::min(1e6, std::ceil(length / cell)));
     for (int piece = 0; piece < pieces; ++piece) {
@@ -446,7 +449,16 @@ std::size_t split_pass(TriangleMesh& mesh, std::vector<TriangleOrigin>& patch_of
       if (std::abs(surface(patch_of[t].patch, pw)) > 1e3 * options.weld_distance) continue;
       matches.push_back({w, patch_of[t].patch, distance, lambda, t, k});
     }
-  }
+  };
+  tbb::parallel_for(std::size_t{0}, chunk_matches.size(), [&](std::size_t chunk) {
+    std::vector<std::uint32_t> near;
+    const std::size_t end = std::min(edges.size(), (chunk + 1) * kEdgesPerChunk);
+    for (std::size_t e = chunk * kEdgesPerChunk; e < end; ++e)
+      match_edge(edges[e].first, edges[e].second, chunk_matches[chunk], near);
+  });
+  std::vector<Match> matches;
+  for (const std::vector<Match>& chunk : chunk_matches)
+    matches.insert(matches.end(), chunk.begin(), chunk.end());
   std::sort(matches.begin(), matches.end(), [](const Match& x, const Match& y) {
     if (x.w != y.w) return x.w < y.w;
     if (x.patch != y.patch) return x.patch < y.patch;
@@ -473,7 +485,13 @@ std::size_t split_pass(TriangleMesh& mesh, std::vector<TriangleOrigin>& patch_of
   patches.reserve(mesh.triangles.size() + inserted * 2);
   may_be_open.clear();
   may_be_open.reserve(mesh.triangles.size() + inserted * 2);
-  for (std::uint32_t t = 0; t < mesh.triangles.size(); ++t) {
+  // The triangles with a split edge, in order; the others are copied in runs.
+  std::vector<std::uint32_t> split_triangles;
+  split_triangles.reserve(splits.size());
+  for (const auto& [key, list] : splits) split_triangles.push_back(static_cast<std::uint32_t>(key >> 32));
+  std::sort(split_triangles.begin(), split_triangles.end());
+  split_triangles.erase(std::unique(split_triangles.begin(), split_triangles.end()), split_triangles.end());
+  auto split_triangle = [&](std::uint32_t t) {
     const Triangle tri = mesh.triangles[t];
     const std::vector<std::pair<double, std::uint32_t>>* on_edge[3] = {nullptr, nullptr, nullptr};
     int split_edges = 0;
@@ -500,7 +518,7 @@ std::size_t split_pass(TriangleMesh& mesh, std::vector<TriangleOrigin>& patch_of
       tags.push_back(mesh.tags[t]);
       patches.push_back(patch_of[t]);
       may_be_open.push_back(open[t] != 0);
-      continue;
+      return;
     }
     const Vector3d normal =
         (mesh.vertices[tri[1]] - mesh.vertices[tri[0]]).cross(mesh.vertices[tri[2]] - mesh.vertices[tri[0]]);
@@ -526,7 +544,7 @@ std::size_t split_pass(TriangleMesh& mesh, std::vector<TriangleOrigin>& patch_of
       }
       if (kept.empty()) {
         push(tri[0], tri[1], tri[2], bits);
-        continue;
+        return;
       }
       // (p0, p1, o) has edges k: p0->p1, k+1: p1->o, k+2: o->p0.
       previous = p0;
@@ -535,7 +553,7 @@ std::size_t split_pass(TriangleMesh& mesh, std::vector<TriangleOrigin>& patch_of
         previous = w;
       }
       push(o, previous, p1, static_cast<std::uint8_t>(2u | bit((k + 1) % 3, 2)));
-      continue;
+      return;
     }
     // Several edges split: fan from the centroid.
     std::vector<std::uint32_t> polygon;
@@ -553,6 +571,16 @@ std::size_t split_pass(TriangleMesh& mesh, std::vector<TriangleOrigin>& patch_of
     mesh.vertices.push_back((mesh.vertices[tri[0]] + mesh.vertices[tri[1]] + mesh.vertices[tri[2]]) / 3.0);
     for (std::size_t i = 0; i < polygon.size(); ++i)
       push(centre, polygon[i], polygon[(i + 1) % polygon.size()], bit(from_edge[i], 1));
+  };
+  const auto count = static_cast<std::uint32_t>(mesh.triangles.size());
+  for (std::uint32_t t = 0, next = 0; t < count; ++t) {
+    const std::uint32_t stop = next < split_triangles.size() ? split_triangles[next++] : count;
+    triangles.insert(triangles.end(), mesh.triangles.begin() + t, mesh.triangles.begin() + stop);
+    tags.insert(tags.end(), mesh.tags.begin() + t, mesh.tags.begin() + stop);
+    patches.insert(patches.end(), patch_of.begin() + t, patch_of.begin() + stop);
+    for (std::uint32_t u = t; u < stop; ++u) may_be_open.push_back(open[u] != 0);
+    t = stop;
+    if (t < count) split_triangle(t);
   }
   mesh.triangles = std::move(triangles);
   mesh.tags = std::move(tags);
