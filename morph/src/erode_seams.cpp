@@ -253,6 +253,30 @@ struct HalfEdges {
     }
     tbb::parallel_sort(sorted.begin(), sorted.end());
   }
+  /// Only the uses `boundary` needs for the border edges of the triangles flagged in
+  /// `may_be_open` (see open_edges; empty: all): those joining two of their ends.
+  HalfEdges(const TriangleMesh& mesh, const std::vector<TriangleOrigin>& origin,
+            const std::vector<std::uint8_t>& may_be_open) {
+    if (may_be_open.empty()) {
+      *this = HalfEdges(mesh, origin);
+      return;
+    }
+    std::vector<std::uint8_t> end(mesh.vertices.size(), 0);
+    for (std::size_t i = 0; i < mesh.triangles.size(); ++i) {
+      if (!origin[i].border || (i < may_be_open.size() && !may_be_open[i])) continue;
+      const Triangle& t = mesh.triangles[i];
+      for (int k = 0; k < 3; ++k)
+        if (origin[i].border & (1u << k)) end[t[k]] = end[t[(k + 1) % 3]] = 1;
+    }
+    for (std::size_t i = 0; i < mesh.triangles.size(); ++i) {
+      if (!origin[i].border) continue;
+      const Triangle& t = mesh.triangles[i];
+      for (int k = 0; k < 3; ++k)
+        if ((origin[i].border & (1u << k)) && end[t[k]] && end[t[(k + 1) % 3]])
+          sorted.push_back(edge_key(t[k], t[(k + 1) % 3]));
+    }
+    tbb::parallel_sort(sorted.begin(), sorted.end());
+  }
   /// Used once as a->b and never as b->a.
   bool boundary(std::uint32_t a, std::uint32_t b) const {
     const auto [first, last] = std::equal_range(sorted.begin(), sorted.end(), edge_key(a, b));
@@ -364,7 +388,7 @@ std::size_t snap_boundary(TriangleMesh& mesh, std::vector<TriangleOrigin>& patch
 /// gain uses).
 std::size_t split_pass(TriangleMesh& mesh, std::vector<TriangleOrigin>& patch_of, const SeamOptions& options,
                        const SurfaceFunction& surface, std::vector<std::uint8_t>& may_be_open) {
-  const HalfEdges half(mesh, patch_of);
+  const HalfEdges half(mesh, patch_of, may_be_open);
   struct BoundaryVertex {
     Vector3d tangent = Vector3d::Zero();
     std::vector<std::uint32_t> patches;
@@ -620,7 +644,7 @@ Vector3d corner_point(const std::vector<std::uint32_t>& patches, const SurfaceFu
 std::size_t fill_holes(TriangleMesh& mesh, std::vector<TriangleOrigin>& patch_of, const SeamOptions& options,
                        const SurfaceFunction& surface, const FieldFunction& field,
                        const std::vector<std::uint8_t>& may_be_open) {
-  const HalfEdges half(mesh, patch_of);
+  const HalfEdges half(mesh, patch_of, may_be_open);
   const std::vector<std::uint8_t> open = open_edges(mesh, patch_of, half, may_be_open);
   // Outgoing boundary half-edges per vertex, with their triangle.
   std::unordered_map<std::uint32_t, std::vector<std::pair<std::uint32_t, std::uint32_t>>>
@@ -879,7 +903,7 @@ std::size_t fill_holes(TriangleMesh& mesh, std::vector<TriangleOrigin>& patch_of
 
 std::size_t count_boundary(const TriangleMesh& mesh, const std::vector<TriangleOrigin>& patch_of,
                            const std::vector<std::uint8_t>& may_be_open) {
-  const HalfEdges half(mesh, patch_of);
+  const HalfEdges half(mesh, patch_of, may_be_open);
   std::size_t n = 0;
   for (const std::uint8_t bits : open_edges(mesh, patch_of, half, may_be_open))
     n += (bits & 1u) + ((bits >> 1) & 1u) + ((bits >> 2) & 1u);
