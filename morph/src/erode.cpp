@@ -415,6 +415,20 @@ bool inside_one_sweep(const Context& ctx, const Patch& patch, const std::array<V
   return inside;
 }
 
+/// The angles the patch's parameters u and v turn through (0 along straight lines).
+std::array<double, 2> parameter_angles(const Patch& p) {
+  switch (p.form) {
+    case Form::Tube:
+      return {0.0, std::abs(p.t1 - p.t0)};
+    case Form::Sphere:
+      return {std::abs(p.f1 - p.f0), std::abs(p.t1 - p.t0)};
+    case Form::Disc:
+      return {0.0, 2.0 * M_PI};
+    default:
+      return {0.0, 0.0};
+  }
+}
+
 /// How far the image of the parameter block [u0, u1] x [v0, v1] can lie from the convex hull
 /// of its corners' images; infinity where no bound is known (arcs of a half turn or more).
 double hull_gap(const Patch& p, double u0, double u1, double v0, double v1) {
@@ -944,14 +958,25 @@ PatchMesh trim_on_grid(const Context& ctx, const Patch& patch, const Trimmer& g,
 /// edge keeps a sliver of its sweep), a grid line is added through it and the patch redone.
 PatchMesh trim_patch(const Context& ctx, const Patch& patch) {
   {
-    // A patch entirely inside another sweep (a ball end's body wall inside the next row's body):
-    // g < 0 all over it, nothing is kept; evaluating every node would find the same.
-    const double gap = hull_gap(patch, 0.0, 1.0, 0.0, 1.0);
-    if (std::isfinite(gap)) {
-      const std::array<Vector3d, 4> corners{evaluate(patch, 0.0, 0.0), evaluate(patch, 1.0, 0.0),
-                                            evaluate(patch, 0.0, 1.0), evaluate(patch, 1.0, 1.0)};
-      if (inside_one_sweep(ctx, patch, corners, 1.001 * gap + 100.0 * ctx.tie + 1e-12)) return PatchMesh();
-    }
+    // A patch entirely inside other sweeps, piece by piece inside one (a ball end's body wall
+    // inside the next row's body, a joint's cap inside the passes around it): g < 0 all over
+    // it, nothing is kept; evaluating every node would find the same. Arcs are cut into pieces
+    // of at most an eighth of a turn.
+    const auto [angle_u, angle_v] = parameter_angles(patch);
+    const int parts_u = std::max(1, static_cast<int>(std::ceil(angle_u / (0.25 * M_PI) - 1e-9)));
+    const int parts_v = std::max(1, static_cast<int>(std::ceil(angle_v / (0.25 * M_PI) - 1e-9)));
+    bool inside = parts_u * parts_v <= 64;
+    for (int i = 0; i < parts_u && inside; ++i)
+      for (int j = 0; j < parts_v && inside; ++j) {
+        const double u0 = static_cast<double>(i) / parts_u, u1 = static_cast<double>(i + 1) / parts_u;
+        const double v0 = static_cast<double>(j) / parts_v, v1 = static_cast<double>(j + 1) / parts_v;
+        const double gap = hull_gap(patch, u0, u1, v0, v1);
+        const std::array<Vector3d, 4> corners{evaluate(patch, u0, v0), evaluate(patch, u1, v0),
+                                              evaluate(patch, u0, v1), evaluate(patch, u1, v1)};
+        inside = std::isfinite(gap) &&
+                 inside_one_sweep(ctx, patch, corners, 1.001 * gap + 100.0 * ctx.tie + 1e-12);
+      }
+    if (inside) return PatchMesh();
   }
   const Trimmer g(ctx, patch);
   std::vector<double> us(patch.nu + 1), vs(patch.nv + 1);
