@@ -72,8 +72,7 @@ class CellIndex {
       while (end < entries_.size() && entries_[end].cell == entries_[begin].cell) ++end;
       std::size_t slot = CellHash()(entries_[begin].cell) & (size - 1);
       while (slots_[slot].end != 0) slot = (slot + 1) & (size - 1);
-      slots_[slot] = {entries_[begin].cell, static_cast<std::uint32_t>(begin),
-                      static_cast<std::uint32_t>(end)};
+      slots_[slot] = {static_cast<std::uint32_t>(begin), static_cast<std::uint32_t>(end)};
       begin = end;
     }
   }
@@ -86,7 +85,7 @@ class CellIndex {
     if (slots_.empty()) return;
     for (std::size_t slot = CellHash()(c) & (slots_.size() - 1); slots_[slot].end != 0;
          slot = (slot + 1) & (slots_.size() - 1))
-      if (slots_[slot].cell == c) {
+      if (entries_[slots_[slot].begin].cell == c) {
         for (std::uint32_t i = slots_[slot].begin; i < slots_[slot].end; ++i) f(entries_[i].point);
         return;
       }
@@ -98,8 +97,7 @@ class CellIndex {
     std::uint32_t point;
   };
   struct Slot {
-    CellKey cell{0, 0, 0};
-    std::uint32_t begin = 0, end = 0;  // end 0: empty
+    std::uint32_t begin = 0, end = 0;  // the cell's entries (its key: entries_[begin].cell); end 0: empty
   };
   double cell_;
   std::vector<Entry> entries_;
