@@ -307,7 +307,8 @@ std::vector<std::uint8_t> open_edges(const TriangleMesh& mesh, const std::vector
 std::size_t snap_boundary(TriangleMesh& mesh, std::vector<TriangleOrigin>& patch_of, double distance,
                           double on_surface, const SurfaceFunction& surface) {
   const HalfEdges half(mesh, patch_of);
-  std::unordered_map<std::uint32_t, std::vector<std::uint32_t>> patches_of_vertex;
+  // Per vertex, the patches whose open border edges it ends (empty: none).
+  std::vector<std::vector<std::uint32_t>> patches_of_vertex(mesh.vertices.size());
   for (std::uint32_t t = 0; t < mesh.triangles.size(); ++t)
     for (int k = 0; k < 3; ++k) {
       if (!(patch_of[t].border & (1u << k))) continue;
@@ -320,8 +321,8 @@ std::size_t snap_boundary(TriangleMesh& mesh, std::vector<TriangleOrigin>& patch
       }
     }
   std::vector<std::uint32_t> boundary;
-  for (const auto& [v, list] : patches_of_vertex) boundary.push_back(v);
-  std::sort(boundary.begin(), boundary.end());
+  for (std::uint32_t v = 0; v < patches_of_vertex.size(); ++v)
+    if (!patches_of_vertex[v].empty()) boundary.push_back(v);
   std::vector<std::uint32_t> target(mesh.vertices.size());
   for (std::uint32_t v = 0; v < target.size(); ++v) target[v] = v;
   const CellIndex index(mesh.vertices, boundary, distance);
