@@ -317,6 +317,26 @@ struct Capsule {
   }
 };
 
+/// Whether the sweep's signed distance at x is at least `bound` (false: not shown), from closed
+/// forms without square roots: the tip's capsule, and for a ball end the body's bounds (above the
+/// lowest centre, within r horizontally of the centres' track). No bound where `bound` is not
+/// finite or the capsule is not valid.
+bool sweep_at_least(const Capsule& c, const Vector3d& x, double bound) {
+  if (!c.valid || !(bound < std::numeric_limits<double>::infinity())) return false;
+  const double reach = bound + c.r;  // the capsule: |x - centre| - r >= bound
+  if (reach > 0.0) {
+    const double t = std::clamp((x - c.c0).dot(c.d) * c.inv_dd, 0.0, 1.0);
+    if ((x - (c.c0 + t * c.d)).squaredNorm() < reach * reach) return false;
+  }
+  if (!c.ballend) return true;
+  const double lowest = std::min(c.c0.z(), c.c0.z() + c.d.z());
+  if (lowest - x.z() >= bound || reach <= 0.0) return true;
+  const Eigen::Vector2d ph(x.x() - c.c0.x(), x.y() - c.c0.y()), dh(c.d.x(), c.d.y());
+  const double hh = dh.squaredNorm();
+  const double th = hh > 0.0 ? std::clamp(ph.dot(dh) / hh, 0.0, 1.0) : 0.0;
+  return (ph - th * dh).squaredNorm() >= reach * reach;
+}
+
 /// The support plane of the sweep facing x (`x_margin`: 1e-12 |x|, the rounding of n.x).
 SupportPlane support_plane(const Capsule& c, const Vector3d& x, double x_margin) {
   SupportPlane plane;
@@ -351,6 +371,85 @@ struct Context {
     return analytic_signed_distance(job->stock, x);
   }
 };
+
+/// A depth at which x lies inside segment j's sweep (negative: not shown inside): the depth in
+/// the tip's capsule, or in the ball end's body at the tool position nearest horizontally. Each
+/// is a convex piece of the sweep.
+double certified_depth(const Context& ctx, int j, const Vector3d& x) {
+  const Capsule& c = ctx.capsules[static_cast<std::size_t>(j)];
+  const double t = std::clamp((x - c.c0).dot(c.d) * c.inv_dd, 0.0, 1.0);
+  double depth = c.r - (x - (c.c0 + t * c.d)).norm();
+  if (c.ballend) {
+    const Eigen::Vector2d ph(x.x() - c.c0.x(), x.y() - c.c0.y()), dh(c.d.x(), c.d.y());
+    const double hh = dh.squaredNorm();
+    const double th = hh > 0.0 ? std::clamp(ph.dot(dh) / hh, 0.0, 1.0) : 0.0;
+    const double length = ctx.segments[static_cast<std::size_t>(j)].tool->length;
+    depth = std::max(depth, -detail::capped_cylinder_distance(x - (c.c0 + th * c.d), c.r, 0.0, length));
+  }
+  return depth;
+}
+
+/// Whether segment j's sweep holds, beyond the tie shifts, every point within `gap` of the convex
+/// hull of `corners`: each corner lies at least `gap` (and a margin) inside a convex piece of the
+/// sweep, and the sweep is convex, so it holds the hull of those balls.
+bool sweep_holds(const Context& ctx, int j, const std::array<Vector3d, 4>& corners, double gap) {
+  if (!ctx.capsules[static_cast<std::size_t>(j)].valid) return false;
+  const double need = gap + 1e3 * ctx.tie;
+  for (const Vector3d& x : corners)
+    if (certified_depth(ctx, j, x) < need) return false;
+  return true;
+}
+
+/// Whether some segment's sweep (not one the patch leaves out) holds every point within `gap` of
+/// the convex hull of `corners` (see sweep_holds): g < 0 there.
+bool inside_one_sweep(const Context& ctx, const Patch& patch, const std::array<Vector3d, 4>& corners,
+                      double gap) {
+  Eigen::AlignedBox3d box(corners[0]);
+  for (const Vector3d& x : corners) box.extend(x);
+  bool inside = false;
+  ctx.tree.for_each_overlapping(box, [&](std::size_t j) {
+    const int js = static_cast<int>(j);
+    if (inside || js == patch.exclude[0] || js == patch.exclude[1]) return;
+    inside = sweep_holds(ctx, js, corners, gap);
+  });
+  return inside;
+}
+
+/// The angles the patch's parameters u and v turn through (0 along straight lines).
+std::array<double, 2> parameter_angles(const Patch& p) {
+  switch (p.form) {
+    case Form::Tube:
+      return {0.0, std::abs(p.t1 - p.t0)};
+    case Form::Sphere:
+      return {std::abs(p.f1 - p.f0), std::abs(p.t1 - p.t0)};
+    case Form::Disc:
+      return {0.0, 2.0 * M_PI};
+    default:
+      return {0.0, 0.0};
+  }
+}
+
+/// How far the image of the parameter block [u0, u1] x [v0, v1] can lie from the convex hull
+/// of its corners' images; infinity where no bound is known (arcs of a half turn or more).
+double hull_gap(const Patch& p, double u0, double u1, double v0, double v1) {
+  // Sagitta of a circular arc of the given radius and angle (infinity from a half turn on).
+  auto sagitta = [](double radius, double angle) {
+    return angle < M_PI ? radius * (1.0 - std::cos(0.5 * angle)) : std::numeric_limits<double>::infinity();
+  };
+  switch (p.form) {
+    case Form::Plane:
+    case Form::Triangle:  // bilinear: inside the hull
+      return 0.0;
+    case Form::Tube:  // straight along u; along v an arc, within its sagitta of its chord
+      return sagitta(p.R, std::abs(p.t1 - p.t0) * (v1 - v0));
+    case Form::Sphere:  // a parallel's arc near the chord between two meridians' arcs, each near its chord
+      return sagitta(p.R, std::abs(p.f1 - p.f0) * (u1 - u0)) +
+             sagitta(p.R, std::abs(p.t1 - p.t0) * (v1 - v0));
+    case Form::Disc:  // straight along u; along v an arc of radius at most u1 R
+      return sagitta(u1 * p.R, 2.0 * M_PI * (v1 - v0));
+  }
+  return std::numeric_limits<double>::infinity();
+}
 
 /// Per-patch evaluator of the keep function g: g > 0 where the patch bounds the result.
 class Trimmer {
@@ -582,6 +681,29 @@ class Trimmer {
     return l;
   }
 
+  /// Whether one sweep term of `list` holds, beyond the tie shifts, every point within `gap` of
+  /// the convex hull of `corners`: then g < 0 all over that set. Each corner must lie at least
+  /// `gap` (and a margin) inside a convex piece of the sweep (its tip's capsule, or the tool's body
+  /// at one position); the sweep is convex, so it holds the hull of those balls.
+  bool inside_one_sweep(const TermList& list, const std::array<Vector3d, 4>& corners, double gap) const {
+    const double need = gap + 1e3 * ctx_.tie;
+    for (std::size_t k = 0; k < list.count; ++k) {
+      const SweepTerm& term = list.terms[k];
+      const Capsule& c = ctx_.capsules[static_cast<std::size_t>(term.segment)];
+      if (!c.valid) continue;
+      bool inside = true;
+      for (const Vector3d& x : corners) {
+        // The plane bounds the distance from below: a corner it puts less than `need` deep is not.
+        if (term.plane.at(x) - 2.0 * ctx_.tie > -need || certified_depth(ctx_, term.segment, x) < need) {
+          inside = false;
+          break;
+        }
+      }
+      if (inside) return true;
+    }
+    return false;
+  }
+
   /// The value of one term of g at (u, v).
   double term_value(int term, double u, double v) const {
     const Vector3d x = evaluate(patch_, u, v);
@@ -601,6 +723,9 @@ class Trimmer {
         [&](std::size_t j) {
           const int js = static_cast<int>(j);
           if (js == patch_.exclude[0] || js == patch_.exclude[1])
+            return std::numeric_limits<double>::infinity();
+          // Proven no nearer than the least so far (the tie shift included): it cannot win.
+          if (sweep_at_least(ctx_.capsules[j], x, *best + 2.0 * ctx_.tie + 1e3 * ctx_.tie))
             return std::numeric_limits<double>::infinity();
           const double d = distance(js, x, u, v, *best);
           *best = std::min(*best, d);
@@ -832,6 +957,27 @@ PatchMesh trim_on_grid(const Context& ctx, const Patch& patch, const Trimmer& g,
 /// where a kept strip narrower than a cell slips between the nodes (a pass grazing a face or an
 /// edge keeps a sliver of its sweep), a grid line is added through it and the patch redone.
 PatchMesh trim_patch(const Context& ctx, const Patch& patch) {
+  {
+    // A patch entirely inside other sweeps, piece by piece inside one (a ball end's body wall
+    // inside the next row's body, a joint's cap inside the passes around it): g < 0 all over
+    // it, nothing is kept; evaluating every node would find the same. Arcs are cut into pieces
+    // of at most an eighth of a turn.
+    const auto [angle_u, angle_v] = parameter_angles(patch);
+    const int parts_u = std::max(1, static_cast<int>(std::ceil(angle_u / (0.25 * M_PI) - 1e-9)));
+    const int parts_v = std::max(1, static_cast<int>(std::ceil(angle_v / (0.25 * M_PI) - 1e-9)));
+    bool inside = parts_u * parts_v <= 64;
+    for (int i = 0; i < parts_u && inside; ++i)
+      for (int j = 0; j < parts_v && inside; ++j) {
+        const double u0 = static_cast<double>(i) / parts_u, u1 = static_cast<double>(i + 1) / parts_u;
+        const double v0 = static_cast<double>(j) / parts_v, v1 = static_cast<double>(j + 1) / parts_v;
+        const double gap = hull_gap(patch, u0, u1, v0, v1);
+        const std::array<Vector3d, 4> corners{evaluate(patch, u0, v0), evaluate(patch, u1, v0),
+                                              evaluate(patch, u0, v1), evaluate(patch, u1, v1)};
+        inside = std::isfinite(gap) &&
+                 inside_one_sweep(ctx, patch, corners, 1.001 * gap + 100.0 * ctx.tie + 1e-12);
+      }
+    if (inside) return PatchMesh();
+  }
   const Trimmer g(ctx, patch);
   std::vector<double> us(patch.nu + 1), vs(patch.nv + 1);
   for (int i = 0; i <= patch.nu; ++i) us[i] = static_cast<double>(i) / patch.nu;
@@ -987,7 +1133,18 @@ PatchMesh trim_on_grid(const Context& ctx, const Patch& patch, const Trimmer& g,
       if (proofs) {
         const double reach = lipschitz * radius;
         const double gc = g(uc, vc, term_list(task.list));
-        if (gc < -reach || gc > reach) {
+        bool inside = false;
+        if (gc < 0.0 && gc >= -reach) {
+          // Inside one sweep at every corner: removed (a sweep is convex, g is not).
+          const double gap = hull_gap(patch, pu(b.i0), pu(b.i1), pv(b.j0), pv(b.j1));
+          if (std::isfinite(gap)) {
+            const std::array<Vector3d, 4> corners{
+                evaluate(patch, pu(b.i0), pv(b.j0)), evaluate(patch, pu(b.i1), pv(b.j0)),
+                evaluate(patch, pu(b.i0), pv(b.j1)), evaluate(patch, pu(b.i1), pv(b.j1))};
+            inside = g.inside_one_sweep(term_list(task.list), corners, 1.001 * gap + margin);
+          }
+        }
+        if (gc < -reach || gc > reach || inside) {
           for (int i = b.i0; i < b.i1; ++i)
             for (int j = b.j0; j < b.j1; ++j)
               cell_state[static_cast<std::size_t>(i) * nv + j] = gc > 0.0 ? kKept : kRemoved;
@@ -1059,6 +1216,16 @@ PatchMesh trim_on_grid(const Context& ctx, const Patch& patch, const Trimmer& g,
       };
       heap.assign(1, make_span(p0, p1, g0, g1));
       if (heap[0].bound <= 0.0) return;
+      if (sign > 0.0 && !cell_list.empty()) {
+        // Both ends inside one sweep, deeper than the edge's image strays from its chord: g < 0
+        // all along it (the sweep is convex), no sample would find a kept point.
+        const double gap = hull_gap(patch, pu(i0), pu(i1), pv(j0), pv(j1));
+        if (std::isfinite(gap)) {
+          const Vector3d x0 = evaluate(patch, pu(i0), pv(j0)), x1 = evaluate(patch, pu(i1), pv(j1));
+          if (g.inside_one_sweep(term_list(cell_list[current_cell]), {x0, x1, x0, x1}, 1.001 * gap + margin))
+            return;
+        }
+      }
       // The samples come from the terms that can be the least one on the edge (about its
       // midpoint, as for the edge roots): far fewer distances than from the cell's.
       Trimmer::TermList scan_list{nullptr, 0, Vector3d::Zero(), 0.0};
@@ -1881,20 +2048,44 @@ ErodeResult erode(const Job& job, const ErodeOptions& options) {
   seam.match_distance = 0.5 * tolerance;
   seam.cell = budget.cell;
   seam.hole_diameter = 4.0 * budget.cell;
+  // Far above the rounding of the distances.
+  const double skip_margin = 1e3 * ctx.tie;
   const detail::FieldFunction field = [&](const Vector3d& x) {
-    double nearest = std::numeric_limits<double>::infinity();
-    // The search updates on smaller distances only: capped at its running minimum, they are
-    // exact wherever that changes (the body's search stops once it cannot).
+    // The least sweep distance at x: its exact value wherever a sweep holds x or comes nearer
+    // than the least of those holding x; others only as far as they could lower it. Capped at
+    // its running minimum, each distance is exact wherever that changes (the body's search
+    // stops once it cannot); a sweep proven no nearer is skipped. The same minimum as the
+    // tree's best-first search, without its queue.
     double least = std::numeric_limits<double>::infinity();
-    ctx.tree.nearest(
-        x,
-        [&](std::size_t j) {
-          const Segment& s = ctx.segments[j];
-          const double d = sweep_distance(*s.tool, s.a, s.b, x, least);
-          least = std::min(least, d);
-          return d;
-        },
-        &nearest, ctx.max_depth);
+    auto visit = [&](std::size_t j) {
+      if (sweep_at_least(ctx.capsules[j], x, least + skip_margin)) return;
+      const Segment& s = ctx.segments[j];
+      least = std::min(least, sweep_distance(*s.tool, s.a, s.b, x, least));
+    };
+    ctx.tree.for_each_overlapping(Eigen::AlignedBox3d(x, x), visit);
+    double nearest = least;
+    if (!std::isfinite(least)) {
+      // No sweep's bounds hold x: the tree's search.
+      ctx.tree.nearest(
+          x,
+          [&](std::size_t j) {
+            const Segment& s = ctx.segments[j];
+            const double d = sweep_distance(*s.tool, s.a, s.b, x, least);
+            least = std::min(least, d);
+            return d;
+          },
+          &nearest, ctx.max_depth);
+    } else if (least > 0.0) {
+      // Outside every sweep holding x: those whose bounds come nearer than that may be nearer.
+      Eigen::AlignedBox3d query(x, x);
+      query.min().array() -= least;
+      query.max().array() += least;
+      ctx.tree.for_each_overlapping(query, [&](std::size_t j) {
+        const double outside = ctx.segments[j].box.exteriorDistance(x);
+        if (outside > 0.0 && outside < least) visit(j);
+      });
+      nearest = least;
+    }
     return std::max(ctx.stock_distance(x), -nearest);
   };
   const detail::SeamStats seam_stats = detail::join_seams(

@@ -74,8 +74,7 @@ class CellIndex {
       while (end < entries_.size() && entries_[end].cell == entries_[begin].cell) ++end;
       std::size_t slot = CellHash()(entries_[begin].cell) & (size - 1);
       while (slots_[slot].end != 0) slot = (slot + 1) & (size - 1);
-      slots_[slot] = {entries_[begin].cell, static_cast<std::uint32_t>(begin),
-                      static_cast<std::uint32_t>(end)};
+      slots_[slot] = {static_cast<std::uint32_t>(begin), static_cast<std::uint32_t>(end)};
       begin = end;
     }
   }
@@ -88,7 +87,7 @@ class CellIndex {
     if (slots_.empty()) return;
     for (std::size_t slot = CellHash()(c) & (slots_.size() - 1); slots_[slot].end != 0;
          slot = (slot + 1) & (slots_.size() - 1))
-      if (slots_[slot].cell == c) {
+      if (entries_[slots_[slot].begin].cell == c) {
         for (std::uint32_t i = slots_[slot].begin; i < slots_[slot].end; ++i) f(entries_[i].point);
         return;
       }
@@ -100,8 +99,7 @@ class CellIndex {
     std::uint32_t point;
   };
   struct Slot {
-    CellKey cell{0, 0, 0};
-    std::uint32_t begin = 0, end = 0;  // end 0: empty
+    std::uint32_t begin = 0, end = 0;  // the cell's entries (its key: entries_[begin].cell); end 0: empty
   };
   double cell_;
   std::vector<Entry> entries_;
@@ -270,6 +268,30 @@ struct HalfEdges {
     }
     tbb::parallel_sort(sorted.begin(), sorted.end());
   }
+  /// Only the uses `boundary` needs for the border edges of the triangles flagged in
+  /// `may_be_open` (see open_edges; empty: all): those joining two of their ends.
+  HalfEdges(const TriangleMesh& mesh, const std::vector<TriangleOrigin>& origin,
+            const std::vector<std::uint8_t>& may_be_open) {
+    if (may_be_open.empty()) {
+      *this = HalfEdges(mesh, origin);
+      return;
+    }
+    std::vector<std::uint8_t> end(mesh.vertices.size(), 0);
+    for (std::size_t i = 0; i < mesh.triangles.size(); ++i) {
+      if (!origin[i].border || (i < may_be_open.size() && !may_be_open[i])) continue;
+      const Triangle& t = mesh.triangles[i];
+      for (int k = 0; k < 3; ++k)
+        if (origin[i].border & (1u << k)) end[t[k]] = end[t[(k + 1) % 3]] = 1;
+    }
+    for (std::size_t i = 0; i < mesh.triangles.size(); ++i) {
+      if (!origin[i].border) continue;
+      const Triangle& t = mesh.triangles[i];
+      for (int k = 0; k < 3; ++k)
+        if ((origin[i].border & (1u << k)) && end[t[k]] && end[t[(k + 1) % 3]])
+          sorted.push_back(edge_key(t[k], t[(k + 1) % 3]));
+    }
+    tbb::parallel_sort(sorted.begin(), sorted.end());
+  }
   /// Used once as a->b and never as b->a.
   bool boundary(std::uint32_t a, std::uint32_t b) const {
     const auto [first, last] = std::equal_range(sorted.begin(), sorted.end(), edge_key(a, b));
@@ -302,7 +324,8 @@ std::vector<std::uint8_t> open_edges(const TriangleMesh& mesh, const std::vector
 std::size_t snap_boundary(TriangleMesh& mesh, std::vector<TriangleOrigin>& patch_of, double distance,
                           double on_surface, const SurfaceFunction& surface) {
   const HalfEdges half(mesh, patch_of);
-  std::unordered_map<std::uint32_t, std::vector<std::uint32_t>> patches_of_vertex;
+  // Per vertex, the patches whose open border edges it ends (empty: none).
+  std::vector<std::vector<std::uint32_t>> patches_of_vertex(mesh.vertices.size());
   for (std::uint32_t t = 0; t < mesh.triangles.size(); ++t)
     for (int k = 0; k < 3; ++k) {
       if (!(patch_of[t].border & (1u << k))) continue;
@@ -315,8 +338,8 @@ std::size_t snap_boundary(TriangleMesh& mesh, std::vector<TriangleOrigin>& patch
       }
     }
   std::vector<std::uint32_t> boundary;
-  for (const auto& [v, list] : patches_of_vertex) boundary.push_back(v);
-  std::sort(boundary.begin(), boundary.end());
+  for (std::uint32_t v = 0; v < patches_of_vertex.size(); ++v)
+    if (!patches_of_vertex[v].empty()) boundary.push_back(v);
   std::vector<std::uint32_t> target(mesh.vertices.size());
   for (std::uint32_t v = 0; v < target.size(); ++v) target[v] = v;
   const CellIndex index(mesh.vertices, boundary, kCellsPerSearch * distance);
@@ -381,7 +404,7 @@ std::size_t snap_boundary(TriangleMesh& mesh, std::vector<TriangleOrigin>& patch
 /// gain uses).
 std::size_t split_pass(TriangleMesh& mesh, std::vector<TriangleOrigin>& patch_of, const SeamOptions& options,
                        const SurfaceFunction& surface, std::vector<std::uint8_t>& may_be_open) {
-  const HalfEdges half(mesh, patch_of);
+  const HalfEdges half(mesh, patch_of, may_be_open);
   struct BoundaryVertex {
     Vector3d tangent = Vector3d::Zero();
     std::vector<std::uint32_t> patches;
@@ -418,64 +441,64 @@ std::size_t split_pass(TriangleMesh& mesh, std::vector<TriangleOrigin>& patch_of
     std::uint32_t t;
     int k;
   };
-  // The edges in blocks, in parallel; the matches joined in edge order, as one loop would list
-  // them, so that their sort below gives the same order.
-  constexpr std::size_t kEdgesPerBlock = 512;
-  std::vector<std::vector<Match>> block_matches((edges.size() + kEdgesPerBlock - 1) / kEdgesPerBlock);
-  tbb::parallel_for(std::size_t{0}, block_matches.size(), [&](std::size_t block) {
-    std::vector<Match>& matches = block_matches[block];
-    std::vector<std::uint32_t> near;
-    for (std::size_t e = block * kEdgesPerBlock; e < std::min(edges.size(), (block + 1) * kEdgesPerBlock);
-         ++e) {
-      const auto [t, k] = edges[e];
-      const std::uint32_t a = mesh.triangles[t][k], b = mesh.triangles[t][(k + 1) % 3];
-      const Vector3d& pa = mesh.vertices[a];
-      const Vector3d& pb = mesh.vertices[b];
-      const Vector3d ab = pb - pa;
-      const double len2 = ab.squaredNorm();
-      if (len2 <= 0.0) continue;
-      // The cells near the edge, piece by piece: a long edge (a big flat stock triangle's side)
-      // has a bounding box of far too many cells, but only the cells along it can hold matches.
-      near.clear();
-      const double length = std::sqrt(len2);
-      const int pieces = static_cast<int>(std::min(1e6, std::ceil(length / cell)));
-      for (int piece = 0; piece < pieces; ++piece) {
-        const Vector3d p0 = pa + (static_cast<double>(piece) / pieces) * ab;
-        const Vector3d p1 = pa + (static_cast<double>(piece + 1) / pieces) * ab;
-        Eigen::AlignedBox3d box(p0.cwiseMin(p1), p0.cwiseMax(p1));
-        box.min().array() -= options.match_distance;
-        box.max().array() += options.match_distance;
-        const CellKey lo = cell_of(box.min(), cell), hi = cell_of(box.max(), cell);
-        for (std::int64_t x = lo.x; x <= hi.x; ++x)
-          for (std::int64_t y = lo.y; y <= hi.y; ++y)
-            for (std::int64_t z = lo.z; z <= hi.z; ++z) {
-              index.for_each_in({x, y, z}, [&](std::uint32_t w) { near.push_back(w); });
-            }
-      }
-      std::sort(near.begin(), near.end());
-      near.erase(std::unique(near.begin(), near.end()), near.end());
-      for (std::uint32_t w : near) {
-        if (w == a || w == b) continue;
-        const BoundaryVertex& bv = info.at(w);
-        if (std::find(bv.patches.begin(), bv.patches.end(), patch_of[t].patch) != bv.patches.end()) continue;
-        const Vector3d& pw = mesh.vertices[w];
-        const double lambda = (pw - pa).dot(ab) / len2;
-        if (!(lambda > 1e-9 && lambda < 1.0 - 1e-9)) continue;
-        const double distance = (pw - (pa + lambda * ab)).norm();
-        // A chord of length c of a curve bending no tighter than c/2 stays within c/4 of it.
-        if (distance > options.match_distance || distance > 0.25 * std::sqrt(len2)) continue;
-        // The other side runs the curve the opposite way.
-        if (bv.tangent.dot(ab) >= 0.0) continue;
-        // And lies on this side's surface: a vertex of another curve meeting this one at a corner
-        // is near the chord without being on the curve.
-        if (std::abs(surface(patch_of[t].patch, pw)) > 1e3 * options.weld_distance) continue;
-        matches.push_back({w, patch_of[t].patch, distance, lambda, t, k});
-      }
+  // Found in parallel, edge by edge, and gathered in the edges' order.
+  constexpr std::size_t kEdgesPerChunk = 512;
+  std::vector<std::vector<Match>> chunk_matches((edges.size() + kEdgesPerChunk - 1) / kEdgesPerChunk);
+  auto match_edge = [&](std::uint32_t t, int k, std::vector<Match>& matches,
+                        std::vector<std::uint32_t>& near) {
+    const std::uint32_t a = mesh.triangles[t][k], b = mesh.triangles[t][(k + 1) % 3];
+    const Vector3d& pa = mesh.vertices[a];
+    const Vector3d& pb = mesh.vertices[b];
+    const Vector3d ab = pb - pa;
+    const double len2 = ab.squaredNorm();
+    if (len2 <= 0.0) return;
+    // The cells near the edge, piece by piece: a long edge (a big flat stock triangle's side)
+    // has a bounding box of far too many cells, but only the cells along it can hold matches.
+    near.clear();
+    const double length = std::sqrt(len2);
+    const int pieces = static_cast<int>(std::min(1e6, std::ceil(length / cell)));
+    for (int piece = 0; piece < pieces; ++piece) {
+      const Vector3d p0 = pa + (static_cast<double>(piece) / pieces) * ab;
+      const Vector3d p1 = pa + (static_cast<double>(piece + 1) / pieces) * ab;
+      Eigen::AlignedBox3d box(p0.cwiseMin(p1), p0.cwiseMax(p1));
+      box.min().array() -= options.match_distance;
+      box.max().array() += options.match_distance;
+      const CellKey lo = cell_of(box.min(), cell), hi = cell_of(box.max(), cell);
+      for (std::int64_t x = lo.x; x <= hi.x; ++x)
+        for (std::int64_t y = lo.y; y <= hi.y; ++y)
+          for (std::int64_t z = lo.z; z <= hi.z; ++z) {
+            index.for_each_in({x, y, z}, [&](std::uint32_t w) { near.push_back(w); });
+          }
     }
+    std::sort(near.begin(), near.end());
+    near.erase(std::unique(near.begin(), near.end()), near.end());
+    for (std::uint32_t w : near) {
+      if (w == a || w == b) continue;
+      const BoundaryVertex& bv = info.at(w);
+      if (std::find(bv.patches.begin(), bv.patches.end(), patch_of[t].patch) != bv.patches.end()) continue;
+      const Vector3d& pw = mesh.vertices[w];
+      const double lambda = (pw - pa).dot(ab) / len2;
+      if (!(lambda > 1e-9 && lambda < 1.0 - 1e-9)) continue;
+      const double distance = (pw - (pa + lambda * ab)).norm();
+      // A chord of length c of a curve bending no tighter than c/2 stays within c/4 of it.
+      if (distance > options.match_distance || distance > 0.25 * std::sqrt(len2)) continue;
+      // The other side runs the curve the opposite way.
+      if (bv.tangent.dot(ab) >= 0.0) continue;
+      // And lies on this side's surface: a vertex of another curve meeting this one at a corner
+      // is near the chord without being on the curve.
+      if (std::abs(surface(patch_of[t].patch, pw)) > 1e3 * options.weld_distance) continue;
+      matches.push_back({w, patch_of[t].patch, distance, lambda, t, k});
+    }
+  };
+  tbb::parallel_for(std::size_t{0}, chunk_matches.size(), [&](std::size_t chunk) {
+    std::vector<std::uint32_t> near;
+    const std::size_t end = std::min(edges.size(), (chunk + 1) * kEdgesPerChunk);
+    for (std::size_t e = chunk * kEdgesPerChunk; e < end; ++e)
+      match_edge(edges[e].first, edges[e].second, chunk_matches[chunk], near);
   });
   std::vector<Match> matches;
-  for (const std::vector<Match>& block : block_matches)
-    matches.insert(matches.end(), block.begin(), block.end());
+  for (const std::vector<Match>& chunk : chunk_matches)
+    matches.insert(matches.end(), chunk.begin(), chunk.end());
   std::sort(matches.begin(), matches.end(), [](const Match& x, const Match& y) {
     if (x.w != y.w) return x.w < y.w;
     if (x.patch != y.patch) return x.patch < y.patch;
@@ -502,7 +525,13 @@ std::size_t split_pass(TriangleMesh& mesh, std::vector<TriangleOrigin>& patch_of
   patches.reserve(mesh.triangles.size() + inserted * 2);
   may_be_open.clear();
   may_be_open.reserve(mesh.triangles.size() + inserted * 2);
-  for (std::uint32_t t = 0; t < mesh.triangles.size(); ++t) {
+  // The triangles with a split edge, in order; the others are copied in runs.
+  std::vector<std::uint32_t> split_triangles;
+  split_triangles.reserve(splits.size());
+  for (const auto& [key, list] : splits) split_triangles.push_back(static_cast<std::uint32_t>(key >> 32));
+  std::sort(split_triangles.begin(), split_triangles.end());
+  split_triangles.erase(std::unique(split_triangles.begin(), split_triangles.end()), split_triangles.end());
+  auto split_triangle = [&](std::uint32_t t) {
     const Triangle tri = mesh.triangles[t];
     const std::vector<std::pair<double, std::uint32_t>>* on_edge[3] = {nullptr, nullptr, nullptr};
     int split_edges = 0;
@@ -530,7 +559,7 @@ std::size_t split_pass(TriangleMesh& mesh, std::vector<TriangleOrigin>& patch_of
       tags.push_back(mesh.tags[t]);
       patches.push_back(patch_of[t]);
       may_be_open.push_back(open[t] != 0);
-      continue;
+      return;
     }
     const Vector3d normal =
         (mesh.vertices[tri[1]] - mesh.vertices[tri[0]]).cross(mesh.vertices[tri[2]] - mesh.vertices[tri[0]]);
@@ -556,7 +585,7 @@ std::size_t split_pass(TriangleMesh& mesh, std::vector<TriangleOrigin>& patch_of
       }
       if (kept.empty()) {
         push(tri[0], tri[1], tri[2], bits);
-        continue;
+        return;
       }
       // (p0, p1, o) has edges k: p0->p1, k+1: p1->o, k+2: o->p0.
       previous = p0;
@@ -565,7 +594,7 @@ std::size_t split_pass(TriangleMesh& mesh, std::vector<TriangleOrigin>& patch_of
         previous = w;
       }
       push(o, previous, p1, static_cast<std::uint8_t>(2u | bit((k + 1) % 3, 2)));
-      continue;
+      return;
     }
     // Several edges split: fan from the centroid.
     std::vector<std::uint32_t> polygon;
@@ -583,6 +612,16 @@ std::size_t split_pass(TriangleMesh& mesh, std::vector<TriangleOrigin>& patch_of
     mesh.vertices.push_back((mesh.vertices[tri[0]] + mesh.vertices[tri[1]] + mesh.vertices[tri[2]]) / 3.0);
     for (std::size_t i = 0; i < polygon.size(); ++i)
       push(centre, polygon[i], polygon[(i + 1) % polygon.size()], bit(from_edge[i], 1));
+  };
+  const auto count = static_cast<std::uint32_t>(mesh.triangles.size());
+  for (std::uint32_t t = 0, next = 0; t < count; ++t) {
+    const std::uint32_t stop = next < split_triangles.size() ? split_triangles[next++] : count;
+    triangles.insert(triangles.end(), mesh.triangles.begin() + t, mesh.triangles.begin() + stop);
+    tags.insert(tags.end(), mesh.tags.begin() + t, mesh.tags.begin() + stop);
+    patches.insert(patches.end(), patch_of.begin() + t, patch_of.begin() + stop);
+    for (std::uint32_t u = t; u < stop; ++u) may_be_open.push_back(open[u] != 0);
+    t = stop;
+    if (t < count) split_triangle(t);
   }
   mesh.triangles = std::move(triangles);
   mesh.tags = std::move(tags);
@@ -760,7 +799,7 @@ FillPlan plan_fill(const TriangleMesh& mesh, const std::vector<TriangleOrigin>& 
 std::size_t fill_holes(TriangleMesh& mesh, std::vector<TriangleOrigin>& patch_of, const SeamOptions& options,
                        const SurfaceFunction& surface, const FieldFunction& field,
                        const std::vector<std::uint8_t>& may_be_open) {
-  const HalfEdges half(mesh, patch_of);
+  const HalfEdges half(mesh, patch_of, may_be_open);
   const std::vector<std::uint8_t> open = open_edges(mesh, patch_of, half, may_be_open);
   // Outgoing boundary half-edges per vertex, with their triangle.
   std::unordered_map<std::uint32_t, std::vector<std::pair<std::uint32_t, std::uint32_t>>>
@@ -938,7 +977,7 @@ std::size_t fill_holes(TriangleMesh& mesh, std::vector<TriangleOrigin>& patch_of
 
 std::size_t count_boundary(const TriangleMesh& mesh, const std::vector<TriangleOrigin>& patch_of,
                            const std::vector<std::uint8_t>& may_be_open) {
-  const HalfEdges half(mesh, patch_of);
+  const HalfEdges half(mesh, patch_of, may_be_open);
   std::size_t n = 0;
   for (const std::uint8_t bits : open_edges(mesh, patch_of, half, may_be_open))
     n += (bits & 1u) + ((bits >> 1) & 1u) + ((bits >> 2) & 1u);
