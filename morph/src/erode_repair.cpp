@@ -552,10 +552,15 @@ class Repairer {
     // on the exact surface, until every triangle fits (the triangles across the crease shrink
     // towards it). Costly (up to kMaxRefinedTriangles triangles, each checked): once per
     // defect, on the smallest hole its balls leave.
-    if (!refined_)
+    if (!refined_) {
+      refined_ = true;
       for (Fan fan : {ringed_fan(loop, loop_triangle, apex, 1, radius),
                       least_area_triangulation(loop, loop_triangle, removed)})
-        if (refined_ = true; refine(fan, radius) && fits(fan, removed)) return emit(fan, removed_order);
+        if (refine(fan, radius) && fits(fan, removed)) return emit(fan, removed_order);
+      // The stock's edge across the hole: each side triangulated and refined on its own.
+      if (Fan fan = stock_edge_split(loop, loop_triangle, removed); refine(fan, radius) && fits(fan, removed))
+        return emit(fan, removed_order);
+    }
     return false;
   }
 
@@ -564,6 +569,9 @@ class Repairer {
     std::vector<Vector3d> points;
     std::vector<std::array<std::int64_t, 3>> triangles;
     std::vector<std::uint32_t> ring_triangle;  // per triangle: the ring triangle it continues
+    /// Per triangle (if not empty): the normal it must not fold back against, instead of its ring
+    /// triangle's (which may be a sliver turned any way).
+    std::vector<Vector3d> fold_normal;
   };
 
   Fan ringed_fan(const std::vector<std::uint32_t>& loop,
@@ -628,13 +636,56 @@ class Repairer {
     return best_triangulation(loop, loop_triangle, removed, true);
   }
 
+  /// Where the stock's edge crosses the hole (the cuts of a raster's rows reaching the stock's
+  /// side face), the loop is a run of the stock face's vertices and a run of the cuts', and the
+  /// two vertices where the runs meet lie on that edge: each run closed by the chord between
+  /// them and triangulated on its own, so that refining the chord moves its points onto the edge
+  /// (a triangulation of the whole loop crosses the edge everywhere). Empty unless the loop is
+  /// two such runs.
+  Fan stock_edge_split(const std::vector<std::uint32_t>& loop,
+                       const std::unordered_map<std::uint32_t, std::uint32_t>& loop_triangle,
+                       const std::unordered_set<std::uint32_t>& removed) const {
+    const std::size_t n = loop.size();
+    auto on_stock = [&](std::size_t i) {
+      const PatchKind kind = mesh_.tags[loop_triangle.at(loop[i % n])].kind;
+      return kind == PatchKind::StockFace || kind == PatchKind::CutSurface;
+    };
+    std::vector<std::size_t> changes;
+    for (std::size_t i = 0; i < n; ++i)
+      if (on_stock(i) != on_stock(i + n - 1)) changes.push_back(i);
+    if (changes.size() != 2) return {};
+    Fan fan;
+    for (const auto& [from, to] :
+         {std::pair{changes[0], changes[1]}, std::pair{changes[1], changes[0] + n}}) {
+      std::vector<std::uint32_t> run;
+      for (std::size_t i = from; i <= to; ++i) run.push_back(loop[i % n]);
+      if (run.size() < 3) return {};
+      // Without needles: a side's vertices along the stock's edges lie on straight lines.
+      const Fan half = best_triangulation(run, loop_triangle, removed, false, true);
+      if (half.triangles.empty()) return {};
+      fan.triangles.insert(fan.triangles.end(), half.triangles.begin(), half.triangles.end());
+      fan.ring_triangle.insert(fan.ring_triangle.end(), half.ring_triangle.begin(), half.ring_triangle.end());
+      // Each side folds against its ring as a whole: the sum of its ring triangles' area vectors.
+      Vector3d side = Vector3d::Zero();
+      for (std::size_t i = 0; i + 1 < run.size(); ++i) {
+        const Triangle& ring = mesh_.triangles[loop_triangle.at(run[i])];
+        side += (mesh_.vertices[ring[1]] - mesh_.vertices[ring[0]])
+                    .cross(mesh_.vertices[ring[2]] - mesh_.vertices[ring[0]]);
+      }
+      fan.fold_normal.resize(fan.triangles.size(), side);
+    }
+    return fan;
+  }
+
   /// Dynamic programming over the loop's sub-polygons for the least total area. No diagonal may
   /// be an edge the mesh keeps outside the hole (two loop vertices joined around it; `fits`
   /// rejects such a fill as non-manifold); with `only_near_field`, triangles off the exact
-  /// surface (or needles, which `fits` rejects too) are not candidates either.
+  /// surface (or needles, which `fits` rejects too) are not candidates either; with
+  /// `no_needles`, needles are not.
   Fan best_triangulation(const std::vector<std::uint32_t>& loop,
                          const std::unordered_map<std::uint32_t, std::uint32_t>& loop_triangle,
-                         const std::unordered_set<std::uint32_t>& removed, bool only_near_field) const {
+                         const std::unordered_set<std::uint32_t>& removed, bool only_near_field,
+                         bool no_needles = false) const {
     const double infinity = std::numeric_limits<double>::infinity();
     const std::size_t n = loop.size();
     // kept[i * n + j], i < j, diagonals only: 1 if the mesh keeps the edge, 0 if not, -1 unknown.
@@ -649,10 +700,10 @@ class Repairer {
       if (diagonal_kept(i, k) || diagonal_kept(k, j) || diagonal_kept(i, j)) return infinity;
       const Vector3d &a = mesh_.vertices[loop[i]], &b = mesh_.vertices[loop[k]], &c = mesh_.vertices[loop[j]];
       const double area = (b - a).cross(c - a).norm();
-      if (!only_near_field) return area;
+      if (!only_near_field && !no_needles) return area;
       const double longest = std::max({(b - a).squaredNorm(), (c - b).squaredNorm(), (a - c).squaredNorm()});
-      if (area < 1e-3 * longest || !triangle_near_field(a, b, c, field_, options_.max_field_error))
-        return infinity;
+      if (area < 1e-3 * longest) return infinity;
+      if (only_near_field && !triangle_near_field(a, b, c, field_, options_.max_field_error)) return infinity;
       return area;
     };
     // best[i * n + j]: the least area of the polygon loop[i..j]; split[i * n + j]: its apex.
@@ -754,6 +805,7 @@ class Repairer {
           fan.triangles[u] = {p, m, r};
           fan.triangles.push_back({m, q, r});
           fan.ring_triangle.push_back(fan.ring_triangle[u]);
+          if (!fan.fold_normal.empty()) fan.fold_normal.push_back(fan.fold_normal[u]);
           errors[u] = error(fan.triangles[u]);
           errors.push_back(error(fan.triangles.back()));
           break;
@@ -794,7 +846,8 @@ class Repairer {
       const double longest = std::max({(b - a).squaredNorm(), (c - b).squaredNorm(), (a - c).squaredNorm()});
       if (normal.norm() < 1e-3 * longest) return false;
       // Folded back against the ring (a crease inside the hole may turn it by up to a right angle).
-      if (normal.dot(ring_normal) < -0.5 * normal.norm() * ring_normal.norm()) return false;
+      const Vector3d& fold = fan.fold_normal.empty() ? ring_normal : fan.fold_normal[t];
+      if (normal.dot(fold) < -0.5 * normal.norm() * fold.norm()) return false;
     }
     return true;
   }

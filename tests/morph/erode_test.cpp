@@ -476,6 +476,29 @@ TEST(ErodeBallEnd, AlignedJointsOfAdjacentRowsLeaveNoFold) {
   expect_closed_within_tolerance(job, 1u);
 }
 
+// Six rows of the 100k-move raster benchmark where they run off the block's side face x = 100,
+// with the step-overs beyond it. A row's move ending 0.024 outside the face leaves its tube's
+// end profile 0.003 inside it, a sliver within the tie of the next move's tube, where the cusp
+// between two rows meets the face: the hole there straddles the stock's edge, and no fan fits
+// both the face and the cuts (8 open and 2 non-manifold edges).
+TEST(ErodeBallEnd, RowsRunningOffTheSideFaceLeaveNoHoleAtItsEdge) {
+  auto height = [](double x, double y) { return -6.0 + 3.0 * std::sin(x / 9.0) * std::cos(y / 13.0); };
+  std::vector<Vector3d> path;
+  for (int row = 52; row < 58; ++row) {
+    const double y = 0.5 + row;
+    std::vector<Vector3d> points;
+    for (int k = 0; k <= 1000; ++k) {
+      const double x = -2.0 + 104.0 * k / 1000.0;
+      if (x >= 97.0) points.push_back(Vector3d(x, y, height(x, y)));
+    }
+    if (row % 2 == 1) std::reverse(points.begin(), points.end());
+    path.insert(path.end(), points.begin(), points.end());
+  }
+  ASSERT_EQ(path.size(), 294u);
+  const Job job = box_job({0, 0, -20}, {100, 100, 0}, ballend_tool(1.5875, 25.4), {path}, 0.01);
+  expect_closed_within_tolerance(job, 1u);
+}
+
 // A sphere grazing the top front edge of the block, half a tolerance deep, all along it: what
 // is left of its sweep is a strip about 0.035 wide, far narrower than a grid cell of the tube;
 // unless a grid line is put through it, the tube loses it and the faces' cuts stay open.
