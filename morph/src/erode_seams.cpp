@@ -667,17 +667,24 @@ struct FillPlan {
   Vector3d corner = Vector3d::Zero();        // kRinged, kCornerFan
 };
 
-FillPlan plan_fill(const TriangleMesh& mesh, const std::vector<TriangleOrigin>& patch_of,
-                   const SeamOptions& options, const SurfaceFunction& surface, const FieldFunction& field,
-                   const std::vector<std::uint32_t>& loop, const std::vector<std::uint32_t>& loop_triangles,
-                   std::size_t best, const Eigen::AlignedBox3d& box, const Vector3d& centroid,
-                   double best_residual) {
+/// A hole to close: its loop, the triangle of each loop edge, the patches of those triangles,
+/// and where the loop lies.
+struct Hole {
+  std::vector<std::uint32_t> loop, loop_triangles, patches;
+  std::size_t best = 0;  // the loop vertex nearest to lying on every patch's surface
+  double best_residual = 0.0;
+  Eigen::AlignedBox3d box;
+  Vector3d centroid;
+};
+
+FillPlan plan_fill(const TriangleMesh& mesh, const SeamOptions& options, const SurfaceFunction& surface,
+                   const FieldFunction& field, const Hole& hole) {
   constexpr std::size_t kMaxCornerPatches = 6;  // at most 20 triples
+  const std::vector<std::uint32_t>& loop = hole.loop;
+  const std::vector<std::uint32_t>& patches = hole.patches;
+  const std::size_t best = hole.best;
+  const Eigen::AlignedBox3d& box = hole.box;
   FillPlan plan;
-  std::vector<std::uint32_t> patches;
-  for (std::uint32_t t : loop_triangles)
-    if (std::find(patches.begin(), patches.end(), patch_of[t].patch) == patches.end())
-      patches.push_back(patch_of[t].patch);
   // A fan whose triangles leave the exact surface (a loop doubling back along a sliver fanned
   // into a fin) is no fill; the local repair, which checks more, gets the hole instead.
   auto fan_fits = [&](const Vector3d& apex, std::size_t skip) {
@@ -693,7 +700,7 @@ FillPlan plan_fill(const TriangleMesh& mesh, const std::vector<TriangleOrigin>& 
     plan.centre = centre;
     return plan;
   };
-  if (best_residual <= 1e-7 && fan_fits(mesh.vertices[loop[best]], best)) return vertex_fan(best);
+  if (hole.best_residual <= 1e-7 && fan_fits(mesh.vertices[loop[best]], best)) return vertex_fan(best);
   const Vector3d start = mesh.vertices[loop[best]];
   // A corner far outside the hole is where the same surfaces meet again, not this corner.
   Eigen::AlignedBox3d near_box = box;
@@ -714,7 +721,7 @@ FillPlan plan_fill(const TriangleMesh& mesh, const std::vector<TriangleOrigin>& 
         for (std::size_t c = b + 1; c < patches.size(); ++c) {
           const Vector3d x =
               corner_point({patches[a], patches[b], patches[c]}, surface, start, box.diagonal().norm());
-          if (is_corner(x)) corners.push_back({(x - centroid).norm(), x});
+          if (is_corner(x)) corners.push_back({(x - hole.centroid).norm(), x});
         }
     std::stable_sort(corners.begin(), corners.end(),
                      [](const auto& p, const auto& q) { return p.first < q.first; });
@@ -746,7 +753,7 @@ FillPlan plan_fill(const TriangleMesh& mesh, const std::vector<TriangleOrigin>& 
   // to the local repair, which checks its fans.
   Vector3d corner = found;
   if (!valid) {
-    corner = onto_field(centroid);
+    corner = onto_field(hole.centroid);
     if (!(std::abs(field(corner)) <= 1e3 * options.weld_distance) || !near_box.contains(corner)) return plan;
   }
   // A corner found within the weld distance of one of the loop's own vertices is that vertex: a
@@ -812,14 +819,6 @@ std::size_t fill_holes(TriangleMesh& mesh, std::vector<TriangleOrigin>& patch_of
       out[a].push_back({b, t});
       starts.push_back({a, b});
     }
-  // A hole to close: its loop, the triangle of each loop edge, and what plan_fill needs.
-  struct Hole {
-    std::vector<std::uint32_t> loop, loop_triangles;
-    std::size_t best = 0;
-    Eigen::AlignedBox3d box;
-    Vector3d centroid;
-    double best_residual = 0.0;
-  };
   // The next hole from start edge a0 -> b0 over edges not `used`; false if there is none there.
   auto find_hole = [&](std::uint32_t a0, std::uint32_t b0,
                        const std::unordered_map<std::uint64_t, bool>& used, Hole& hole) {
@@ -877,10 +876,10 @@ std::size_t fill_holes(TriangleMesh& mesh, std::vector<TriangleOrigin>& patch_of
     }
     hole.centroid /= static_cast<double>(hole.loop.size());
     if (hole.box.diagonal().norm() > options.hole_diameter) return false;
-    std::vector<std::uint32_t> patches;
+    hole.patches.clear();
     for (std::uint32_t t : hole.loop_triangles)
-      if (std::find(patches.begin(), patches.end(), patch_of[t].patch) == patches.end())
-        patches.push_back(patch_of[t].patch);
+      if (std::find(hole.patches.begin(), hole.patches.end(), patch_of[t].patch) == hole.patches.end())
+        hole.patches.push_back(patch_of[t].patch);
     // The loop vertex nearest to lying on every surface: often the corner itself (a hole left
     // where a trimming curve ends exactly at a corner), else where the corner search starts, so
     // that it finds the corner next to the hole, not another point where the same surfaces meet
@@ -889,7 +888,7 @@ std::size_t fill_holes(TriangleMesh& mesh, std::vector<TriangleOrigin>& patch_of
     hole.best_residual = std::numeric_limits<double>::infinity();
     for (std::size_t i = 0; i < hole.loop.size(); ++i) {
       double residual = 0.0;
-      for (std::uint32_t q : patches)
+      for (std::uint32_t q : hole.patches)
         residual = std::max(residual, std::abs(surface(q, mesh.vertices[hole.loop[i]])));
       if (residual < hole.best_residual) {
         hole.best_residual = residual;
@@ -898,10 +897,7 @@ std::size_t fill_holes(TriangleMesh& mesh, std::vector<TriangleOrigin>& patch_of
     }
     return true;
   };
-  auto plan_of = [&](const Hole& hole) {
-    return plan_fill(mesh, patch_of, options, surface, field, hole.loop, hole.loop_triangles, hole.best,
-                     hole.box, hole.centroid, hole.best_residual);
-  };
+  auto plan_of = [&](const Hole& hole) { return plan_fill(mesh, options, surface, field, hole); };
   // The holes as the walk below meets them if every one is closed, planned in parallel. Where
   // one is not, its edges are free again and the walk may meet holes not planned here: those
   // are planned as they come.
