@@ -704,6 +704,10 @@ class Trimmer {
     return false;
   }
 
+  /// The least of g's terms that are no sweep's (the stock, the patch's own rules) at (u, v):
+  /// +infinity on stock faces.
+  double own_value(double u, double v) const { return own_terms(evaluate(patch_, u, v), u, v); }
+
   /// The value of one term of g at (u, v).
   double term_value(int term, double u, double v) const {
     const Vector3d x = evaluate(patch_, u, v);
@@ -949,9 +953,206 @@ double block_radius(const Patch& p, double u0, double u1, double v0, double v1) 
   return std::numeric_limits<double>::infinity();
 }
 
+/// The image of a grid edge, exactly as `evaluate` traces it: a straight segment from `a` to `b`,
+/// or an arc `centre + radius (cos t e1 + sin t e2)`, t from `t0` to `t1`.
+struct EdgeCurve {
+  bool arc = false;
+  Vector3d a = Vector3d::Zero(), b = Vector3d::Zero();
+  Vector3d centre = Vector3d::Zero(), e1 = Vector3d::UnitX(), e2 = Vector3d::UnitY();
+  double radius = 0.0, t0 = 0.0, t1 = 0.0;
+};
+
+/// The image of the grid edge from (u0, v0) to (u1, v1) (one of them constant).
+EdgeCurve edge_curve(const Patch& p, double u0, double v0, double u1, double v1) {
+  EdgeCurve c;
+  c.a = evaluate(p, u0, v0);
+  c.b = evaluate(p, u1, v1);
+  const bool along_u = v0 == v1;
+  switch (p.form) {
+    case Form::Tube:  // straight along u; around the axis along v
+      if (!along_u) {
+        c.arc = true;
+        c.centre = p.o + u0 * p.U;
+        c.e1 = p.e1;
+        c.e2 = p.e2;
+        c.radius = p.R;
+        c.t0 = p.t0 + v0 * (p.t1 - p.t0);
+        c.t1 = p.t0 + v1 * (p.t1 - p.t0);
+      }
+      break;
+    case Form::Sphere: {
+      c.arc = true;
+      if (along_u) {  // a circle of latitude
+        const double t = p.t0 + v0 * (p.t1 - p.t0);
+        c.centre = p.o + p.R * std::cos(t) * p.w;
+        c.e1 = p.e1;
+        c.e2 = p.e2;
+        c.radius = p.R * std::sin(t);
+        c.t0 = p.f0 + u0 * (p.f1 - p.f0);
+        c.t1 = p.f0 + u1 * (p.f1 - p.f0);
+      } else {  // a meridian
+        const double f = p.f0 + u0 * (p.f1 - p.f0);
+        c.centre = p.o;
+        c.e1 = p.w;
+        c.e2 = std::cos(f) * p.e1 + std::sin(f) * p.e2;
+        c.radius = p.R;
+        c.t0 = p.t0 + v0 * (p.t1 - p.t0);
+        c.t1 = p.t0 + v1 * (p.t1 - p.t0);
+      }
+      break;
+    }
+    case Form::Disc:  // radial along u; around the centre along v
+      if (!along_u) {
+        c.arc = true;
+        c.centre = p.o;
+        c.e1 = p.e1;
+        c.e2 = p.e2;
+        c.radius = u0 * p.R;
+        c.t0 = 2.0 * M_PI * v0;
+        c.t1 = 2.0 * M_PI * v1;
+      }
+      break;
+    default:  // planes and triangles: straight both ways
+      break;
+  }
+  if (c.arc && c.t1 < c.t0) std::swap(c.t0, c.t1);
+  return c;
+}
+
+/// Least and greatest value of `cs cos t + sn sin t` for t in [t0, t1].
+std::pair<double, double> trig_range(double cs, double sn, double t0, double t1) {
+  const double f0 = cs * std::cos(t0) + sn * std::sin(t0), f1 = cs * std::cos(t1) + sn * std::sin(t1);
+  double lo = std::min(f0, f1), hi = std::max(f0, f1);
+  const double amplitude = std::hypot(cs, sn);
+  if (amplitude > 0.0) {
+    // Extremes at the peak angle (greatest) and opposite it (least), wherever they fall in [t0, t1].
+    auto reached = [&](double angle) {
+      const double k = std::ceil((t0 - angle) / (2.0 * M_PI));
+      return angle + 2.0 * M_PI * k <= t1;
+    };
+    const double peak = std::atan2(sn, cs);
+    if (reached(peak)) hi = amplitude;
+    if (reached(peak + M_PI)) lo = -amplitude;
+  }
+  return {lo, hi};
+}
+
+/// Bounds along an edge curve of the squared distance to the line `origin + s axis` (|axis| = 1
+/// or 0: the distance to `origin`), and of the parameter s of the nearest point of that line.
+struct LineBounds {
+  double square_lo, square_hi, along_lo, along_hi;
+};
+LineBounds line_bounds(const EdgeCurve& curve, const Vector3d& origin, const Vector3d& axis) {
+  LineBounds b;
+  if (!curve.arc) {
+    // w(s) = q + s delta: |w|^2 - (w.axis)^2 is a convex quadratic in s.
+    const Vector3d q = curve.a - origin, delta = curve.b - curve.a;
+    const double qa = q.dot(axis), da = delta.dot(axis);
+    const double alpha = q.squaredNorm() - qa * qa, beta = 2.0 * (q.dot(delta) - qa * da),
+                 gamma = delta.squaredNorm() - da * da;
+    auto at = [&](double s) { return alpha + s * (beta + s * gamma); };
+    b.square_hi = std::max(at(0.0), at(1.0));
+    b.square_lo = std::min(at(0.0), at(1.0));
+    if (gamma > 0.0) {
+      const double s = -beta / (2.0 * gamma);
+      if (s > 0.0 && s < 1.0) b.square_lo = std::min(b.square_lo, at(s));
+    }
+    b.along_lo = std::min(qa, qa + da);
+    b.along_hi = std::max(qa, qa + da);
+    return b;
+  }
+  // w(t) = q + rho (cos t e1 + sin t e2): the squared distance is a trigonometric polynomial of
+  // degree 2, bounded piecewise between its values by its second derivative's bound.
+  const Vector3d q = curve.centre - origin;
+  const double rho = curve.radius;
+  const double k0 = q.dot(axis), k1 = rho * curve.e1.dot(axis), k2 = rho * curve.e2.dot(axis);
+  const double a0 = q.squaredNorm() + rho * rho - k0 * k0 - 0.5 * (k1 * k1 + k2 * k2);
+  const double a1 = 2.0 * rho * q.dot(curve.e1) - 2.0 * k0 * k1,
+               b1 = 2.0 * rho * q.dot(curve.e2) - 2.0 * k0 * k2;
+  const double a2 = -0.5 * (k1 * k1 - k2 * k2), b2 = -k1 * k2;
+  const double curvature = std::hypot(a1, b1) + 4.0 * std::hypot(a2, b2);
+  constexpr int kPieces = 8;
+  const double step = (curve.t1 - curve.t0) / kPieces;
+  const double sag = curvature * step * step / 8.0;
+  auto at = [&](double t) {
+    return a0 + a1 * std::cos(t) + b1 * std::sin(t) + a2 * std::cos(2.0 * t) + b2 * std::sin(2.0 * t);
+  };
+  b.square_lo = std::numeric_limits<double>::infinity();
+  b.square_hi = -b.square_lo;
+  double previous = at(curve.t0);
+  for (int k = 1; k <= kPieces; ++k) {
+    const double next = at(k == kPieces ? curve.t1 : curve.t0 + k * step);
+    b.square_lo = std::min(b.square_lo, std::min(previous, next) - sag);
+    b.square_hi = std::max(b.square_hi, std::max(previous, next) + sag);
+    previous = next;
+  }
+  const auto [lo, hi] = trig_range(k1, k2, curve.t0, curve.t1);
+  b.along_lo = k0 + lo;
+  b.along_hi = k0 + hi;
+  return b;
+}
+
+/// Bounds of a sphere's or ball end's sweep term along an edge curve. `above`: whether its
+/// signed distance exceeds `need` all along the curve (from below, the distance is bounded by the
+/// tip's capsule's axis line and, for a ball end's body, by its floor at the lowest centre and
+/// the centres' horizontal track; and by the term's support plane); else whether it stays below
+/// -`need` all along (the capsule alone: the sweep holds it). False when not shown.
+bool sweep_beyond_along(const Capsule& c, const SupportPlane& plane, const EdgeCurve& curve, bool above,
+                        double need) {
+  if (!c.valid) return false;
+  const double length = c.inv_dd > 0.0 ? std::sqrt(1.0 / c.inv_dd) : 0.0;
+  const Vector3d axis = length > 0.0 ? Vector3d(c.d / length) : Vector3d::Zero();
+  const LineBounds tip = line_bounds(curve, c.c0, axis);
+  if (!above) {
+    // Within the segment's span the distance to the segment is that to its line.
+    if (!(tip.along_lo >= 0.0 && tip.along_hi <= length)) return false;
+    return std::sqrt(std::max(tip.square_hi, 0.0)) - c.r < -need;
+  }
+  // The distance to the segment is at least that to its line.
+  double lower = std::sqrt(std::max(tip.square_lo, 0.0)) - c.r;
+  if (c.ballend && lower > need) {
+    const double lowest = std::min(c.c0.z(), c.c0.z() + c.d.z());
+    const double top =
+        curve.arc ? curve.centre.z() +
+                        curve.radius * trig_range(curve.e1.z(), curve.e2.z(), curve.t0, curve.t1).second
+                  : std::max(curve.a.z(), curve.b.z());
+    double body = lowest - top;
+    if (body <= need) {
+      // Seen from above: the body lies within r of the centres' horizontal track.
+      EdgeCurve flat = curve;
+      flat.a.z() = flat.b.z() = flat.centre.z() = flat.e1.z() = flat.e2.z() = 0.0;
+      const Vector3d track(c.d.x(), c.d.y(), 0.0);
+      const double track_length = track.norm();
+      const Vector3d origin(c.c0.x(), c.c0.y(), 0.0);
+      const LineBounds across =
+          line_bounds(flat, origin, track_length > 0.0 ? Vector3d(track / track_length) : Vector3d::Zero());
+      body = std::max(body, std::sqrt(std::max(across.square_lo, 0.0)) - c.r);
+    }
+    lower = std::min(lower, body);
+  }
+  if (!(lower > need) && std::isfinite(plane.h)) {
+    const double flat =
+        curve.arc ? plane.n.dot(curve.centre) - plane.h +
+                        curve.radius *
+                            trig_range(plane.n.dot(curve.e1), plane.n.dot(curve.e2), curve.t0, curve.t1).first
+                  : std::min(plane.at(curve.a), plane.at(curve.b));
+    lower = std::max(lower, flat);
+  }
+  return lower > need;
+}
+
+/// What one round of trim_on_grid learnt that holds on a finer grid too: g at its nodes, and
+/// which grid edges the strip scan found clean (both depend on the edge's ends alone, not on the
+/// grid around them). A round that adds grid lines hands it to the next.
+struct GridMemory {
+  std::vector<double> us, vs;  // the round's grid lines
+  std::vector<double> value;   // g at its nodes (NaN: not evaluated), as trim_on_grid's `value`
+  std::vector<bool> clean;     // per grid edge, as trim_on_grid's `scanned`: scanned, no strip
+};
+
 PatchMesh trim_on_grid(const Context& ctx, const Patch& patch, const Trimmer& g,
                        const std::vector<double>& us, const std::vector<double>& vs,
-                       std::vector<double>* extra_u, std::vector<double>* extra_v);
+                       std::vector<double>* extra_u, std::vector<double>* extra_v, GridMemory* memory);
 
 /// Marching squares over the patch's grid: keeps the part where g > 0. The grid starts uniform;
 /// where a kept strip narrower than a cell slips between the nodes (a pass grazing a face or an
@@ -982,9 +1183,10 @@ PatchMesh trim_patch(const Context& ctx, const Patch& patch) {
   std::vector<double> us(patch.nu + 1), vs(patch.nv + 1);
   for (int i = 0; i <= patch.nu; ++i) us[i] = static_cast<double>(i) / patch.nu;
   for (int j = 0; j <= patch.nv; ++j) vs[j] = static_cast<double>(j) / patch.nv;
+  GridMemory memory;
   for (int round = 0;; ++round) {
     std::vector<double> extra_u, extra_v;
-    PatchMesh out = trim_on_grid(ctx, patch, g, us, vs, round < 3 ? &extra_u : nullptr, &extra_v);
+    PatchMesh out = trim_on_grid(ctx, patch, g, us, vs, round < 3 ? &extra_u : nullptr, &extra_v, &memory);
     if (extra_u.empty() && extra_v.empty()) return out;
     us.insert(us.end(), extra_u.begin(), extra_u.end());
     vs.insert(vs.end(), extra_v.begin(), extra_v.end());
@@ -1001,11 +1203,31 @@ constexpr int kFreshCells = 16;
 
 PatchMesh trim_on_grid(const Context& ctx, const Patch& patch, const Trimmer& g,
                        const std::vector<double>& us, const std::vector<double>& vs,
-                       std::vector<double>* extra_u, std::vector<double>* extra_v) {
+                       std::vector<double>* extra_u, std::vector<double>* extra_v, GridMemory* memory) {
   PatchMesh out;
   const int nu = static_cast<int>(us.size()) - 1, nv = static_cast<int>(vs.size()) - 1;
   const int su = patch.periodic_u ? nu : nu + 1;  // distinct node columns
   const int sv = patch.periodic_v ? nv : nv + 1;
+  // The previous round's column and row of each grid line (-1: a line added since).
+  std::vector<int> old_i, old_j;
+  auto old_lines = [](const std::vector<double>& now, const std::vector<double>& before,
+                      std::vector<int>& index) {
+    index.assign(now.size(), -1);
+    for (std::size_t k = 0; k < now.size(); ++k) {
+      const auto it = std::lower_bound(before.begin(), before.end(), now[k]);
+      if (it != before.end() && *it == now[k]) index[k] = static_cast<int>(it - before.begin());
+    }
+  };
+  const bool remembered = !memory->us.empty();
+  if (remembered) {
+    old_lines(us, memory->us, old_i);
+    old_lines(vs, memory->vs, old_j);
+  }
+  const int old_nu = static_cast<int>(memory->us.size()) - 1,
+            old_nv = static_cast<int>(memory->vs.size()) - 1;
+  const int old_sv = patch.periodic_v ? old_nv : old_nv + 1;
+  auto old_wrap_u = [&](int i) { return patch.periodic_u ? i % old_nu : i; };
+  auto old_wrap_v = [&](int j) { return patch.periodic_v ? j % old_nv : j; };
   auto wrap_u = [&](int i) { return patch.periodic_u ? i % nu : i; };
   auto wrap_v = [&](int j) { return patch.periodic_v ? j % nv : j; };
   auto pu = [&](int i) { return us[static_cast<std::size_t>(i)]; };
@@ -1037,6 +1259,11 @@ PatchMesh trim_on_grid(const Context& ctx, const Patch& patch, const Trimmer& g,
   std::vector<double> value(static_cast<std::size_t>(su) * sv, std::numeric_limits<double>::quiet_NaN());
   auto val = [&](int i, int j) {
     double& v = value[static_cast<std::size_t>(wrap_u(i)) * sv + wrap_v(j)];
+    if (std::isnan(v) && remembered) {
+      const int oi = old_i[static_cast<std::size_t>(wrap_u(i))],
+                oj = old_j[static_cast<std::size_t>(wrap_v(j))];
+      if (oi >= 0 && oj >= 0) v = memory->value[static_cast<std::size_t>(oi) * old_sv + oj];
+    }
     if (std::isnan(v)) v = eval(pu(wrap_u(i)), pv(wrap_v(j)));
     return v;
   };
@@ -1189,6 +1416,23 @@ PatchMesh trim_on_grid(const Context& ctx, const Patch& patch, const Trimmer& g,
     const double shortest = 1e3 * ctx.tie + 0.02 * ctx.trim_tolerance;
     // Per grid edge (its lower node, its direction): scanned already.
     std::vector<bool> scanned(2 * value.size(), false);
+    // Per grid edge: scanned and no strip found (handed to the next round, see GridMemory).
+    std::vector<bool> clean(2 * value.size(), false);
+    // Whether the previous round found the edge from node (i0, j0) along u or v clean.
+    auto clean_before = [&](int i0, int j0, bool along_u) {
+      if (!remembered) return false;
+      const int oi0 = old_i[static_cast<std::size_t>(wrap_u(i0))],
+                oj0 = old_j[static_cast<std::size_t>(wrap_v(j0))];
+      const int i1 = along_u ? i0 + 1 : i0, j1 = along_u ? j0 : j0 + 1;
+      const int oi1 = old_i[static_cast<std::size_t>(wrap_u(i1))],
+                oj1 = old_j[static_cast<std::size_t>(wrap_v(j1))];
+      if (oi0 < 0 || oj0 < 0 || oi1 < 0 || oj1 < 0) return false;
+      // The same edge only if no line was added between its ends.
+      if (along_u ? (oj1 != oj0 || oi1 != old_wrap_u(oi0 + 1)) : (oi1 != oi0 || oj1 != old_wrap_v(oj0 + 1)))
+        return false;
+      return static_cast<bool>(
+          memory->clean[2 * (static_cast<std::size_t>(oi0) * old_sv + oj0) + (along_u ? 1 : 0)]);
+    };
     struct Span {
       double a, b, ga, gb, bound;
       bool operator<(const Span& o) const { return bound < o.bound; }
@@ -1200,6 +1444,8 @@ PatchMesh trim_on_grid(const Context& ctx, const Patch& patch, const Trimmer& g,
           2 * (static_cast<std::size_t>(wrap_u(i0)) * sv + wrap_v(j0)) + (along_u ? 1 : 0);
       if (scanned[key]) return;
       scanned[key] = true;
+      clean[key] = true;  // until a strip is found
+      if (clean_before(i0, j0, along_u)) return;
       const int i1 = along_u ? i0 + 1 : i0, j1 = along_u ? j0 : j0 + 1;
       // Both ends removed: look for a kept point; both kept: for a removed one (a cut narrower
       // than a cell, as where a sinking pass first touches a face). In terms of sign * g.
@@ -1238,6 +1484,29 @@ PatchMesh trim_on_grid(const Context& ctx, const Patch& patch, const Trimmer& g,
                                           2.0 * radius + 4.0 * ctx.tie, scan_terms);
         scan_list = Trimmer::TermList{scan_terms.data(), scan_terms.size(), centre, upper};
       }
+      if (!cell_list.empty()) {
+        // The terms' own bounds along the edge's image may show its sign without samples: every
+        // sweep term clear above zero and the patch's own terms too (L-Lipschitz), or one sweep
+        // term below zero all along. (Where g hugs zero, at a cell's distance from a
+        // neighbour's nearly coincident surface, the bisection would spend all its samples.)
+        const EdgeCurve curve = edge_curve(patch, pu(i0), pv(j0), pu(i1), pv(j1));
+        const double need = 4.0 * ctx.tie + 1e-12 * (1.0 + curve.a.cwiseAbs().maxCoeff());
+        bool shown = false;
+        if (sign < 0.0) {
+          shown =
+              0.5 * (g.own_value(pu(i0), pv(j0)) + g.own_value(pu(i1), pv(j1)) - lipschitz * length) > need;
+          for (std::size_t k = 0; k < scan_terms.size() && shown; ++k) {
+            const Capsule& c = ctx.capsules[static_cast<std::size_t>(scan_terms[k].segment)];
+            shown = sweep_beyond_along(c, scan_terms[k].plane, curve, true, need + c.margin);
+          }
+        } else {
+          for (std::size_t k = 0; k < scan_terms.size() && !shown; ++k) {
+            const Capsule& c = ctx.capsules[static_cast<std::size_t>(scan_terms[k].segment)];
+            shown = sweep_beyond_along(c, scan_terms[k].plane, curve, false, need + c.margin);
+          }
+        }
+        if (shown) return;
+      }
       auto sample = [&](double u, double v) { return scan_list.terms ? g(u, v, scan_list) : eval(u, v); };
       for (int samples = 0; samples < 24 && !heap.empty(); ++samples) {
         std::pop_heap(heap.begin(), heap.end());
@@ -1248,6 +1517,7 @@ PatchMesh trim_on_grid(const Context& ctx, const Patch& patch, const Trimmer& g,
         const double gm = sign * (along_u ? sample(m, pv(j0)) : sample(pu(i0), m));
         if (gm > 0.0) {
           (along_u ? *extra_u : *extra_v).push_back(m);
+          clean[key] = false;
           return;
         }
         heap.push_back(make_span(sp.a, m, sp.ga, gm));
@@ -1266,7 +1536,13 @@ PatchMesh trim_on_grid(const Context& ctx, const Patch& patch, const Trimmer& g,
       scan(i, j, false);
       scan(i + 1, j, false);
     }
-    if (!extra_u->empty() || !extra_v->empty()) return out;
+    if (!extra_u->empty() || !extra_v->empty()) {
+      memory->us = us;
+      memory->vs = vs;
+      memory->value = std::move(value);
+      memory->clean = std::move(clean);
+      return out;
+    }
   }
 
   std::vector<std::int32_t> node_id(value.size(), -1);
