@@ -960,6 +960,9 @@ struct EdgeCurve {
   Vector3d a = Vector3d::Zero(), b = Vector3d::Zero();
   Vector3d centre = Vector3d::Zero(), e1 = Vector3d::UnitX(), e2 = Vector3d::UnitY();
   double radius = 0.0, t0 = 0.0, t1 = 0.0;
+  // cos t and sin t at the ends of kArcPieces equal pieces of [t0, t1] (arcs), shared by the bounds.
+  static constexpr int kArcPieces = 8;
+  std::array<double, kArcPieces + 1> cos_at{}, sin_at{};
 };
 
 /// The image of the grid edge from (u0, v0) to (u1, v1) (one of them constant).
@@ -1015,13 +1018,24 @@ EdgeCurve edge_curve(const Patch& p, double u0, double v0, double u1, double v1)
     default:  // planes and triangles: straight both ways
       break;
   }
-  if (c.arc && c.t1 < c.t0) std::swap(c.t0, c.t1);
+  if (c.arc) {
+    if (c.t1 < c.t0) std::swap(c.t0, c.t1);
+    const double step = (c.t1 - c.t0) / EdgeCurve::kArcPieces;
+    for (int k = 0; k <= EdgeCurve::kArcPieces; ++k) {
+      const double t = k == EdgeCurve::kArcPieces ? c.t1 : c.t0 + k * step;
+      c.cos_at[k] = std::cos(t);
+      c.sin_at[k] = std::sin(t);
+    }
+  }
   return c;
 }
 
-/// Least and greatest value of `cs cos t + sn sin t` for t in [t0, t1].
-std::pair<double, double> trig_range(double cs, double sn, double t0, double t1) {
-  const double f0 = cs * std::cos(t0) + sn * std::sin(t0), f1 = cs * std::cos(t1) + sn * std::sin(t1);
+/// Least and greatest value of `cs cos t + sn sin t` for t along the arc `curve`.
+std::pair<double, double> trig_range(double cs, double sn, const EdgeCurve& curve) {
+  const double t0 = curve.t0, t1 = curve.t1;
+  constexpr int kLast = EdgeCurve::kArcPieces;
+  const double f0 = cs * curve.cos_at[0] + sn * curve.sin_at[0],
+               f1 = cs * curve.cos_at[kLast] + sn * curve.sin_at[kLast];
   double lo = std::min(f0, f1), hi = std::max(f0, f1);
   const double amplitude = std::hypot(cs, sn);
   if (amplitude > 0.0) {
@@ -1071,22 +1085,23 @@ LineBounds line_bounds(const EdgeCurve& curve, const Vector3d& origin, const Vec
                b1 = 2.0 * rho * q.dot(curve.e2) - 2.0 * k0 * k2;
   const double a2 = -0.5 * (k1 * k1 - k2 * k2), b2 = -k1 * k2;
   const double curvature = std::hypot(a1, b1) + 4.0 * std::hypot(a2, b2);
-  constexpr int kPieces = 8;
+  constexpr int kPieces = EdgeCurve::kArcPieces;
   const double step = (curve.t1 - curve.t0) / kPieces;
   const double sag = curvature * step * step / 8.0;
-  auto at = [&](double t) {
-    return a0 + a1 * std::cos(t) + b1 * std::sin(t) + a2 * std::cos(2.0 * t) + b2 * std::sin(2.0 * t);
+  auto at = [&](int k) {
+    const double c = curve.cos_at[k], s = curve.sin_at[k];
+    return a0 + a1 * c + b1 * s + a2 * (c * c - s * s) + b2 * (2.0 * s * c);
   };
   b.square_lo = std::numeric_limits<double>::infinity();
   b.square_hi = -b.square_lo;
-  double previous = at(curve.t0);
+  double previous = at(0);
   for (int k = 1; k <= kPieces; ++k) {
-    const double next = at(k == kPieces ? curve.t1 : curve.t0 + k * step);
+    const double next = at(k);
     b.square_lo = std::min(b.square_lo, std::min(previous, next) - sag);
     b.square_hi = std::max(b.square_hi, std::max(previous, next) + sag);
     previous = next;
   }
-  const auto [lo, hi] = trig_range(k1, k2, curve.t0, curve.t1);
+  const auto [lo, hi] = trig_range(k1, k2, curve);
   b.along_lo = k0 + lo;
   b.along_hi = k0 + hi;
   return b;
@@ -1113,8 +1128,7 @@ bool sweep_beyond_along(const Capsule& c, const SupportPlane& plane, const EdgeC
   if (c.ballend && lower > need) {
     const double lowest = std::min(c.c0.z(), c.c0.z() + c.d.z());
     const double top =
-        curve.arc ? curve.centre.z() +
-                        curve.radius * trig_range(curve.e1.z(), curve.e2.z(), curve.t0, curve.t1).second
+        curve.arc ? curve.centre.z() + curve.radius * trig_range(curve.e1.z(), curve.e2.z(), curve).second
                   : std::max(curve.a.z(), curve.b.z());
     double body = lowest - top;
     if (body <= need) {
@@ -1133,8 +1147,7 @@ bool sweep_beyond_along(const Capsule& c, const SupportPlane& plane, const EdgeC
   if (!(lower > need) && std::isfinite(plane.h)) {
     const double flat =
         curve.arc ? plane.n.dot(curve.centre) - plane.h +
-                        curve.radius *
-                            trig_range(plane.n.dot(curve.e1), plane.n.dot(curve.e2), curve.t0, curve.t1).first
+                        curve.radius * trig_range(plane.n.dot(curve.e1), plane.n.dot(curve.e2), curve).first
                   : std::min(plane.at(curve.a), plane.at(curve.b));
     lower = std::max(lower, flat);
   }
