@@ -708,6 +708,16 @@ class Trimmer {
   /// +infinity on stock faces.
   double own_value(double u, double v) const { return own_terms(evaluate(patch_, u, v), u, v); }
 
+  /// Whether segment j's tie shift leans to keeping at (u, v) beyond doubt: j is a move next to
+  /// the patch's own (a side sweep's), and its sweep's normal faces the same way as the patch's
+  /// (well away from the gradient test's zero).
+  bool tie_keeps(int j, double u, double v) const {
+    if (!patch_.sweep || patch_.at_vertex || (j != patch_.adjacent[0] && j != patch_.adjacent[1]))
+      return false;
+    const Vector3d gradient = sweep_gradient(ctx_.segments[j], evaluate(patch_, u, v));
+    return gradient.dot(solid_normal(patch_, u, v)) > 0.5 * gradient.norm();
+  }
+
   /// The value of one term of g at (u, v).
   double term_value(int term, double u, double v) const {
     const Vector3d x = evaluate(patch_, u, v);
@@ -1107,51 +1117,112 @@ LineBounds line_bounds(const EdgeCurve& curve, const Vector3d& origin, const Vec
   return b;
 }
 
-/// Bounds of a sphere's or ball end's sweep term along an edge curve. `above`: whether its
-/// signed distance exceeds `need` all along the curve (from below, the distance is bounded by the
-/// tip's capsule's axis line and, for a ball end's body, by its floor at the lowest centre and
-/// the centres' horizontal track; and by the term's support plane); else whether it stays below
-/// -`need` all along (the capsule alone: the sweep holds it). False when not shown.
-bool sweep_beyond_along(const Capsule& c, const SupportPlane& plane, const EdgeCurve& curve, bool above,
-                        double need) {
-  if (!c.valid) return false;
+/// The least squared distance from a straight edge curve to the segment from `origin` to
+/// `origin + length axis` (|axis| = 1, or 0 with length 0: a point): the edge is cut where its
+/// nearest point of the segment's line leaves the segment, and each piece's squared distance,
+/// to the line or to the end beyond which it lies, is a convex quadratic.
+double segment_square_lower(const EdgeCurve& curve, const Vector3d& origin, const Vector3d& axis,
+                            double length) {
+  const Vector3d q = curve.a - origin, delta = curve.b - curve.a;
+  const double qa = q.dot(axis), da = delta.dot(axis);
+  // The least over s in [s0, s1] of |w + s dw|^2 - (along + s d_along)^2.
+  auto least = [](const Vector3d& w, const Vector3d& dw, double along, double d_along, double s0, double s1) {
+    const double alpha = w.squaredNorm() - along * along, beta = 2.0 * (w.dot(dw) - along * d_along),
+                 gamma = dw.squaredNorm() - d_along * d_along;
+    auto at = [&](double s) { return alpha + s * (beta + s * gamma); };
+    double m = std::min(at(s0), at(s1));
+    if (gamma > 0.0) {
+      const double s = -beta / (2.0 * gamma);
+      if (s > s0 && s < s1) m = std::min(m, at(s));
+    }
+    return m;
+  };
+  std::array<double, 4> cuts{0.0, 1.0, 0.0, 0.0};
+  std::size_t count = 2;
+  if (da != 0.0)
+    for (const double s : {-qa / da, (length - qa) / da})
+      if (s > 0.0 && s < 1.0) cuts[count++] = s;
+  std::sort(cuts.begin(), cuts.begin() + static_cast<std::ptrdiff_t>(count));
+  double lower = std::numeric_limits<double>::infinity();
+  for (std::size_t k = 0; k + 1 < count; ++k) {
+    const double s0 = cuts[k], s1 = cuts[k + 1], along = qa + 0.5 * (s0 + s1) * da;
+    if (along < 0.0)  // beyond the start: the distance to it
+      lower = std::min(lower, least(q, delta, 0.0, 0.0, s0, s1));
+    else if (along > length)  // beyond the end
+      lower = std::min(lower, least(q - length * axis, delta, 0.0, 0.0, s0, s1));
+    else
+      lower = std::min(lower, least(q, delta, qa, da, s0, s1));
+  }
+  return lower;
+}
+
+/// The least squared distance from an edge curve to the segment from `origin` to
+/// `origin + length axis` (|axis| = 1, or 0 with length 0): along a segment exactly (up to
+/// rounding); along an arc that of the segment's line, or where the whole arc lies beyond one end
+/// of the segment, that of that end (a trigonometric polynomial of degree 1).
+double curve_square_lower(const EdgeCurve& curve, const Vector3d& origin, const Vector3d& axis,
+                          double length) {
+  if (!curve.arc) return segment_square_lower(curve, origin, axis, length);
+  const LineBounds line = line_bounds(curve, origin, axis);
+  if (line.along_hi >= 0.0 && line.along_lo <= length) return line.square_lo;
+  const Vector3d q = curve.centre - (line.along_hi < 0.0 ? origin : Vector3d(origin + length * axis));
+  return q.squaredNorm() + curve.radius * curve.radius +
+         2.0 * curve.radius * trig_range(q.dot(curve.e1), q.dot(curve.e2), curve).first;
+}
+
+/// A lower bound of a sphere's or ball end's sweep term's signed distance all along an edge
+/// curve: from the tip's capsule (curve_square_lower), for a ball end's body its floor at the lowest centre
+/// and the centres' horizontal track, and the term's support plane. Where the capsule's bound is not above
+/// `wanted` the body's is not worked out (-infinity, or the plane's). -infinity for other tools.
+double sweep_lower_along(const Capsule& c, const SupportPlane& plane, const EdgeCurve& curve, double wanted) {
+  const double inf = std::numeric_limits<double>::infinity();
+  if (!c.valid) return -inf;
   const double length = c.inv_dd > 0.0 ? std::sqrt(1.0 / c.inv_dd) : 0.0;
   const Vector3d axis = length > 0.0 ? Vector3d(c.d / length) : Vector3d::Zero();
-  const LineBounds tip = line_bounds(curve, c.c0, axis);
-  if (!above) {
-    // Within the segment's span the distance to the segment is that to its line.
-    if (!(tip.along_lo >= 0.0 && tip.along_hi <= length)) return false;
-    return std::sqrt(std::max(tip.square_hi, 0.0)) - c.r < -need;
-  }
-  // The distance to the segment is at least that to its line.
-  double lower = std::sqrt(std::max(tip.square_lo, 0.0)) - c.r;
-  if (c.ballend && lower > need) {
-    const double lowest = std::min(c.c0.z(), c.c0.z() + c.d.z());
-    const double top =
-        curve.arc ? curve.centre.z() + curve.radius * trig_range(curve.e1.z(), curve.e2.z(), curve).second
-                  : std::max(curve.a.z(), curve.b.z());
-    double body = lowest - top;
-    if (body <= need) {
-      // Seen from above: the body lies within r of the centres' horizontal track.
-      EdgeCurve flat = curve;
-      flat.a.z() = flat.b.z() = flat.centre.z() = flat.e1.z() = flat.e2.z() = 0.0;
-      const Vector3d track(c.d.x(), c.d.y(), 0.0);
-      const double track_length = track.norm();
-      const Vector3d origin(c.c0.x(), c.c0.y(), 0.0);
-      const LineBounds across =
-          line_bounds(flat, origin, track_length > 0.0 ? Vector3d(track / track_length) : Vector3d::Zero());
-      body = std::max(body, std::sqrt(std::max(across.square_lo, 0.0)) - c.r);
+  const double square = curve_square_lower(curve, c.c0, axis, length);
+  double lower = std::sqrt(std::max(square, 0.0)) - c.r;
+  if (c.ballend) {
+    if (lower > wanted) {
+      const double lowest = std::min(c.c0.z(), c.c0.z() + c.d.z());
+      const double top =
+          curve.arc ? curve.centre.z() + curve.radius * trig_range(curve.e1.z(), curve.e2.z(), curve).second
+                    : std::max(curve.a.z(), curve.b.z());
+      double body = lowest - top;
+      if (body <= wanted) {
+        // Seen from above: the body lies within r of the centres' horizontal track.
+        EdgeCurve flat = curve;
+        flat.a.z() = flat.b.z() = flat.centre.z() = flat.e1.z() = flat.e2.z() = 0.0;
+        const Vector3d track(c.d.x(), c.d.y(), 0.0);
+        const double track_length = track.norm();
+        const Vector3d origin(c.c0.x(), c.c0.y(), 0.0);
+        const Vector3d track_axis = track_length > 0.0 ? Vector3d(track / track_length) : Vector3d::Zero();
+        const double across = curve_square_lower(flat, origin, track_axis, track_length);
+        body = std::max(body, std::sqrt(std::max(across, 0.0)) - c.r);
+      }
+      lower = std::min(lower, body);
+    } else {
+      lower = -inf;
     }
-    lower = std::min(lower, body);
   }
-  if (!(lower > need) && std::isfinite(plane.h)) {
+  if (!(lower > wanted) && std::isfinite(plane.h)) {
     const double flat =
         curve.arc ? plane.n.dot(curve.centre) - plane.h +
                         curve.radius * trig_range(plane.n.dot(curve.e1), plane.n.dot(curve.e2), curve).first
                   : std::min(plane.at(curve.a), plane.at(curve.b));
     lower = std::max(lower, flat);
   }
-  return lower > need;
+  return lower;
+}
+
+/// Whether a sphere's or ball end's sweep holds an edge curve more than `need` deep all along:
+/// its tip's capsule does (within the axis's span the distance to the axis is that to its line).
+bool sweep_holds_along(const Capsule& c, const EdgeCurve& curve, double need) {
+  if (!c.valid) return false;
+  const double length = c.inv_dd > 0.0 ? std::sqrt(1.0 / c.inv_dd) : 0.0;
+  const Vector3d axis = length > 0.0 ? Vector3d(c.d / length) : Vector3d::Zero();
+  const LineBounds tip = line_bounds(curve, c.c0, axis);
+  if (!(tip.along_lo >= 0.0 && tip.along_hi <= length)) return false;
+  return std::sqrt(std::max(tip.square_hi, 0.0)) - c.r < -need;
 }
 
 /// What one round of trim_on_grid learnt that holds on a finer grid too: g at its nodes, and
@@ -1509,13 +1580,19 @@ PatchMesh trim_on_grid(const Context& ctx, const Patch& patch, const Trimmer& g,
           shown =
               0.5 * (g.own_value(pu(i0), pv(j0)) + g.own_value(pu(i1), pv(j1)) - lipschitz * length) > need;
           for (std::size_t k = 0; k < scan_terms.size() && shown; ++k) {
-            const Capsule& c = ctx.capsules[static_cast<std::size_t>(scan_terms[k].segment)];
-            shown = sweep_beyond_along(c, scan_terms[k].plane, curve, true, need + c.margin);
+            const int j = scan_terms[k].segment;
+            const Capsule& c = ctx.capsules[static_cast<std::size_t>(j)];
+            const double lower = sweep_lower_along(c, scan_terms[k].plane, curve, -c.margin);
+            // An adjacent move's sweep touching the edge (its end on the joint's profile) is
+            // kept by the tie shift wherever it leans to keeping: never below zero, g stays
+            // above it there.
+            shown = lower > need + c.margin ||
+                    (lower > -c.margin && g.tie_keeps(j, pu(i0), pv(j0)) && g.tie_keeps(j, pu(i1), pv(j1)));
           }
         } else {
           for (std::size_t k = 0; k < scan_terms.size() && !shown; ++k) {
             const Capsule& c = ctx.capsules[static_cast<std::size_t>(scan_terms[k].segment)];
-            shown = sweep_beyond_along(c, scan_terms[k].plane, curve, false, need + c.margin);
+            shown = sweep_holds_along(c, curve, need + c.margin);
           }
         }
         if (shown) return;
