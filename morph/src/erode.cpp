@@ -2494,6 +2494,14 @@ ErodeResult erode(const Job& job, const ErodeOptions& options) {
     repair.max_field_error = 0.8 * tolerance;
     repair_again(nullptr);
   }
+  // Two fans left meeting at one vertex: slivers a ten-thousandth of the tolerance wide meet at
+  // the pinch (a joint's cap and the cusp between two rows), and no fan around it fits. Welded
+  // into the pinch like the open spots above, they leave one fan the repair can replace.
+  if (detail::weld_near_pinches(mesh, patch_of_triangle, 2e-1 * tolerance) > 0) {
+    repair.max_radius = 2.0 * budget.cell;
+    repair.max_field_error = 0.5 * tolerance;
+    repair_again(nullptr);
+  }
   stats.defects_repaired = repair_stats.repaired;
   stats.flat_components_removed =
       remove_flat_components(mesh, patch_of_triangle, 1e-3 * tolerance, 100.0 * tolerance * tolerance);

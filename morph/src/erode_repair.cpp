@@ -6,6 +6,8 @@
 // (every replacement triangle is checked against the exact field) and restores the manifold.
 #include "erode_repair.h"
 
+#include <morph/topology.h>
+
 #include "edge_uses.h"
 
 #include <algorithm>
@@ -958,9 +960,19 @@ std::size_t weld_near_defects(TriangleMesh& mesh, std::vector<TriangleOrigin>& p
     }
     i = j;
   }
-  if (defect.empty()) return 0;
   std::sort(defect.begin(), defect.end());
   defect.erase(std::unique(defect.begin(), defect.end()), defect.end());
+  return weld_near(mesh, patch_of_triangle, defect, distance, false);
+}
+
+std::size_t weld_near_pinches(TriangleMesh& mesh, std::vector<TriangleOrigin>& patch_of_triangle,
+                              double distance) {
+  return weld_near(mesh, patch_of_triangle, non_manifold_vertices(mesh), distance, true);
+}
+
+std::size_t weld_near(TriangleMesh& mesh, std::vector<TriangleOrigin>& patch_of_triangle,
+                      const std::vector<std::uint32_t>& defect, double distance, bool whole_reach) {
+  if (defect.empty()) return 0;
   // Every vertex within `distance` of a defect's vertex becomes that vertex (the lowest index of
   // a group keeps its position).
   auto cell_of = [&](const Vector3d& p) {
@@ -973,9 +985,14 @@ std::size_t weld_near_defects(TriangleMesh& mesh, std::vector<TriangleOrigin>& p
            (static_cast<std::uint64_t>(y & 0x1fffff) << 21) | static_cast<std::uint64_t>(z & 0x1fffff);
   };
   std::unordered_map<std::uint64_t, std::vector<std::uint32_t>> near_defects;
+  // The cells searched: those holding a defect's vertex, and with `whole_reach` the 26 around
+  // each too (every vertex within `distance`).
+  const int reach = whole_reach ? 1 : 0;
   for (std::uint32_t v : defect) {
     const auto c = cell_of(mesh.vertices[v]);
-    near_defects[pack(c[0], c[1], c[2])];
+    for (int dx = -reach; dx <= reach; ++dx)
+      for (int dy = -reach; dy <= reach; ++dy)
+        for (int dz = -reach; dz <= reach; ++dz) near_defects[pack(c[0] + dx, c[1] + dy, c[2] + dz)];
   }
   for (std::uint32_t v = 0; v < mesh.vertices.size(); ++v) {
     const auto c = cell_of(mesh.vertices[v]);

@@ -147,7 +147,45 @@ std::size_t components_of(const TriangleMesh& mesh, const std::vector<EdgeUse>& 
   return count;
 }
 
+// Whether each vertex's proper triangles form one disc or half-disc (vertices without any: true).
+std::vector<char> manifold_vertices(const TriangleMesh& mesh) {
+  const std::size_t vertex_count = mesh.vertices.size();
+  // Incident proper triangles of every vertex, in compressed rows.
+  std::vector<std::uint32_t> row_start(vertex_count + 1, 0);
+  for (const Triangle& t : mesh.triangles)
+    if (!collapsed(t))
+      for (std::uint32_t v : t) ++row_start[v + 1];
+  std::partial_sum(row_start.begin(), row_start.end(), row_start.begin());
+  std::vector<std::uint32_t> incident_triangles(row_start.back());
+  std::vector<std::uint32_t> fill(row_start.begin(), row_start.end() - 1);
+  for (std::uint32_t t = 0; t < mesh.triangles.size(); ++t)
+    if (!collapsed(mesh.triangles[t]))
+      for (std::uint32_t v : mesh.triangles[t]) incident_triangles[fill[v]++] = t;
+  // Each vertex is judged by its own fan alone.
+  std::vector<char> manifold(vertex_count, 1);
+  tbb::parallel_for(tbb::blocked_range<std::uint32_t>(0, static_cast<std::uint32_t>(vertex_count)),
+                    [&](const tbb::blocked_range<std::uint32_t>& range) {
+                      std::vector<std::uint32_t> incident;
+                      for (std::uint32_t v = range.begin(); v != range.end(); ++v) {
+                        if (row_start[v] == row_start[v + 1]) continue;
+                        incident.assign(incident_triangles.begin() + row_start[v],
+                                        incident_triangles.begin() + row_start[v + 1]);
+                        manifold[v] = vertex_is_manifold(v, incident, mesh);
+                      }
+                    });
+  return manifold;
+}
+
 }  // namespace
+
+std::vector<std::uint32_t> non_manifold_vertices(const TriangleMesh& mesh) {
+  check_indices(mesh);
+  const std::vector<char> manifold = manifold_vertices(mesh);
+  std::vector<std::uint32_t> vertices;
+  for (std::uint32_t v = 0; v < manifold.size(); ++v)
+    if (!manifold[v]) vertices.push_back(v);
+  return vertices;
+}
 
 std::size_t connected_components(const TriangleMesh& mesh,
                                  std::vector<std::uint32_t>& component_of_triangle) {
@@ -190,31 +228,8 @@ TopologyReport topology_report(const TriangleMesh& mesh) {
     begin = end;
   }
 
-  // Incident proper triangles of every vertex, in compressed rows.
-  std::vector<std::uint32_t> row_start(vertex_count + 1, 0);
-  for (const Triangle& t : mesh.triangles)
-    if (!collapsed(t))
-      for (std::uint32_t v : t) ++row_start[v + 1];
-  std::partial_sum(row_start.begin(), row_start.end(), row_start.begin());
-  std::vector<std::uint32_t> incident_triangles(row_start.back());
-  std::vector<std::uint32_t> fill(row_start.begin(), row_start.end() - 1);
-  for (std::uint32_t t = 0; t < mesh.triangles.size(); ++t)
-    if (!collapsed(mesh.triangles[t]))
-      for (std::uint32_t v : mesh.triangles[t]) incident_triangles[fill[v]++] = t;
-  // Each vertex is judged by its own fan alone.
-  report.non_manifold_vertices = tbb::parallel_reduce(
-      tbb::blocked_range<std::uint32_t>(0, static_cast<std::uint32_t>(vertex_count)), std::size_t{0},
-      [&](const tbb::blocked_range<std::uint32_t>& range, std::size_t count) {
-        std::vector<std::uint32_t> incident;
-        for (std::uint32_t v = range.begin(); v != range.end(); ++v) {
-          if (row_start[v] == row_start[v + 1]) continue;
-          incident.assign(incident_triangles.begin() + row_start[v],
-                          incident_triangles.begin() + row_start[v + 1]);
-          if (!vertex_is_manifold(v, incident, mesh)) ++count;
-        }
-        return count;
-      },
-      [](std::size_t a, std::size_t b) { return a + b; });
+  const std::vector<char> manifold = manifold_vertices(mesh);
+  report.non_manifold_vertices = static_cast<std::size_t>(std::count(manifold.begin(), manifold.end(), 0));
 
   std::vector<std::uint32_t> component_of_triangle;
   // Without collapsed triangles the edges joining components are the ones already sorted.

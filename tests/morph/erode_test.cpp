@@ -75,7 +75,8 @@ void expect_closed_within_tolerance(const Job& job, std::size_t components) {
   const morph::ErodeResult result = morph::erode(job);
   const morph::TopologyReport topology = morph::topology_report(result.mesh);
   EXPECT_TRUE(topology.closed_manifold())
-      << topology.boundary_edges << " open, " << topology.non_manifold_edges << " non-manifold edges";
+      << topology.boundary_edges << " open, " << topology.non_manifold_edges << " non-manifold edges, "
+      << topology.non_manifold_vertices << " non-manifold vertices";
   EXPECT_EQ(topology.components, components);
   EXPECT_LE(largest_field_error(result.mesh, morph::ErosionField(job)), job.tolerance);
 }
@@ -497,6 +498,54 @@ TEST(ErodeBallEnd, RowsRunningOffTheSideFaceLeaveNoHoleAtItsEdge) {
   ASSERT_EQ(path.size(), 294u);
   const Job job = box_job({0, 0, -20}, {100, 100, 0}, ballend_tool(1.5875, 25.4), {path}, 0.01);
   expect_closed_within_tolerance(job, 1u);
+}
+
+// The moves of the 100k-move raster benchmark (1000 per row, 0.104 long) that pass within
+// `reach` of `spot`, as runs of consecutive moves.
+std::vector<std::vector<Vector3d>> raster_runs_near(const Vector3d& spot, double reach) {
+  auto height = [](double x, double y) { return -6.0 + 3.0 * std::sin(x / 9.0) * std::cos(y / 13.0); };
+  std::vector<Vector3d> points;
+  for (int row = 0; row < 100; ++row) {
+    const double y = 0.5 + row;
+    for (int k = 0; k <= 1000; ++k) {
+      const double s = k / 1000.0;
+      const double x = row % 2 == 0 ? -2.0 + 104.0 * s : 102.0 - 104.0 * s;
+      points.push_back(Vector3d(x, y, height(x, y)));
+    }
+  }
+  auto distance = [&](const Vector3d& a, const Vector3d& b) {
+    const Vector3d ab = b - a;
+    const double t = std::clamp((spot - a).dot(ab) / ab.squaredNorm(), 0.0, 1.0);
+    return (a + t * ab - spot).norm();
+  };
+  std::vector<std::vector<Vector3d>> runs;
+  bool open = false;
+  for (std::size_t k = 0; k + 1 < points.size(); ++k) {
+    if (distance(points[k], points[k + 1]) >= reach) {
+      open = false;
+      continue;
+    }
+    if (!open) runs.push_back({points[k]});
+    runs.back().push_back(points[k + 1]);
+    open = true;
+  }
+  return runs;
+}
+
+// Two spots of the 100k-move raster where the cusp between two rows meets a joint's cap: slivers
+// a ten-thousandth of the tolerance wide meet at one vertex, which joins two fans of four
+// triangles (no edge is open), and no fan around it fits within half the tolerance. Welding the
+// slivers into it leaves one fan.
+TEST(ErodeBallEnd, ShortMovesOverACuspLeaveNoPinchedVertex) {
+  for (const Vector3d& spot : {Vector3d(69.756, 20.664, -6.010), Vector3d(76.309, 92.792, -4.349)}) {
+    SCOPED_TRACE(testing::Message() << "near " << spot.transpose());
+    const auto runs = raster_runs_near(spot, 2.0);
+    std::size_t moves = 0;
+    for (const auto& run : runs) moves += run.size() - 1;
+    ASSERT_GT(moves, 100u);
+    const Job job = box_job({0, 0, -20}, {100, 100, 0}, ballend_tool(1.5875, 25.4), runs, 0.01);
+    expect_closed_within_tolerance(job, 1u);
+  }
 }
 
 // A sphere grazing the top front edge of the block, half a tolerance deep, all along it: what

@@ -179,6 +179,9 @@ TEST(Topology, TwoCubesTouchingAtACornerMakeANonManifoldVertex) {
   EXPECT_EQ(r.components, 2u);
   EXPECT_EQ(r.euler_characteristic, 15 - 36 + 24);
   EXPECT_FALSE(r.closed_manifold());
+  // The pinch itself: the shared corner, and only it.
+  EXPECT_EQ(morph::non_manifold_vertices(mesh), std::vector<std::uint32_t>{7});
+  EXPECT_TRUE(morph::non_manifold_vertices(unit_cube()).empty());
 }
 
 TEST(Topology, DegenerateTrianglesAndUnreferencedVertices) {

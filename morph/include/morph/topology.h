@@ -5,6 +5,8 @@
 #include <morph/mesh.h>
 
 #include <cstddef>
+#include <cstdint>
+#include <vector>
 
 namespace morph {
 
@@ -31,6 +33,10 @@ struct TopologyReport {
 };
 
 TopologyReport topology_report(const TriangleMesh& mesh);
+
+/// The vertices whose triangles (collapsed ones left out) do not form a single disc or
+/// half-disc, in increasing order: where two sheets of the surface meet at one point.
+std::vector<std::uint32_t> non_manifold_vertices(const TriangleMesh& mesh);
 
 /// Triangle -> component index (edge-connected), components numbered by their smallest
 /// triangle index so the numbering is deterministic. Returns the number of components.
