@@ -1232,6 +1232,19 @@ struct GridMemory {
   std::vector<double> us, vs;  // the round's grid lines
   std::vector<double> value;   // g at its nodes (NaN: not evaluated), as trim_on_grid's `value`
   std::vector<bool> clean;     // per grid edge, as trim_on_grid's `scanned`: scanned, no strip
+  // Its parameter blocks (the block tree's, larger than a cell), sorted by their rectangle: each
+  // proven kept or removed, or else with its list of terms (a parameter rectangle's proof and
+  // terms do not depend on the grid inside it).
+  struct Block {
+    std::array<double, 4> rectangle;  // u0, u1, v0, v1
+    std::uint8_t state;               // trim_on_grid's cell states
+    std::uint32_t first, count;       // its terms in `terms` (open blocks)
+    Vector3d centre;
+    double upper;
+    bool operator<(const Block& o) const { return rectangle < o.rectangle; }
+  };
+  std::vector<Block> blocks;
+  std::vector<Trimmer::SweepTerm> terms;
 };
 
 PatchMesh trim_on_grid(const Context& ctx, const Patch& patch, const Trimmer& g,
@@ -1373,6 +1386,7 @@ PatchMesh trim_on_grid(const Context& ctx, const Patch& patch, const Trimmer& g,
   std::vector<std::array<int, 2>> fine_cells;
   // Other patches: per cell, proven entirely kept or removed, or open (evaluated); empty: all open.
   constexpr std::uint8_t kRemoved = 0, kKept = 1, kOpen = 2;
+  std::vector<GridMemory::Block> block_records;  // see GridMemory
   std::vector<std::uint8_t> cell_state;
   auto cell_state_at = [&](int i, int j) -> std::uint8_t {
     return cell_state.empty() ? kOpen : cell_state[static_cast<std::size_t>(i) * nv + j];
@@ -1417,7 +1431,28 @@ PatchMesh trim_on_grid(const Context& ctx, const Patch& patch, const Trimmer& g,
     // A block's terms are those of its parent that can be the least one on it: within twice its
     // radius (and the tie jumps) of the least of them at its centre.
     const Block root{0, nu, 0, nv};
-    {
+    // This round's blocks, for the next one (recorded only where there can be one).
+    std::vector<GridMemory::Block>& records = block_records;
+    auto rectangle_of = [&](const Block& b) {
+      return std::array<double, 4>{pu(b.i0), pu(b.i1), pv(b.j0), pv(b.j1)};
+    };
+    auto remembered_block = [&](const Block& b) -> const GridMemory::Block* {
+      if (memory->blocks.empty()) return nullptr;
+      GridMemory::Block key;
+      key.rectangle = rectangle_of(b);
+      const auto it = std::lower_bound(memory->blocks.begin(), memory->blocks.end(), key);
+      return it != memory->blocks.end() && it->rectangle == key.rectangle ? &*it : nullptr;
+    };
+    // A remembered open block's terms as a list of this round's.
+    auto remembered_list = [&](const GridMemory::Block& r) {
+      lists.push_back({static_cast<std::uint32_t>(term_pool.size()), r.count, r.centre, r.upper});
+      term_pool.insert(term_pool.end(), memory->terms.begin() + r.first,
+                       memory->terms.begin() + r.first + r.count);
+      return static_cast<std::uint32_t>(lists.size() - 1);
+    };
+    if (const GridMemory::Block* r = remembered_block(root); r && r->state == kOpen) {
+      remembered_list(*r);
+    } else {
       const double uc = 0.5 * (pu(0) + pu(nu)), vc = 0.5 * (pv(0) + pv(nv));
       double upper = 0.0;
       term_pool = g.terms_within(uc, vc, radius_of(root), &upper);
@@ -1437,6 +1472,21 @@ PatchMesh trim_on_grid(const Context& ctx, const Patch& patch, const Trimmer& g,
       if (b.i1 - b.i0 == 1 && b.j1 - b.j0 == 1) {
         // A single cell's centre costs about what its nodes do: it keeps its parent's terms.
         cell_list[static_cast<std::size_t>(b.i0) * nv + b.j0] = task.list;
+        continue;
+      }
+      if (const GridMemory::Block* r = remembered_block(b)) {
+        if (r->state != kOpen) {
+          for (int i = b.i0; i < b.i1; ++i)
+            for (int j = b.j0; j < b.j1; ++j) cell_state[static_cast<std::size_t>(i) * nv + j] = r->state;
+        } else {
+          const std::uint32_t list = remembered_list(*r);
+          for (const Block& half : halves(b)) stack.push_back({half, list});
+        }
+        if (extra_u) {
+          const ListAt& l = lists.back();
+          records.push_back({r->rectangle, r->state, r->state == kOpen ? l.first : 0u,
+                             r->state == kOpen ? l.count : 0u, l.centre, l.upper});
+        }
         continue;
       }
       const double uc = 0.5 * (pu(b.i0) + pu(b.i1)), vc = 0.5 * (pv(b.j0) + pv(b.j1));
@@ -1459,6 +1509,8 @@ PatchMesh trim_on_grid(const Context& ctx, const Patch& patch, const Trimmer& g,
           for (int i = b.i0; i < b.i1; ++i)
             for (int j = b.j0; j < b.j1; ++j)
               cell_state[static_cast<std::size_t>(i) * nv + j] = gc > 0.0 ? kKept : kRemoved;
+          if (extra_u)
+            records.push_back({rectangle_of(b), gc > 0.0 ? kKept : kRemoved, 0u, 0u, Vector3d::Zero(), 0.0});
           continue;
         }
       }
@@ -1470,6 +1522,8 @@ PatchMesh trim_on_grid(const Context& ctx, const Patch& patch, const Trimmer& g,
       lists.push_back({static_cast<std::uint32_t>(term_pool.size()), static_cast<std::uint32_t>(near.size()),
                        centre, upper});
       term_pool.insert(term_pool.end(), near.begin(), near.end());
+      if (extra_u)
+        records.push_back({rectangle_of(b), kOpen, lists[list].first, lists[list].count, centre, upper});
       for (const Block& half : halves(b)) stack.push_back({half, list});
     }
     // A kept cell has kept nodes; a node of removed cells only is removed.
@@ -1631,6 +1685,9 @@ PatchMesh trim_on_grid(const Context& ctx, const Patch& patch, const Trimmer& g,
       memory->vs = vs;
       memory->value = std::move(value);
       memory->clean = std::move(clean);
+      std::sort(block_records.begin(), block_records.end());
+      memory->blocks = std::move(block_records);
+      memory->terms = std::move(term_pool);
       return out;
     }
   }
