@@ -2553,8 +2553,9 @@ ErodeResult erode(const Job& job, const ErodeOptions& options) {
   }
   // Two fans left meeting at one vertex: slivers a ten-thousandth of the tolerance wide meet at
   // the pinch (a joint's cap and the cusp between two rows), and no fan around it fits. Welded
-  // into the pinch like the open spots above, they leave one fan the repair can replace.
-  if (detail::weld_near_pinches(mesh, patch_of_triangle, 2e-1 * tolerance) > 0) {
+  // into the pinch like the open spots above, they leave one fan the repair can replace. (Without
+  // any defect found no repair ran, and the repair counts pinched vertices as defects.)
+  if (repair_stats.defects > 0 && detail::weld_near_pinches(mesh, patch_of_triangle, 2e-1 * tolerance) > 0) {
     repair.max_radius = 2.0 * budget.cell;
     repair.max_field_error = 0.5 * tolerance;
     repair_again(nullptr);

@@ -63,7 +63,12 @@ std::vector<EdgeUse> sorted_edge_uses(const TriangleMesh& mesh, bool include_col
 
 class UnionFind {
  public:
-  explicit UnionFind(std::size_t n) : parent_(n) {
+  explicit UnionFind(std::size_t n = 0) : parent_(n) {
+    std::iota(parent_.begin(), parent_.end(), std::uint32_t{0});
+  }
+  /// n singletons again, reusing the storage.
+  void reset(std::size_t n) {
+    parent_.resize(n);
     std::iota(parent_.begin(), parent_.end(), std::uint32_t{0});
   }
   std::uint32_t find(std::uint32_t x) {
@@ -91,24 +96,36 @@ class UnionFind {
 // True when the triangles around `v` form one disc or half-disc: the link of v (one edge w1-w2 per
 // triangle (v, w1, w2)) is a single cycle or a single path. That holds iff no link vertex has more
 // than two link edges (no edge at v is shared by three or more triangles) and the link is connected.
-bool vertex_is_manifold(std::uint32_t v, const std::vector<std::uint32_t>& incident,
-                        const TriangleMesh& mesh) {
-  // Local ids for the link vertices; fans are small, so linear search beats hashing.
+// Storage reused from vertex to vertex (one per thread).
+struct LinkScratch {
   std::vector<std::uint32_t> link_vertices;
   std::vector<std::pair<std::uint32_t, std::uint32_t>> link_edges;
+  std::vector<int> degree;
+  UnionFind sets;
+};
+
+bool vertex_is_manifold(std::uint32_t v, const std::uint32_t* incident_begin,
+                        const std::uint32_t* incident_end, const TriangleMesh& mesh, LinkScratch& scratch) {
+  // Local ids for the link vertices; fans are small, so linear search beats hashing.
+  std::vector<std::uint32_t>& link_vertices = scratch.link_vertices;
+  std::vector<std::pair<std::uint32_t, std::uint32_t>>& link_edges = scratch.link_edges;
+  link_vertices.clear();
+  link_edges.clear();
   auto local = [&](std::uint32_t w) -> std::uint32_t {
     auto it = std::find(link_vertices.begin(), link_vertices.end(), w);
     if (it != link_vertices.end()) return static_cast<std::uint32_t>(it - link_vertices.begin());
     link_vertices.push_back(w);
     return static_cast<std::uint32_t>(link_vertices.size() - 1);
   };
-  for (std::uint32_t t : incident) {
-    const Triangle& tri = mesh.triangles[t];
+  for (const std::uint32_t* it = incident_begin; it != incident_end; ++it) {
+    const Triangle& tri = mesh.triangles[*it];
     const int k = tri[0] == v ? 0 : (tri[1] == v ? 1 : 2);
     link_edges.emplace_back(local(tri[(k + 1) % 3]), local(tri[(k + 2) % 3]));
   }
-  std::vector<int> degree(link_vertices.size(), 0);
-  UnionFind sets(link_vertices.size());
+  std::vector<int>& degree = scratch.degree;
+  degree.assign(link_vertices.size(), 0);
+  UnionFind& sets = scratch.sets;
+  sets.reset(link_vertices.size());
   for (const auto& [a, b] : link_edges) {
     if (++degree[a] > 2 || ++degree[b] > 2) return false;
     sets.unite(a, b);
@@ -165,12 +182,12 @@ std::vector<char> manifold_vertices(const TriangleMesh& mesh) {
   std::vector<char> manifold(vertex_count, 1);
   tbb::parallel_for(tbb::blocked_range<std::uint32_t>(0, static_cast<std::uint32_t>(vertex_count)),
                     [&](const tbb::blocked_range<std::uint32_t>& range) {
-                      std::vector<std::uint32_t> incident;
+                      LinkScratch scratch;
                       for (std::uint32_t v = range.begin(); v != range.end(); ++v) {
                         if (row_start[v] == row_start[v + 1]) continue;
-                        incident.assign(incident_triangles.begin() + row_start[v],
-                                        incident_triangles.begin() + row_start[v + 1]);
-                        manifold[v] = vertex_is_manifold(v, incident, mesh);
+                        manifold[v] =
+                            vertex_is_manifold(v, incident_triangles.data() + row_start[v],
+                                               incident_triangles.data() + row_start[v + 1], mesh, scratch);
                       }
                     });
   return manifold;
