@@ -315,6 +315,11 @@ struct Capsule {
     inv_dd = dd > 0.0 ? 1.0 / dd : 0.0;
     margin = 1e-12 * (1.0 + c0.cwiseAbs().maxCoeff() + d.cwiseAbs().maxCoeff() + r + tool.length);
   }
+  /// The centre line's unit direction (zero for a point) and its length.
+  std::pair<Vector3d, double> unit_axis() const {
+    const double length = d.norm();
+    return {length > 0.0 ? Vector3d(d / length) : Vector3d::Zero(), length};
+  }
 };
 
 /// Whether the sweep's signed distance at x is at least `bound` (false: not shown), from closed
@@ -1066,21 +1071,30 @@ std::pair<double, double> trig_range(double cs, double sn, const EdgeCurve& curv
 struct LineBounds {
   double square_lo, square_hi, along_lo, along_hi;
 };
+
+/// Least and greatest value over s in [s0, s1] of |w + s dw|^2 - (along + s d_along)^2, a convex
+/// quadratic when |d_along| <= |dw| (the squared distance from a point moving along a segment to
+/// a line, `along` its parameter on the line; to a point with along = d_along = 0).
+std::pair<double, double> square_range(const Vector3d& w, const Vector3d& dw, double along, double d_along,
+                                       double s0, double s1) {
+  const double alpha = w.squaredNorm() - along * along, beta = 2.0 * (w.dot(dw) - along * d_along),
+               gamma = dw.squaredNorm() - d_along * d_along;
+  auto at = [&](double s) { return alpha + s * (beta + s * gamma); };
+  double lo = std::min(at(s0), at(s1));
+  const double hi = std::max(at(s0), at(s1));
+  if (gamma > 0.0) {
+    const double s = -beta / (2.0 * gamma);
+    if (s > s0 && s < s1) lo = std::min(lo, at(s));
+  }
+  return {lo, hi};
+}
+
 LineBounds line_bounds(const EdgeCurve& curve, const Vector3d& origin, const Vector3d& axis) {
   LineBounds b;
   if (!curve.arc) {
-    // w(s) = q + s delta: |w|^2 - (w.axis)^2 is a convex quadratic in s.
     const Vector3d q = curve.a - origin, delta = curve.b - curve.a;
     const double qa = q.dot(axis), da = delta.dot(axis);
-    const double alpha = q.squaredNorm() - qa * qa, beta = 2.0 * (q.dot(delta) - qa * da),
-                 gamma = delta.squaredNorm() - da * da;
-    auto at = [&](double s) { return alpha + s * (beta + s * gamma); };
-    b.square_hi = std::max(at(0.0), at(1.0));
-    b.square_lo = std::min(at(0.0), at(1.0));
-    if (gamma > 0.0) {
-      const double s = -beta / (2.0 * gamma);
-      if (s > 0.0 && s < 1.0) b.square_lo = std::min(b.square_lo, at(s));
-    }
+    std::tie(b.square_lo, b.square_hi) = square_range(q, delta, qa, da, 0.0, 1.0);
     b.along_lo = std::min(qa, qa + da);
     b.along_hi = std::max(qa, qa + da);
     return b;
@@ -1125,17 +1139,8 @@ double segment_square_lower(const EdgeCurve& curve, const Vector3d& origin, cons
                             double length) {
   const Vector3d q = curve.a - origin, delta = curve.b - curve.a;
   const double qa = q.dot(axis), da = delta.dot(axis);
-  // The least over s in [s0, s1] of |w + s dw|^2 - (along + s d_along)^2.
   auto least = [](const Vector3d& w, const Vector3d& dw, double along, double d_along, double s0, double s1) {
-    const double alpha = w.squaredNorm() - along * along, beta = 2.0 * (w.dot(dw) - along * d_along),
-                 gamma = dw.squaredNorm() - d_along * d_along;
-    auto at = [&](double s) { return alpha + s * (beta + s * gamma); };
-    double m = std::min(at(s0), at(s1));
-    if (gamma > 0.0) {
-      const double s = -beta / (2.0 * gamma);
-      if (s > s0 && s < s1) m = std::min(m, at(s));
-    }
-    return m;
+    return square_range(w, dw, along, d_along, s0, s1).first;
   };
   std::array<double, 4> cuts{0.0, 1.0, 0.0, 0.0};
   std::size_t count = 2;
@@ -1177,8 +1182,7 @@ double curve_square_lower(const EdgeCurve& curve, const Vector3d& origin, const 
 double sweep_lower_along(const Capsule& c, const SupportPlane& plane, const EdgeCurve& curve, double wanted) {
   const double inf = std::numeric_limits<double>::infinity();
   if (!c.valid) return -inf;
-  const double length = c.inv_dd > 0.0 ? std::sqrt(1.0 / c.inv_dd) : 0.0;
-  const Vector3d axis = length > 0.0 ? Vector3d(c.d / length) : Vector3d::Zero();
+  const auto [axis, length] = c.unit_axis();
   const double square = curve_square_lower(curve, c.c0, axis, length);
   double lower = std::sqrt(std::max(square, 0.0)) - c.r;
   if (c.ballend) {
@@ -1218,8 +1222,7 @@ double sweep_lower_along(const Capsule& c, const SupportPlane& plane, const Edge
 /// its tip's capsule does (within the axis's span the distance to the axis is that to its line).
 bool sweep_holds_along(const Capsule& c, const EdgeCurve& curve, double need) {
   if (!c.valid) return false;
-  const double length = c.inv_dd > 0.0 ? std::sqrt(1.0 / c.inv_dd) : 0.0;
-  const Vector3d axis = length > 0.0 ? Vector3d(c.d / length) : Vector3d::Zero();
+  const auto [axis, length] = c.unit_axis();
   const LineBounds tip = line_bounds(curve, c.c0, axis);
   if (!(tip.along_lo >= 0.0 && tip.along_hi <= length)) return false;
   return std::sqrt(std::max(tip.square_hi, 0.0)) - c.r < -need;
