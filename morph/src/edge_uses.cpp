@@ -1,5 +1,7 @@
 #include "edge_uses.h"
 
+#include "huge_pages.h"
+
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 #include <tbb/parallel_reduce.h>
@@ -47,7 +49,7 @@ std::vector<EdgeUse> sorted_edge_uses(const TriangleMesh& mesh) {
     start[v + 1] = start[v] + fill[v].load(std::memory_order_relaxed);
     fill[v].store(start[v], std::memory_order_relaxed);
   }
-  std::vector<EdgeUse> uses(count);
+  std::vector<EdgeUse> uses = large_vector<EdgeUse>(count);
   for_each_use([&](std::size_t t, int k, std::uint32_t a, std::uint32_t b) {
     uses[fill[std::min(a, b)].fetch_add(1, std::memory_order_relaxed)] = {
         edge_key(a, b), static_cast<std::uint32_t>(t), static_cast<std::uint8_t>(k), a < b};

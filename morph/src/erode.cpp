@@ -22,6 +22,7 @@
 #include "edge_uses.h"
 #include "erode_repair.h"
 #include "erode_seams.h"
+#include "huge_pages.h"
 
 namespace morph {
 
@@ -2449,6 +2450,10 @@ ErodeResult erode(const Job& job, const ErodeOptions& options) {
       first_vertex[i + 1] = first_vertex[i] + (kept ? pieces[i].vertices.size() : 0);
       first_triangle[i + 1] = first_triangle[i] + pieces[i].triangles.size();
     }
+    detail::reserve_large(mesh.vertices, first_vertex.back());
+    detail::reserve_large(mesh.triangles, first_triangle.back());
+    detail::reserve_large(mesh.tags, first_triangle.back());
+    detail::reserve_large(patch_of_triangle, first_triangle.back());
     mesh.vertices.resize(first_vertex.back());
     mesh.triangles.resize(first_triangle.back());
     mesh.tags.resize(first_triangle.back());

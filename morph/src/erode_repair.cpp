@@ -9,6 +9,7 @@
 #include <morph/topology.h>
 
 #include "edge_uses.h"
+#include "huge_pages.h"
 
 #include <algorithm>
 #include <array>
@@ -936,6 +937,7 @@ void remove_triangles(TriangleMesh& mesh, std::vector<TriangleOrigin>& patch_of_
   patch_of_triangle.resize(kept);
   std::vector<std::uint32_t> new_index(mesh.vertices.size(), 0);
   std::vector<Vector3d> vertices;
+  reserve_large(vertices, static_cast<std::size_t>(std::count(used.begin(), used.end(), true)));
   for (std::uint32_t v = 0; v < mesh.vertices.size(); ++v) {
     if (!used[v]) continue;
     new_index[v] = static_cast<std::uint32_t>(vertices.size());
@@ -1030,7 +1032,8 @@ std::size_t weld_near(TriangleMesh& mesh, std::vector<TriangleOrigin>& patch_of_
   // sliver folded flat); of equal triangles one stays.
   std::vector<bool> remove(mesh.triangles.size(), false);
   const Triangle degenerate{UINT32_MAX, UINT32_MAX, UINT32_MAX};  // sorts last
-  std::vector<std::pair<Triangle, std::uint32_t>> sorted(mesh.triangles.size());
+  std::vector<std::pair<Triangle, std::uint32_t>> sorted =
+      large_vector<std::pair<Triangle, std::uint32_t>>(mesh.triangles.size());
   tbb::parallel_for(tbb::blocked_range<std::uint32_t>(0, static_cast<std::uint32_t>(mesh.triangles.size())),
                     [&](const tbb::blocked_range<std::uint32_t>& range) {
                       for (std::uint32_t i = range.begin(); i != range.end(); ++i) {

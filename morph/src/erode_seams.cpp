@@ -18,6 +18,7 @@
 #include <tbb/parallel_sort.h>
 
 #include "erode_seams.h"
+#include "huge_pages.h"
 
 namespace morph::detail {
 
@@ -54,7 +55,7 @@ CellKey cell_of(const Vector3d& p, double cell) {
 class CellIndex {
  public:
   CellIndex(const std::vector<Vector3d>& points, const std::vector<std::uint32_t>& members, double cell)
-      : cell_(cell), entries_(members.size()) {
+      : cell_(cell), entries_(large_vector<Entry>(members.size())) {
     tbb::parallel_for(std::size_t{0}, members.size(), [&](std::size_t i) {
       entries_[i] = {cell_of(points[members[i]], cell), members[i]};
     });
@@ -169,7 +170,7 @@ std::uint64_t edge_key(std::uint32_t a, std::uint32_t b) {
 /// Merges vertices closer than `distance` into the first of them, drops collapsed triangles and
 /// unreferenced vertices. Returns the number of merged vertices.
 std::size_t weld(TriangleMesh& mesh, std::vector<TriangleOrigin>& patch_of, double distance) {
-  std::vector<std::uint32_t> target(mesh.vertices.size());
+  std::vector<std::uint32_t> target = large_vector<std::uint32_t>(mesh.vertices.size());
   std::vector<bool> on_border(mesh.vertices.size(), false);
   for (std::size_t t = 0; t < mesh.triangles.size(); ++t)
     for (int k = 0; k < 3; ++k)
@@ -195,15 +196,15 @@ std::size_t weld(TriangleMesh& mesh, std::vector<TriangleOrigin>& patch_of, doub
     merged += found != v;
   }
   // Compact.
-  std::vector<std::uint32_t> new_index(mesh.vertices.size(), UINT32_MAX);
+  std::vector<std::uint32_t> new_index = large_vector<std::uint32_t>(mesh.vertices.size(), UINT32_MAX);
   std::vector<Vector3d> vertices;
   std::vector<Triangle> triangles;
   std::vector<FaceTag> tags;
   std::vector<TriangleOrigin> patches;
-  vertices.reserve(mesh.vertices.size());
-  triangles.reserve(mesh.triangles.size());
-  tags.reserve(mesh.triangles.size());
-  patches.reserve(mesh.triangles.size());
+  reserve_large(vertices, mesh.vertices.size());
+  reserve_large(triangles, mesh.triangles.size());
+  reserve_large(tags, mesh.triangles.size());
+  reserve_large(patches, mesh.triangles.size());
   std::vector<std::uint32_t> collapsed_patches;
   for (std::size_t t = 0; t < mesh.triangles.size(); ++t) {
     Triangle tri;
@@ -380,9 +381,9 @@ std::size_t snap_boundary(TriangleMesh& mesh, std::vector<TriangleOrigin>& patch
   std::vector<Triangle> triangles;
   std::vector<FaceTag> tags;
   std::vector<TriangleOrigin> patches;
-  triangles.reserve(mesh.triangles.size());
-  tags.reserve(mesh.triangles.size());
-  patches.reserve(mesh.triangles.size());
+  reserve_large(triangles, mesh.triangles.size());
+  reserve_large(tags, mesh.triangles.size());
+  reserve_large(patches, mesh.triangles.size());
   for (std::size_t t = 0; t < mesh.triangles.size(); ++t) {
     Triangle tri;
     for (int k = 0; k < 3; ++k) tri[k] = target[mesh.triangles[t][k]];
@@ -520,9 +521,9 @@ std::size_t split_pass(TriangleMesh& mesh, std::vector<TriangleOrigin>& patch_of
   std::vector<Triangle> triangles;
   std::vector<FaceTag> tags;
   std::vector<TriangleOrigin> patches;
-  triangles.reserve(mesh.triangles.size() + inserted * 2);
-  tags.reserve(mesh.triangles.size() + inserted * 2);
-  patches.reserve(mesh.triangles.size() + inserted * 2);
+  reserve_large(triangles, mesh.triangles.size() + inserted * 2);
+  reserve_large(tags, mesh.triangles.size() + inserted * 2);
+  reserve_large(patches, mesh.triangles.size() + inserted * 2);
   may_be_open.clear();
   may_be_open.reserve(mesh.triangles.size() + inserted * 2);
   // The triangles with a split edge, in order; the others are copied in runs.
@@ -916,6 +917,19 @@ std::size_t fill_holes(TriangleMesh& mesh, std::vector<TriangleOrigin>& patch_of
   tbb::parallel_for(std::size_t{0}, holes.size(), [&](std::size_t i) { plans[i] = plan_of(holes[i]); });
   std::map<std::vector<std::uint32_t>, std::size_t> planned;  // loop -> index in holes
   for (std::size_t i = 0; i < holes.size(); ++i) planned.emplace(holes[i].loop, i);
+  {
+    // Room for what the plans add, so that appending does not copy the whole mesh.
+    std::size_t triangles = 0, vertices = 0;
+    for (std::size_t i = 0; i < holes.size(); ++i) {
+      triangles += 2 * (plans[i].rings.size() + 1) * holes[i].loop.size();
+      vertices += 1;
+      for (const std::vector<Vector3d>& ring : plans[i].rings) vertices += ring.size();
+    }
+    reserve_large(mesh.triangles, mesh.triangles.size() + triangles);
+    reserve_large(mesh.tags, mesh.tags.size() + triangles);
+    reserve_large(patch_of, patch_of.size() + triangles);
+    reserve_large(mesh.vertices, mesh.vertices.size() + vertices);
+  }
 
   std::unordered_map<std::uint64_t, bool> used;
   std::size_t filled = 0;

@@ -6,6 +6,7 @@
 #include <tbb/parallel_reduce.h>
 #include <tbb/parallel_sort.h>
 #include "edge_uses.h"
+#include "huge_pages.h"
 
 #include <algorithm>
 #include <cstdint>
@@ -48,7 +49,7 @@ using detail::EdgeUse;
 std::vector<EdgeUse> sorted_edge_uses(const TriangleMesh& mesh, bool include_collapsed) {
   std::vector<EdgeUse> all = detail::sorted_edge_uses(mesh);
   std::vector<EdgeUse> uses;
-  uses.reserve(all.size());
+  detail::reserve_large(uses, all.size());
   for (const EdgeUse& use : all) {
     if (static_cast<std::uint32_t>(use.key >> 32) == static_cast<std::uint32_t>(use.key & 0xffffffffu))
       continue;
@@ -173,7 +174,7 @@ std::vector<char> manifold_vertices(const TriangleMesh& mesh) {
     if (!collapsed(t))
       for (std::uint32_t v : t) ++row_start[v + 1];
   std::partial_sum(row_start.begin(), row_start.end(), row_start.begin());
-  std::vector<std::uint32_t> incident_triangles(row_start.back());
+  std::vector<std::uint32_t> incident_triangles = detail::large_vector<std::uint32_t>(row_start.back());
   std::vector<std::uint32_t> fill(row_start.begin(), row_start.end() - 1);
   for (std::uint32_t t = 0; t < mesh.triangles.size(); ++t)
     if (!collapsed(mesh.triangles[t]))
