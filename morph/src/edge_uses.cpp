@@ -8,11 +8,18 @@
 
 #include <algorithm>
 #include <atomic>
+#include <numeric>
 #include <tuple>
 
 namespace morph::detail {
 
 std::vector<EdgeUse> sorted_edge_uses(const TriangleMesh& mesh) {
+  std::vector<EdgeUse> uses;
+  sorted_edge_uses(mesh, uses);
+  return uses;
+}
+
+void sorted_edge_uses(const TriangleMesh& mesh, std::vector<EdgeUse>& uses) {
   // A counting sort on the edge's lower vertex, then each (small) bucket by (key, triangle,
   // corner): far faster than comparison sorting millions. The buckets fill in parallel, in
   // whatever order; sorting each by the whole (unique) triple makes the order unique again.
@@ -49,7 +56,11 @@ std::vector<EdgeUse> sorted_edge_uses(const TriangleMesh& mesh) {
     start[v + 1] = start[v] + fill[v].load(std::memory_order_relaxed);
     fill[v].store(start[v], std::memory_order_relaxed);
   }
-  std::vector<EdgeUse> uses = large_vector<EdgeUse>(count);
+  if (uses.capacity() < count) {
+    uses.clear();
+    reserve_large(uses, count);
+  }
+  uses.resize(count);
   for_each_use([&](std::size_t t, int k, std::uint32_t a, std::uint32_t b) {
     uses[fill[std::min(a, b)].fetch_add(1, std::memory_order_relaxed)] = {
         edge_key(a, b), static_cast<std::uint32_t>(t), static_cast<std::uint8_t>(k), a < b};
@@ -74,7 +85,34 @@ std::vector<EdgeUse> sorted_edge_uses(const TriangleMesh& mesh) {
                         }
                       }
                     });
-  return uses;
+}
+
+std::size_t components_of_uses(std::size_t triangle_count, const std::vector<EdgeUse>& uses,
+                               std::vector<std::uint32_t>& component_of_triangle) {
+  // Union-find in which the smaller root wins, so a root is the smallest triangle of its set.
+  std::vector<std::uint32_t> parent(triangle_count);
+  std::iota(parent.begin(), parent.end(), std::uint32_t{0});
+  auto find = [&](std::uint32_t x) {
+    while (parent[x] != x) x = parent[x] = parent[parent[x]];
+    return x;
+  };
+  for (std::size_t i = 1; i < uses.size(); ++i) {
+    const std::uint64_t key = uses[i].key;
+    if (key != uses[i - 1].key || (key >> 32) == (key & 0xffffffffu)) continue;
+    const std::uint32_t a = find(uses[i].triangle), b = find(uses[i - 1].triangle);
+    if (a != b) parent[std::max(a, b)] = std::min(a, b);
+  }
+  // Numbering roots in triangle order numbers components by their smallest triangle.
+  constexpr std::uint32_t kUnset = ~std::uint32_t{0};
+  std::vector<std::uint32_t> component_of_root(triangle_count, kUnset);
+  component_of_triangle.assign(triangle_count, 0);
+  std::uint32_t count = 0;
+  for (std::uint32_t t = 0; t < triangle_count; ++t) {
+    const std::uint32_t root = find(t);
+    if (component_of_root[root] == kUnset) component_of_root[root] = count++;
+    component_of_triangle[t] = component_of_root[root];
+  }
+  return count;
 }
 
 }  // namespace morph::detail

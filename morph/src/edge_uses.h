@@ -26,5 +26,13 @@ inline std::uint64_t edge_key(std::uint32_t a, std::uint32_t b) {
 /// All three uses of every triangle (a collapsed triangle's too, (a, a) included), sorted by
 /// (key, triangle, corner) in parallel: a unique order, whatever the thread count.
 std::vector<EdgeUse> sorted_edge_uses(const TriangleMesh& mesh);
+/// The same into `uses`, whose storage is reused (the mesh's clean-up asks several times).
+void sorted_edge_uses(const TriangleMesh& mesh, std::vector<EdgeUse>& uses);
+
+/// Components of `triangle_count` triangles joined by the edges with two distinct ends in
+/// `uses` (sorted by key): component_of_triangle numbers them by their smallest triangle.
+/// Returns the count.
+std::size_t components_of_uses(std::size_t triangle_count, const std::vector<EdgeUse>& uses,
+                               std::vector<std::uint32_t>& component_of_triangle);
 
 }  // namespace morph::detail

@@ -2240,10 +2240,12 @@ void add_front_sweep(const Context& ctx, int prev, int next, PatchBuilder& build
 /// the tie-break (a tool surface touching another sweep tangentially keeps a strip about sqrt(2 r tie) wide)
 /// whose two sides the seam weld joined into a flat, doubly covered surface. No piece of a result is that
 /// thin: its mean thickness 2 V / A is below `thickness`.
+/// (`uses`: storage for the mesh's edge uses, reused.)
 std::size_t remove_flat_components(TriangleMesh& mesh, std::vector<detail::TriangleOrigin>& patch_of,
-                                   double thickness, double small_area) {
+                                   double thickness, double small_area, std::vector<detail::EdgeUse>& uses) {
+  detail::sorted_edge_uses(mesh, uses);
   std::vector<std::uint32_t> component;
-  const std::size_t count = connected_components(mesh, component);
+  const std::size_t count = detail::components_of_uses(mesh.triangles.size(), uses, component);
   if (count < 2) return 0;
   std::vector<double> volume(count, 0.0), area(count, 0.0);
   // Volumes about a point of each component: about the origin, rounding far from it would
@@ -2260,7 +2262,6 @@ std::size_t remove_flat_components(TriangleMesh& mesh, std::vector<detail::Trian
   }
   // A component is open where the uses of one of its edges do not cancel (+1 for each use
   // min -> max, -1 for each max -> min). The uses, sorted by edge, lie together.
-  const std::vector<detail::EdgeUse> uses = detail::sorted_edge_uses(mesh);
   std::vector<bool> open(count, false);
   for (std::size_t begin = 0; begin < uses.size();) {
     std::size_t end = begin;
@@ -2289,8 +2290,8 @@ std::size_t remove_flat_components(TriangleMesh& mesh, std::vector<detail::Trian
 
 /// topology_report(mesh).boundary_edges alone: the edges with two distinct ends that exactly one
 /// triangle with three distinct vertices uses.
-std::size_t boundary_edge_count(const TriangleMesh& mesh) {
-  const std::vector<detail::EdgeUse> uses = detail::sorted_edge_uses(mesh);
+std::size_t boundary_edge_count(const TriangleMesh& mesh, std::vector<detail::EdgeUse>& uses) {
+  detail::sorted_edge_uses(mesh, uses);
   std::size_t count = 0;
   for (std::size_t begin = 0; begin < uses.size();) {
     std::size_t end = begin, proper = 0;
@@ -2534,7 +2535,8 @@ ErodeResult erode(const Job& job, const ErodeOptions& options) {
   // the tolerance: where the joints of two raster rows line up across the cusp between them,
   // a joint's cap and the side patch meet the cusp 0.00104 apart at tolerance 0.01 and fold a
   // sliver over between them.
-  detail::weld_near_defects(mesh, patch_of_triangle, 2e-1 * tolerance);
+  std::vector<detail::EdgeUse> edge_uses;  // storage reused by the passes below
+  detail::weld_near_defects(mesh, patch_of_triangle, 2e-1 * tolerance, edge_uses);
   detail::RepairOptions repair;
   repair.max_radius = 2.0 * budget.cell;
   repair.max_field_error = 0.5 * tolerance;
@@ -2569,9 +2571,9 @@ ErodeResult erode(const Job& job, const ErodeOptions& options) {
     repair_again(nullptr);
   }
   stats.defects_repaired = repair_stats.repaired;
-  stats.flat_components_removed =
-      remove_flat_components(mesh, patch_of_triangle, 1e-3 * tolerance, 100.0 * tolerance * tolerance);
-  stats.open_edges = repair_stats.defects == repair_stats.repaired ? 0 : boundary_edge_count(mesh);
+  stats.flat_components_removed = remove_flat_components(mesh, patch_of_triangle, 1e-3 * tolerance,
+                                                         100.0 * tolerance * tolerance, edge_uses);
+  stats.open_edges = repair_stats.defects == repair_stats.repaired ? 0 : boundary_edge_count(mesh, edge_uses);
   stats.seam_splits = seam_stats.splits;
   stats.corner_holes = seam_stats.holes_filled;
   stats.triangles = mesh.triangles.size();

@@ -949,9 +949,9 @@ void remove_triangles(TriangleMesh& mesh, std::vector<TriangleOrigin>& patch_of_
 }
 
 std::size_t weld_near_defects(TriangleMesh& mesh, std::vector<TriangleOrigin>& patch_of_triangle,
-                              double distance) {
+                              double distance, std::vector<EdgeUse>& uses) {
   // An undirected edge is sound when used once each way.
-  const std::vector<EdgeUse> uses = sorted_edge_uses(mesh);
+  sorted_edge_uses(mesh, uses);
   std::vector<std::uint32_t> defect;
   for (std::size_t i = 0; i < uses.size();) {
     std::size_t j = i;

@@ -10,6 +10,7 @@
 #include <set>
 #include <vector>
 
+#include "edge_uses.h"
 #include "erode_seams.h"
 
 namespace morph::detail {
@@ -46,7 +47,7 @@ void remove_triangles(TriangleMesh& mesh, std::vector<TriangleOrigin>& patch_of_
 /// `distance`, welds across the cusps of the 100k-move raster: 7 open edges where there were
 /// none.) Returns the number of merges.
 std::size_t weld_near_defects(TriangleMesh& mesh, std::vector<TriangleOrigin>& patch_of_triangle,
-                              double distance);
+                              double distance, std::vector<EdgeUse>& uses);
 
 /// The same around every non-manifold vertex (two fans meeting at one point; see
 /// morph::non_manifold_vertices), with every vertex within `distance` of it.

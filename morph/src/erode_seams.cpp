@@ -195,17 +195,12 @@ std::size_t weld(TriangleMesh& mesh, std::vector<TriangleOrigin>& patch_of, doub
     target[v] = found;
     merged += found != v;
   }
-  // Compact.
+  // Compact: the triangles in place (each moves only down), the vertices in first-use order.
   std::vector<std::uint32_t> new_index = large_vector<std::uint32_t>(mesh.vertices.size(), UINT32_MAX);
   std::vector<Vector3d> vertices;
-  std::vector<Triangle> triangles;
-  std::vector<FaceTag> tags;
-  std::vector<TriangleOrigin> patches;
   reserve_large(vertices, mesh.vertices.size());
-  reserve_large(triangles, mesh.triangles.size());
-  reserve_large(tags, mesh.triangles.size());
-  reserve_large(patches, mesh.triangles.size());
   std::vector<std::uint32_t> collapsed_patches;
+  std::size_t kept = 0;
   for (std::size_t t = 0; t < mesh.triangles.size(); ++t) {
     Triangle tri;
     for (int k = 0; k < 3; ++k) tri[k] = target[mesh.triangles[t][k]];
@@ -221,14 +216,15 @@ std::size_t weld(TriangleMesh& mesh, std::vector<TriangleOrigin>& patch_of, doub
       }
       tri[k] = n;
     }
-    triangles.push_back(tri);
-    tags.push_back(mesh.tags[t]);
-    patches.push_back(patch_of[t]);
+    mesh.triangles[kept] = tri;
+    mesh.tags[kept] = mesh.tags[t];
+    patch_of[kept] = patch_of[t];
+    ++kept;
   }
   mesh.vertices = std::move(vertices);
-  mesh.triangles = std::move(triangles);
-  mesh.tags = std::move(tags);
-  patch_of = std::move(patches);
+  mesh.triangles.resize(kept);
+  mesh.tags.resize(kept);
+  patch_of.resize(kept);
   // A collapsed triangle (a patch's degenerate corner, e.g. a stock triangle's apex) may have
   // paired an edge of its neighbour, which therefore carries no border bit although it is now
   // open: recompute the bits of the patches that lost triangles.
@@ -378,23 +374,20 @@ std::size_t snap_boundary(TriangleMesh& mesh, std::vector<TriangleOrigin>& patch
     }
   }
   if (merged == 0) return 0;
-  std::vector<Triangle> triangles;
-  std::vector<FaceTag> tags;
-  std::vector<TriangleOrigin> patches;
-  reserve_large(triangles, mesh.triangles.size());
-  reserve_large(tags, mesh.triangles.size());
-  reserve_large(patches, mesh.triangles.size());
+  // In place: each triangle moves only down.
+  std::size_t kept = 0;
   for (std::size_t t = 0; t < mesh.triangles.size(); ++t) {
     Triangle tri;
     for (int k = 0; k < 3; ++k) tri[k] = target[mesh.triangles[t][k]];
     if (tri[0] == tri[1] || tri[1] == tri[2] || tri[0] == tri[2]) continue;
-    triangles.push_back(tri);
-    tags.push_back(mesh.tags[t]);
-    patches.push_back(patch_of[t]);
+    mesh.triangles[kept] = tri;
+    mesh.tags[kept] = mesh.tags[t];
+    patch_of[kept] = patch_of[t];
+    ++kept;
   }
-  mesh.triangles = std::move(triangles);
-  mesh.tags = std::move(tags);
-  patch_of = std::move(patches);
+  mesh.triangles.resize(kept);
+  mesh.tags.resize(kept);
+  patch_of.resize(kept);
   return merged;
 }
 

@@ -148,21 +148,7 @@ void check_indices(const TriangleMesh& mesh) {
 // Components of the triangles joined by the edges in `uses` (sorted by key).
 std::size_t components_of(const TriangleMesh& mesh, const std::vector<EdgeUse>& uses,
                           std::vector<std::uint32_t>& component_of_triangle) {
-  UnionFind sets(mesh.triangles.size());
-  for (std::size_t i = 1; i < uses.size(); ++i)
-    if (uses[i].key == uses[i - 1].key) sets.unite(uses[i].triangle, uses[i - 1].triangle);
-  // Roots are the smallest triangle of their component, so numbering roots in triangle order
-  // numbers components by their smallest triangle.
-  constexpr std::uint32_t kUnset = ~std::uint32_t{0};
-  std::vector<std::uint32_t> component_of_root(mesh.triangles.size(), kUnset);
-  component_of_triangle.assign(mesh.triangles.size(), 0);
-  std::uint32_t count = 0;
-  for (std::uint32_t t = 0; t < mesh.triangles.size(); ++t) {
-    const std::uint32_t root = sets.find(t);
-    if (component_of_root[root] == kUnset) component_of_root[root] = count++;
-    component_of_triangle[t] = component_of_root[root];
-  }
-  return count;
+  return detail::components_of_uses(mesh.triangles.size(), uses, component_of_triangle);
 }
 
 // Whether each vertex's proper triangles form one disc or half-disc (vertices without any: true).
