@@ -92,13 +92,25 @@ struct Patch {
   Eigen::AlignedBox3d box;  // conservative bounds
 };
 
+/// cos and sin of t, remembered for the last t asked on this thread: a grid's nodes along a
+/// tube's rulings share their angle, and the trimming asks for them row by row.
+std::pair<double, double> cos_sin(double t) {
+  thread_local double last = std::numeric_limits<double>::quiet_NaN(), last_cos = 1.0, last_sin = 0.0;
+  if (t != last) {
+    last = t;
+    last_cos = std::cos(t);
+    last_sin = std::sin(t);
+  }
+  return {last_cos, last_sin};
+}
+
 Vector3d evaluate(const Patch& p, double u, double v) {
   switch (p.form) {
     case Form::Plane:
       return p.o + u * p.U + v * p.V;
     case Form::Tube: {
-      const double t = p.t0 + v * (p.t1 - p.t0);
-      return p.o + u * p.U + p.R * (std::cos(t) * p.e1 + std::sin(t) * p.e2);
+      const auto [c, s] = cos_sin(p.t0 + v * (p.t1 - p.t0));
+      return p.o + u * p.U + p.R * (c * p.e1 + s * p.e2);
     }
     case Form::Sphere: {
       if ((p.pole_v0 && v <= 0.0)) return p.o + p.R * std::cos(p.t0) * p.w;
@@ -124,8 +136,8 @@ Vector3d evaluate(const Patch& p, double u, double v) {
 Vector3d solid_normal(const Patch& p, double u, double v) {
   switch (p.form) {
     case Form::Tube: {
-      const double t = p.t0 + v * (p.t1 - p.t0);
-      return std::cos(t) * p.e1 + std::sin(t) * p.e2;
+      const auto [c, s] = cos_sin(p.t0 + v * (p.t1 - p.t0));
+      return c * p.e1 + s * p.e2;
     }
     case Form::Sphere:
       return (evaluate(p, u, v) - p.o) / p.R;
@@ -1053,7 +1065,7 @@ std::pair<double, double> trig_range(double cs, double sn, const EdgeCurve& curv
   const double f0 = cs * curve.cos_at[0] + sn * curve.sin_at[0],
                f1 = cs * curve.cos_at[kLast] + sn * curve.sin_at[kLast];
   double lo = std::min(f0, f1), hi = std::max(f0, f1);
-  const double amplitude = std::hypot(cs, sn);
+  const double amplitude = std::sqrt(cs * cs + sn * sn);
   if (amplitude > 0.0) {
     // Extremes at the peak angle (greatest) and opposite it (least), wherever they fall in [t0, t1].
     auto reached = [&](double angle) {
@@ -1109,7 +1121,7 @@ LineBounds line_bounds(const EdgeCurve& curve, const Vector3d& origin, const Vec
   const double a1 = 2.0 * rho * q.dot(curve.e1) - 2.0 * k0 * k1,
                b1 = 2.0 * rho * q.dot(curve.e2) - 2.0 * k0 * k2;
   const double a2 = -0.5 * (k1 * k1 - k2 * k2), b2 = -k1 * k2;
-  const double curvature = std::hypot(a1, b1) + 4.0 * std::hypot(a2, b2);
+  const double curvature = std::sqrt(a1 * a1 + b1 * b1) + 4.0 * std::sqrt(a2 * a2 + b2 * b2);
   constexpr int kPieces = EdgeCurve::kArcPieces;
   const double step = (curve.t1 - curve.t0) / kPieces;
   const double sag = curvature * step * step / 8.0;

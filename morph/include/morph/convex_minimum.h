@@ -62,10 +62,13 @@ std::pair<double, double> golden_minimum(F&& f, double lo, double hi) {
 
 /// Exact signed distance to a vertical capped cylinder of radius r around the z axis between
 /// heights z0 and z1, with q relative to that axis.
+/// (Square roots rather than std::hypot: no over- or underflow at machining scales, and this is
+/// the body search's inner loop.)
 inline double capped_cylinder_distance(const Eigen::Vector3d& q, double r, double z0, double z1) {
-  const double dr = std::hypot(q.x(), q.y()) - r;
+  const double dr = std::sqrt(q.x() * q.x() + q.y() * q.y()) - r;
   const double dz = std::max(z0 - q.z(), q.z() - z1);
-  return std::hypot(std::max(dr, 0.0), std::max(dz, 0.0)) + std::min(std::max(dr, dz), 0.0);
+  const double out_r = std::max(dr, 0.0), out_z = std::max(dz, 0.0);
+  return std::sqrt(out_r * out_r + out_z * out_z) + std::min(std::max(dr, dz), 0.0);
 }
 
 }  // namespace morph::detail
