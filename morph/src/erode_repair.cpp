@@ -923,18 +923,11 @@ class Repairer {
 void remove_triangles(TriangleMesh& mesh, std::vector<TriangleOrigin>& patch_of_triangle,
                       const std::vector<bool>& remove) {
   std::vector<bool> used(mesh.vertices.size(), false);
-  std::size_t kept = 0;
-  for (std::size_t t = 0; t < mesh.triangles.size(); ++t) {
-    if (remove[t]) continue;
-    for (std::uint32_t v : mesh.triangles[t]) used[v] = true;
-    mesh.triangles[kept] = mesh.triangles[t];
-    mesh.tags[kept] = mesh.tags[t];
-    patch_of_triangle[kept] = patch_of_triangle[t];
-    ++kept;
-  }
-  mesh.triangles.resize(kept);
-  mesh.tags.resize(kept);
-  patch_of_triangle.resize(kept);
+  keep_triangles(mesh, patch_of_triangle, [&](std::size_t t, const Triangle& tri) {
+    if (remove[t]) return false;
+    for (std::uint32_t v : tri) used[v] = true;
+    return true;
+  });
   std::vector<std::uint32_t> new_index(mesh.vertices.size(), 0);
   std::vector<Vector3d> vertices;
   reserve_large(vertices, static_cast<std::size_t>(std::count(used.begin(), used.end(), true)));

@@ -200,13 +200,11 @@ std::size_t weld(TriangleMesh& mesh, std::vector<TriangleOrigin>& patch_of, doub
   std::vector<Vector3d> vertices;
   reserve_large(vertices, mesh.vertices.size());
   std::vector<std::uint32_t> collapsed_patches;
-  std::size_t kept = 0;
-  for (std::size_t t = 0; t < mesh.triangles.size(); ++t) {
-    Triangle tri;
-    for (int k = 0; k < 3; ++k) tri[k] = target[mesh.triangles[t][k]];
+  keep_triangles(mesh, patch_of, [&](std::size_t t, Triangle& tri) {
+    for (std::uint32_t& v : tri) v = target[v];
     if (tri[0] == tri[1] || tri[1] == tri[2] || tri[0] == tri[2]) {
       collapsed_patches.push_back(patch_of[t].patch);
-      continue;
+      return false;
     }
     for (int k = 0; k < 3; ++k) {
       std::uint32_t& n = new_index[tri[k]];
@@ -216,15 +214,9 @@ std::size_t weld(TriangleMesh& mesh, std::vector<TriangleOrigin>& patch_of, doub
       }
       tri[k] = n;
     }
-    mesh.triangles[kept] = tri;
-    mesh.tags[kept] = mesh.tags[t];
-    patch_of[kept] = patch_of[t];
-    ++kept;
-  }
+    return true;
+  });
   mesh.vertices = std::move(vertices);
-  mesh.triangles.resize(kept);
-  mesh.tags.resize(kept);
-  patch_of.resize(kept);
   // A collapsed triangle (a patch's degenerate corner, e.g. a stock triangle's apex) may have
   // paired an edge of its neighbour, which therefore carries no border bit although it is now
   // open: recompute the bits of the patches that lost triangles.
@@ -374,20 +366,10 @@ std::size_t snap_boundary(TriangleMesh& mesh, std::vector<TriangleOrigin>& patch
     }
   }
   if (merged == 0) return 0;
-  // In place: each triangle moves only down.
-  std::size_t kept = 0;
-  for (std::size_t t = 0; t < mesh.triangles.size(); ++t) {
-    Triangle tri;
-    for (int k = 0; k < 3; ++k) tri[k] = target[mesh.triangles[t][k]];
-    if (tri[0] == tri[1] || tri[1] == tri[2] || tri[0] == tri[2]) continue;
-    mesh.triangles[kept] = tri;
-    mesh.tags[kept] = mesh.tags[t];
-    patch_of[kept] = patch_of[t];
-    ++kept;
-  }
-  mesh.triangles.resize(kept);
-  mesh.tags.resize(kept);
-  patch_of.resize(kept);
+  keep_triangles(mesh, patch_of, [&](std::size_t, Triangle& tri) {
+    for (std::uint32_t& v : tri) v = target[v];
+    return tri[0] != tri[1] && tri[1] != tri[2] && tri[0] != tri[2];
+  });
   return merged;
 }
 

@@ -2,6 +2,7 @@
 // Private to the generator: joining independently trimmed patches along their shared curves.
 #include <morph/mesh.h>
 
+#include <cstddef>
 #include <cstdint>
 #include <functional>
 #include <vector>
@@ -14,6 +15,24 @@ struct TriangleOrigin {
   std::uint32_t patch = 0;
   std::uint8_t border = 0;
 };
+
+/// Keeps, in order and in place, the triangles t for which keep(t, triangle) is true (`keep`
+/// may first rewrite the copy of the triangle it is given), with their tags and origins.
+template <class Keep>
+void keep_triangles(TriangleMesh& mesh, std::vector<TriangleOrigin>& origin, Keep&& keep) {
+  std::size_t kept = 0;
+  for (std::size_t t = 0; t < mesh.triangles.size(); ++t) {
+    Triangle triangle = mesh.triangles[t];
+    if (!keep(t, triangle)) continue;
+    mesh.triangles[kept] = triangle;  // kept <= t: nothing unread is overwritten
+    mesh.tags[kept] = mesh.tags[t];
+    origin[kept] = origin[t];
+    ++kept;
+  }
+  mesh.triangles.resize(kept);
+  mesh.tags.resize(kept);
+  origin.resize(kept);
+}
 
 struct SeamOptions {
   double weld_distance = 1e-9;    ///< points closer than this are one vertex
