@@ -10,6 +10,7 @@
 
 #include <algorithm>
 #include <array>
+#include <atomic>
 #include <chrono>
 #include <cmath>
 #include <cstring>
@@ -2494,7 +2495,7 @@ ErodeResult erode(const Job& job, const ErodeOptions& options) {
   seam.hole_diameter = 4.0 * budget.cell;
   // Far above the rounding of the distances.
   const double skip_margin = 1e3 * ctx.tie;
-  const detail::FieldFunction field = [&](const Vector3d& x) {
+  auto least_sweep_distance = [&](const Vector3d& x) {
     // The least sweep distance at x: its exact value wherever a sweep holds x or comes nearer
     // than the least of those holding x; others only as far as they could lower it. Capped at
     // its running minimum, each distance is exact wherever that changes (the body's search
@@ -2530,7 +2531,53 @@ ErodeResult erode(const Job& job, const ErodeOptions& options) {
       });
       nearest = least;
     }
-    return std::max(ctx.stock_distance(x), -nearest);
+    return nearest;
+  };
+  // The fills and repairs ask about many points close together (a hole, a repair's ball). Around
+  // a point c where the search above ran, the sweeps that can be the nearest anywhere within
+  // `near_reach` of it are kept (per thread), ordered by a lower bound of their distance at c:
+  // a sweep whose distance at c exceeds the least there by more than twice the reach is farther
+  // than that least sweep at every such point (distances are 1-Lipschitz). The value is the
+  // same minimum, computed exactly as above; `generation` tells this call's sweeps from another's.
+  static std::atomic<std::uint64_t> generations{0};
+  const std::uint64_t generation = ++generations;
+  const double near_reach = budget.cell;
+  struct NearSweeps {
+    std::uint64_t generation = 0;
+    Vector3d centre = Vector3d::Zero();
+    std::vector<std::pair<double, std::uint32_t>> sweeps;  // (lower bound at centre, segment)
+  };
+  const detail::FieldFunction field = [&](const Vector3d& x) {
+    thread_local NearSweeps near;
+    double least = std::numeric_limits<double>::infinity();
+    const double moved = (x - near.centre).norm();
+    if (near.generation == generation && moved <= near_reach) {
+      for (const auto& [lower, j] : near.sweeps) {
+        if (lower - moved >= least + skip_margin) break;  // and so are all after it
+        if (sweep_at_least(ctx.capsules[j], x, least + skip_margin)) continue;
+        const Segment& s = ctx.segments[j];
+        least = std::min(least, sweep_distance(*s.tool, s.a, s.b, x, least));
+      }
+      return std::max(ctx.stock_distance(x), -least);
+    }
+    least = least_sweep_distance(x);
+    near.generation = 0;
+    if (std::isfinite(least)) {
+      near.generation = generation;
+      near.centre = x;
+      near.sweeps.clear();
+      const double reach = least + 2.0 * near_reach + skip_margin;
+      Eigen::AlignedBox3d query(x, x);
+      query.min().array() -= std::max(reach, 0.0);
+      query.max().array() += std::max(reach, 0.0);
+      ctx.tree.for_each_overlapping(query, [&](std::size_t j) {
+        const Segment& s = ctx.segments[j];
+        const double lower = sweep_distance_bounds(*s.tool, s.a, s.b, x).first;
+        if (lower <= reach) near.sweeps.push_back({lower, static_cast<std::uint32_t>(j)});
+      });
+      std::sort(near.sweeps.begin(), near.sweeps.end());
+    }
+    return std::max(ctx.stock_distance(x), -least);
   };
   const detail::SeamStats seam_stats = detail::join_seams(
       mesh, patch_of_triangle, seam,
