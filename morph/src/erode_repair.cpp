@@ -928,17 +928,17 @@ void remove_triangles(TriangleMesh& mesh, std::vector<TriangleOrigin>& patch_of_
     for (std::uint32_t v : tri) used[v] = true;
     return true;
   });
+  // In place: a vertex's new index is never above its old one.
   std::vector<std::uint32_t> new_index(mesh.vertices.size(), 0);
-  std::vector<Vector3d> vertices;
-  reserve_large(vertices, static_cast<std::size_t>(std::count(used.begin(), used.end(), true)));
+  std::uint32_t count = 0;
   for (std::uint32_t v = 0; v < mesh.vertices.size(); ++v) {
     if (!used[v]) continue;
-    new_index[v] = static_cast<std::uint32_t>(vertices.size());
-    vertices.push_back(mesh.vertices[v]);
+    new_index[v] = count;
+    mesh.vertices[count++] = mesh.vertices[v];
   }
+  mesh.vertices.resize(count);
   for (Triangle& tri : mesh.triangles)
     for (std::uint32_t& v : tri) v = new_index[v];
-  mesh.vertices = std::move(vertices);
 }
 
 std::size_t weld_near_defects(TriangleMesh& mesh, std::vector<TriangleOrigin>& patch_of_triangle,
@@ -1023,21 +1023,32 @@ std::size_t weld_near(TriangleMesh& mesh, std::vector<TriangleOrigin>& patch_of_
   for (std::uint32_t v = 0; v < parent.size(); ++v) parent[v] = parent[parent[v]];
   // Triangles the welds made degenerate go, and so do pairs of one triangle and its reverse (a
   // sliver folded flat); of equal triangles one stays.
+  // Only the triangles with a vertex of a weld or of a defect can collapse or come to equal
+  // another: the others keep their vertices, and two equal triangles before the weld are a
+  // defect themselves (their edges used twice the same way, or four times).
+  std::vector<char> involved(mesh.vertices.size(), 0);
+  for (std::uint32_t v : defect) involved[v] = 1;
+  for (std::uint32_t v = 0; v < parent.size(); ++v)
+    if (parent[v] != v) involved[v] = involved[parent[v]] = 1;
+  std::vector<std::uint32_t> candidates;
+  for (std::uint32_t i = 0; i < mesh.triangles.size(); ++i) {
+    const Triangle& t = mesh.triangles[i];
+    if (involved[t[0]] || involved[t[1]] || involved[t[2]]) candidates.push_back(i);
+  }
   std::vector<bool> remove(mesh.triangles.size(), false);
   const Triangle degenerate{UINT32_MAX, UINT32_MAX, UINT32_MAX};  // sorts last
-  std::vector<std::pair<Triangle, std::uint32_t>> sorted =
-      large_vector<std::pair<Triangle, std::uint32_t>>(mesh.triangles.size());
   tbb::parallel_for(tbb::blocked_range<std::uint32_t>(0, static_cast<std::uint32_t>(mesh.triangles.size())),
                     [&](const tbb::blocked_range<std::uint32_t>& range) {
-                      for (std::uint32_t i = range.begin(); i != range.end(); ++i) {
-                        Triangle& t = mesh.triangles[i];
-                        for (std::uint32_t& v : t) v = parent[v];
-                        Triangle key = t;
-                        std::sort(key.begin(), key.end());
-                        const bool collapsed = key[0] == key[1] || key[1] == key[2];
-                        sorted[i] = {collapsed ? degenerate : key, i};
-                      }
+                      for (std::uint32_t i = range.begin(); i != range.end(); ++i)
+                        for (std::uint32_t& v : mesh.triangles[i]) v = parent[v];
                     });
+  std::vector<std::pair<Triangle, std::uint32_t>> sorted(candidates.size());
+  for (std::size_t k = 0; k < candidates.size(); ++k) {
+    Triangle key = mesh.triangles[candidates[k]];
+    std::sort(key.begin(), key.end());
+    const bool collapsed = key[0] == key[1] || key[1] == key[2];
+    sorted[k] = {collapsed ? degenerate : key, candidates[k]};
+  }
   tbb::parallel_sort(sorted.begin(), sorted.end());  // (triangle, index) pairs are unique
   while (!sorted.empty() && sorted.back().first == degenerate) {
     remove[sorted.back().second] = true;
