@@ -381,32 +381,56 @@ std::size_t snap_boundary(TriangleMesh& mesh, std::vector<TriangleOrigin>& patch
 std::size_t split_pass(TriangleMesh& mesh, std::vector<TriangleOrigin>& patch_of, const SeamOptions& options,
                        const SurfaceFunction& surface, std::vector<std::uint8_t>& may_be_open) {
   const HalfEdges half(mesh, patch_of, may_be_open);
-  struct BoundaryVertex {
-    Vector3d tangent = Vector3d::Zero();
-    std::vector<std::uint32_t> patches;
-  };
-  std::unordered_map<std::uint32_t, BoundaryVertex> info;
   std::vector<std::pair<std::uint32_t, int>> edges;  // (triangle, local edge)
   const std::vector<std::uint8_t> open = open_edges(mesh, patch_of, half, may_be_open);
   may_be_open = open;
   for (std::uint32_t t = 0; t < mesh.triangles.size(); ++t)
-    for (int k = 0; k < 3; ++k) {
-      if (!(open[t] & (1u << k))) continue;
-      const std::uint32_t a = mesh.triangles[t][k], b = mesh.triangles[t][(k + 1) % 3];
-      edges.push_back({t, k});
-      const Vector3d dir = (mesh.vertices[b] - mesh.vertices[a]).normalized();
-      for (std::uint32_t v : {a, b}) {
-        BoundaryVertex& bv = info[v];
-        bv.tangent += dir;
-        if (std::find(bv.patches.begin(), bv.patches.end(), patch_of[t].patch) == bv.patches.end())
-          bv.patches.push_back(patch_of[t].patch);
-      }
-    }
+    for (int k = 0; k < 3; ++k)
+      if (open[t] & (1u << k)) edges.push_back({t, k});
   if (edges.empty()) return 0;
-  const double cell = std::max(options.cell, 4.0 * options.match_distance);
+  // Per end of an open edge (the boundary vertices, sorted): the sum of its edges' directions,
+  // in the edges' order, and the patches of those edges.
+  std::vector<std::uint64_t> ends;  // (vertex << 32) | edge
+  ends.reserve(2 * edges.size());
+  for (std::uint32_t e = 0; e < edges.size(); ++e) {
+    const auto [t, k] = edges[e];
+    ends.push_back((std::uint64_t{mesh.triangles[t][k]} << 32) | e);
+    ends.push_back((std::uint64_t{mesh.triangles[t][(k + 1) % 3]} << 32) | e);
+  }
+  std::sort(ends.begin(), ends.end());
   std::vector<std::uint32_t> boundary_vertices;
-  for (const auto& [v, bv] : info) boundary_vertices.push_back(v);
-  std::sort(boundary_vertices.begin(), boundary_vertices.end());
+  std::vector<Vector3d> tangents;
+  std::vector<std::uint32_t> patches_begin{0}, patch_list;
+  for (std::size_t i = 0; i < ends.size();) {
+    const std::uint32_t v = static_cast<std::uint32_t>(ends[i] >> 32);
+    Vector3d tangent = Vector3d::Zero();
+    const std::size_t first_patch = patch_list.size();
+    for (; i < ends.size() && static_cast<std::uint32_t>(ends[i] >> 32) == v; ++i) {
+      const auto [t, k] = edges[static_cast<std::uint32_t>(ends[i])];
+      const std::uint32_t a = mesh.triangles[t][k], b = mesh.triangles[t][(k + 1) % 3];
+      tangent += (mesh.vertices[b] - mesh.vertices[a]).normalized();
+      if (std::find(patch_list.begin() + first_patch, patch_list.end(), patch_of[t].patch) ==
+          patch_list.end())
+        patch_list.push_back(patch_of[t].patch);
+    }
+    boundary_vertices.push_back(v);
+    tangents.push_back(tangent);
+    patches_begin.push_back(static_cast<std::uint32_t>(patch_list.size()));
+  }
+  struct BoundaryVertex {
+    const Vector3d& tangent;
+    const std::uint32_t *patches_first, *patches_last;
+    bool has_patch(std::uint32_t patch) const {
+      return std::find(patches_first, patches_last, patch) != patches_last;
+    }
+  };
+  auto boundary_vertex = [&](std::uint32_t w) {
+    const std::size_t i = static_cast<std::size_t>(
+        std::lower_bound(boundary_vertices.begin(), boundary_vertices.end(), w) - boundary_vertices.begin());
+    return BoundaryVertex{tangents[i], patch_list.data() + patches_begin[i],
+                          patch_list.data() + patches_begin[i + 1]};
+  };
+  const double cell = std::max(options.cell, 4.0 * options.match_distance);
   const CellIndex index(mesh.vertices, boundary_vertices, cell);
 
   // Candidate (vertex, edge) matches; a vertex goes into at most one edge of each other patch
@@ -450,8 +474,8 @@ std::size_t split_pass(TriangleMesh& mesh, std::vector<TriangleOrigin>& patch_of
     near.erase(std::unique(near.begin(), near.end()), near.end());
     for (std::uint32_t w : near) {
       if (w == a || w == b) continue;
-      const BoundaryVertex& bv = info.at(w);
-      if (std::find(bv.patches.begin(), bv.patches.end(), patch_of[t].patch) != bv.patches.end()) continue;
+      const BoundaryVertex bv = boundary_vertex(w);
+      if (bv.has_patch(patch_of[t].patch)) continue;
       const Vector3d& pw = mesh.vertices[w];
       const double lambda = (pw - pa).dot(ab) / len2;
       if (!(lambda > 1e-9 && lambda < 1.0 - 1e-9)) continue;
@@ -906,19 +930,10 @@ std::size_t fill_holes(TriangleMesh& mesh, std::vector<TriangleOrigin>& patch_of
     reserve_large(mesh.vertices, mesh.vertices.size() + vertices);
   }
 
-  std::unordered_map<std::uint64_t, bool> used;
-  std::size_t filled = 0;
-  Hole hole;
-  for (const auto& [a0, b0] : starts) {
-    if (used.count(edge_key(a0, b0)) || !find_hole(a0, b0, used, hole)) continue;
+  // Closes a hole as its plan says.
+  auto close = [&](const Hole& hole, const FillPlan& plan) {
     const auto& loop = hole.loop;
     const auto& loop_triangles = hole.loop_triangles;
-    auto it = planned.find(loop);
-    const FillPlan plan = it != planned.end() && holes[it->second].loop_triangles == loop_triangles
-                              ? plans[it->second]
-                              : plan_of(hole);
-    if (plan.kind == FillPlan::Kind::kNone) continue;
-    for (std::size_t i = 0; i < loop.size(); ++i) used[edge_key(loop[i], loop[(i + 1) % loop.size()])] = true;
     auto push = [&](const Triangle& t, std::size_t i) {
       mesh.triangles.push_back(t);
       mesh.tags.push_back(mesh.tags[loop_triangles[i]]);
@@ -955,6 +970,28 @@ std::size_t fill_holes(TriangleMesh& mesh, std::vector<TriangleOrigin>& patch_of
       mesh.vertices.push_back(plan.corner);
       for (std::size_t i = 0; i < n; ++i) push({loop[(i + 1) % n], loop[i], c}, i);
     }
+  };
+  // Where every hole found has a fill, the walk below would meet the same holes in the same
+  // order (each closed hole takes the same edges out of the walk as above): they are closed as
+  // found.
+  if (std::all_of(plans.begin(), plans.end(),
+                  [](const FillPlan& plan) { return plan.kind != FillPlan::Kind::kNone; })) {
+    for (std::size_t i = 0; i < holes.size(); ++i) close(holes[i], plans[i]);
+    return holes.size();
+  }
+  std::unordered_map<std::uint64_t, bool> used;
+  std::size_t filled = 0;
+  Hole hole;
+  for (const auto& [a0, b0] : starts) {
+    if (used.count(edge_key(a0, b0)) || !find_hole(a0, b0, used, hole)) continue;
+    auto it = planned.find(hole.loop);
+    const FillPlan plan = it != planned.end() && holes[it->second].loop_triangles == hole.loop_triangles
+                              ? plans[it->second]
+                              : plan_of(hole);
+    if (plan.kind == FillPlan::Kind::kNone) continue;
+    for (std::size_t i = 0; i < hole.loop.size(); ++i)
+      used[edge_key(hole.loop[i], hole.loop[(i + 1) % hole.loop.size()])] = true;
+    close(hole, plan);
     ++filled;
   }
   return filled;
