@@ -2601,12 +2601,14 @@ ErodeResult erode(const Job& job, const ErodeOptions& options) {
   repair.max_field_error = 0.5 * tolerance;
   // The second pass retries only the defects a repair of the first came near.
   detail::RepairMemory first_passes;
+  // Each pass after the first looks for defects only where the one before left or made them.
+  detail::DefectSuspects suspects;
   detail::RepairStats repair_stats =
-      detail::repair_small_defects(mesh, patch_of_triangle, repair, field, &first_passes);
+      detail::repair_small_defects(mesh, patch_of_triangle, repair, field, &first_passes, &suspects);
   // Another pass over what is left: the defects it finds are those not yet repaired.
   auto repair_again = [&](detail::RepairMemory* memory) {
     const detail::RepairStats again =
-        detail::repair_small_defects(mesh, patch_of_triangle, repair, field, memory);
+        detail::repair_small_defects(mesh, patch_of_triangle, repair, field, memory, &suspects);
     repair_stats.repaired += again.repaired;
     repair_stats.defects = repair_stats.repaired + (again.defects - again.repaired);
   };
@@ -2625,6 +2627,7 @@ ErodeResult erode(const Job& job, const ErodeOptions& options) {
   // into the pinch like the open spots above, they leave one fan the repair can replace. (Without
   // any defect found no repair ran, and the repair counts pinched vertices as defects.)
   if (repair_stats.defects > 0 && detail::weld_near_pinches(mesh, patch_of_triangle, 2e-1 * tolerance) > 0) {
+    suspects.known = false;  // the weld renumbered and changed fans anywhere
     repair.max_radius = 2.0 * budget.cell;
     repair.max_field_error = 0.5 * tolerance;
     repair_again(nullptr);

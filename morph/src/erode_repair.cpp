@@ -78,19 +78,25 @@ class VertexTriangles {
 class Repairer {
  public:
   Repairer(TriangleMesh& mesh, std::vector<TriangleOrigin>& patch_of, const RepairOptions& options,
-           const FieldFunction& field, RepairMemory* memory)
+           const FieldFunction& field, RepairMemory* memory, DefectSuspects* suspects)
       : mesh_(mesh),
         patch_of_(patch_of),
         options_(options),
         field_(field),
         memory_(memory),
+        suspects_(suspects),
         deleted_(mesh.triangles.size(), false),
         triangles_of_vertex_(mesh) {}
 
   RepairStats run() {
     RepairStats stats;
-    const std::vector<std::vector<std::uint32_t>> clusters = defect_clusters();
+    const std::vector<std::vector<std::uint32_t>> clusters =
+        defect_clusters(suspects_ && suspects_->known ? &suspects_->vertices : nullptr);
     stats.defects = clusters.size();
+    // Every defect's vertices stay suspect (repaired or not), with those of the repairs' triangles.
+    if (suspects_)
+      for (const std::vector<std::uint32_t>& cluster : clusters)
+        touched_.insert(touched_.end(), cluster.begin(), cluster.end());
     std::vector<std::uint32_t> reads;
     for (const std::vector<std::uint32_t>& cluster : clusters) {
       if (memory_ && fails_as_before(cluster)) continue;
@@ -109,6 +115,17 @@ class Repairer {
     }
     compact();
     return stats;
+  }
+
+  /// The touched vertices under the compaction's new indices (dropped ones left out).
+  void leave_suspects(const std::vector<std::uint32_t>& new_index) {
+    suspects_->known = true;
+    suspects_->vertices.clear();
+    for (std::uint32_t v : touched_)
+      if (new_index[v] != kDropped) suspects_->vertices.push_back(new_index[v]);
+    std::sort(suspects_->vertices.begin(), suspects_->vertices.end());
+    suspects_->vertices.erase(std::unique(suspects_->vertices.begin(), suspects_->vertices.end()),
+                              suspects_->vertices.end());
   }
 
  private:
@@ -269,15 +286,19 @@ class Repairer {
     return scratch.fan_count() == 1;
   }
 
-  /// Vertices of bad edges and non-manifold vertices, grouped by proximity (max_radius).
-  std::vector<std::vector<std::uint32_t>> defect_clusters() const {
-    // Each vertex is judged by its own fan alone, so the whole mesh is scanned in parallel.
+  /// Vertices of bad edges and non-manifold vertices, grouped by proximity (max_radius); only
+  /// among `scan` (sorted) if given.
+  std::vector<std::vector<std::uint32_t>> defect_clusters(const std::vector<std::uint32_t>* scan) const {
+    // Each vertex is judged by its own fan alone, so the vertices are scanned in parallel.
     std::vector<char> defective(mesh_.vertices.size(), 0);
-    tbb::parallel_for(tbb::blocked_range<std::uint32_t>(0, static_cast<std::uint32_t>(mesh_.vertices.size())),
+    const std::uint32_t count = static_cast<std::uint32_t>(scan ? scan->size() : mesh_.vertices.size());
+    tbb::parallel_for(tbb::blocked_range<std::uint32_t>(0, count),
                       [&](const tbb::blocked_range<std::uint32_t>& range) {
                         FanScratch scratch;
-                        for (std::uint32_t v = range.begin(); v != range.end(); ++v)
+                        for (std::uint32_t i = range.begin(); i != range.end(); ++i) {
+                          const std::uint32_t v = scan ? (*scan)[i] : i;
                           defective[v] = !plainly_sound(v, scratch) && defective_vertex(v, scratch);
+                        }
                       });
     std::vector<std::uint32_t> bad;
     for (std::uint32_t v = 0; v < mesh_.vertices.size(); ++v)
@@ -885,7 +906,10 @@ class Repairer {
         for (std::int64_t index : tri)
           if (index >= 0) memory_->changed.insert(point_key(static_cast<std::uint32_t>(index)));
     }
-    for (std::uint32_t t : removed_order) deleted_[t] = true;
+    for (std::uint32_t t : removed_order) {
+      deleted_[t] = true;
+      if (suspects_) touched_.insert(touched_.end(), mesh_.triangles[t].begin(), mesh_.triangles[t].end());
+    }
     const auto first_new = static_cast<std::int64_t>(mesh_.vertices.size());
     for (const Vector3d& p : fan.points) {
       mesh_.vertices.push_back(p);
@@ -902,17 +926,24 @@ class Repairer {
       patch_of_.push_back({patch_of_[owner].patch, 7});
       deleted_.push_back(false);
       add_triangle_to_maps(static_cast<std::uint32_t>(mesh_.triangles.size() - 1));
+      if (suspects_) touched_.insert(touched_.end(), tri.begin(), tri.end());
     }
     return true;
   }
 
-  void compact() { remove_triangles(mesh_, patch_of_, deleted_); }
+  void compact() {
+    std::vector<std::uint32_t> new_index;
+    remove_triangles(mesh_, patch_of_, deleted_, suspects_ ? &new_index : nullptr);
+    if (suspects_) leave_suspects(new_index);
+  }
 
   TriangleMesh& mesh_;
   std::vector<TriangleOrigin>& patch_of_;
   const RepairOptions& options_;
   const FieldFunction& field_;
   RepairMemory* memory_;
+  DefectSuspects* suspects_;
+  std::vector<std::uint32_t> touched_;  // vertices of defects and of removed or added triangles
   std::vector<bool> deleted_;
   bool refined_ = false;  // whether the current defect's fans were refined already
   VertexTriangles triangles_of_vertex_;
@@ -921,7 +952,7 @@ class Repairer {
 }  // namespace
 
 void remove_triangles(TriangleMesh& mesh, std::vector<TriangleOrigin>& patch_of_triangle,
-                      const std::vector<bool>& remove) {
+                      const std::vector<bool>& remove, std::vector<std::uint32_t>* new_index_out) {
   std::vector<bool> used(mesh.vertices.size(), false);
   keep_triangles(mesh, patch_of_triangle, [&](std::size_t t, const Triangle& tri) {
     if (remove[t]) return false;
@@ -929,7 +960,7 @@ void remove_triangles(TriangleMesh& mesh, std::vector<TriangleOrigin>& patch_of_
     return true;
   });
   // In place: a vertex's new index is never above its old one.
-  std::vector<std::uint32_t> new_index(mesh.vertices.size(), 0);
+  std::vector<std::uint32_t> new_index(mesh.vertices.size(), kDropped);
   std::uint32_t count = 0;
   for (std::uint32_t v = 0; v < mesh.vertices.size(); ++v) {
     if (!used[v]) continue;
@@ -939,6 +970,7 @@ void remove_triangles(TriangleMesh& mesh, std::vector<TriangleOrigin>& patch_of_
   mesh.vertices.resize(count);
   for (Triangle& tri : mesh.triangles)
     for (std::uint32_t& v : tri) v = new_index[v];
+  if (new_index_out) *new_index_out = std::move(new_index);
 }
 
 std::size_t weld_near_defects(TriangleMesh& mesh, std::vector<TriangleOrigin>& patch_of_triangle,
@@ -1084,9 +1116,9 @@ std::size_t weld_near(TriangleMesh& mesh, std::vector<TriangleOrigin>& patch_of_
 
 RepairStats repair_small_defects(TriangleMesh& mesh, std::vector<TriangleOrigin>& patch_of_triangle,
                                  const RepairOptions& options, const FieldFunction& field,
-                                 RepairMemory* memory) {
+                                 RepairMemory* memory, DefectSuspects* suspects) {
   if (mesh.triangles.empty()) return {};
-  return Repairer(mesh, patch_of_triangle, options, field, memory).run();
+  return Repairer(mesh, patch_of_triangle, options, field, memory, suspects).run();
 }
 
 }  // namespace morph::detail

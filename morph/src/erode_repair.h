@@ -36,8 +36,10 @@ struct RepairStats {
 /// `patch_of_triangle` is kept in step with `mesh.triangles` (and tags).
 /// Removes the triangles flagged in `remove` (one flag per triangle) and the vertices no triangle
 /// uses any more, keeping the order of what stays.
+/// `new_index_out` (if given): each old vertex's new index, kDropped for those removed.
+constexpr std::uint32_t kDropped = UINT32_MAX;
 void remove_triangles(TriangleMesh& mesh, std::vector<TriangleOrigin>& patch_of_triangle,
-                      const std::vector<bool>& remove);
+                      const std::vector<bool>& remove, std::vector<std::uint32_t>* new_index_out = nullptr);
 
 /// Merges into each vertex of an open or non-manifold edge the vertices within `distance` of it
 /// that share its cell of side `distance`, then drops the triangles this makes degenerate and
@@ -69,8 +71,18 @@ struct RepairMemory {
   std::set<Point> changed;
 };
 
+/// The only vertices where a pass can find a defect once the pass before it has run (`known`):
+/// those of the defects it left and of every triangle its repairs removed or added. Any other
+/// vertex was sound then and its fan has not changed since. Each pass replaces them with its
+/// own; whatever else changes the mesh between passes must clear `known`.
+struct DefectSuspects {
+  bool known = false;
+  std::vector<std::uint32_t> vertices;  // sorted, unique
+};
+
+/// `suspects` (if given): where to look for defects when known, then what this pass leaves.
 RepairStats repair_small_defects(TriangleMesh& mesh, std::vector<TriangleOrigin>& patch_of_triangle,
                                  const RepairOptions& options, const FieldFunction& field,
-                                 RepairMemory* memory = nullptr);
+                                 RepairMemory* memory = nullptr, DefectSuspects* suspects = nullptr);
 
 }  // namespace morph::detail
