@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 #include <morph/topology.h>
 
+#include <algorithm>
 #include <cmath>
 
 #include "erode_repair.h"
@@ -109,6 +110,64 @@ TEST(ErodeRepair, HoleAcrossACurvedCreaseIsClosedNearTheSurface) {
       << topology.boundary_edges << " open, " << topology.non_manifold_edges << " non-manifold edges";
   EXPECT_EQ(topology.components, 1u);
   EXPECT_LE(largest_field_error(mesh, field), std::max(own_error, options.max_field_error));
+}
+
+// Two holes in a lens's rim; the first pass repairs only the small one (the other is too wide
+// for its ball). The suspects it leaves must hold the other hole's vertices, so that a second pass
+// told to look there alone finds and treats it as a search of every vertex does.
+TEST(ErodeRepair, SuspectsLeftByAPassHoldEveryDefectTheNextPassFinds) {
+  const Lens lens{1.0};
+  morph::TriangleMesh mesh = lens.mesh(128, 48);
+  auto field = [&](const Vector3d& x) { return lens.field(x); };
+  const Vector3d small_hole(lens.rim(), 0.0, 0.0), wide_hole(-lens.rim(), 0.0, 0.0);
+  std::vector<bool> cut(mesh.triangles.size(), false);
+  for (std::size_t t = 0; t < mesh.triangles.size(); ++t)
+    for (std::uint32_t v : mesh.triangles[t])
+      if ((mesh.vertices[v] - small_hole).norm() < kHoleRadius || (mesh.vertices[v] - wide_hole).norm() < 1.2)
+        cut[t] = true;
+  std::vector<morph::detail::TriangleOrigin> patch_of(mesh.triangles.size());
+  morph::detail::remove_triangles(mesh, patch_of, cut);
+
+  morph::detail::RepairOptions options;
+  options.max_radius = 1.0;  // holds the small hole, not the wide one
+  options.max_field_error = kFieldError;
+  morph::detail::DefectSuspects suspects;
+  const morph::detail::RepairStats first =
+      morph::detail::repair_small_defects(mesh, patch_of, options, field, nullptr, &suspects);
+  ASSERT_EQ(first.defects, 2u);
+  ASSERT_EQ(first.repaired, 1u);
+  ASSERT_TRUE(suspects.known);
+  EXPECT_TRUE(std::is_sorted(suspects.vertices.begin(), suspects.vertices.end()));
+  // Every open edge's ends are suspects.
+  std::size_t open_ends = 0, missed = 0;
+  const morph::TopologyReport before = morph::topology_report(mesh);
+  ASSERT_GT(before.boundary_edges, 0u);
+  for (std::size_t t = 0; t < mesh.triangles.size(); ++t)
+    for (int k = 0; k < 3; ++k) {
+      const std::uint32_t a = mesh.triangles[t][k], b = mesh.triangles[t][(k + 1) % 3];
+      bool paired = false;
+      for (const auto& other : mesh.triangles)
+        for (int m = 0; m < 3 && !paired; ++m) paired = other[m] == b && other[(m + 1) % 3] == a;
+      if (paired) continue;
+      for (std::uint32_t v : {a, b}) {
+        ++open_ends;
+        missed += !std::binary_search(suspects.vertices.begin(), suspects.vertices.end(), v);
+      }
+    }
+  EXPECT_GT(open_ends, 0u);
+  EXPECT_EQ(missed, 0u);
+  // The next pass, looking at the suspects alone, finds what a search of every vertex finds:
+  // the wide hole, and nothing at the repaired spot.
+  morph::TriangleMesh full_mesh = mesh;
+  std::vector<morph::detail::TriangleOrigin> full_patch_of = patch_of;
+  const morph::detail::RepairStats full =
+      morph::detail::repair_small_defects(full_mesh, full_patch_of, options, field);
+  const morph::detail::RepairStats second =
+      morph::detail::repair_small_defects(mesh, patch_of, options, field, nullptr, &suspects);
+  EXPECT_EQ(full.defects, 1u);
+  EXPECT_EQ(second.defects, full.defects);
+  EXPECT_EQ(second.repaired, full.repaired);
+  EXPECT_EQ(mesh.triangles, full_mesh.triangles);
 }
 
 }  // namespace
