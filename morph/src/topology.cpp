@@ -43,22 +43,14 @@ bool zero_area(const TriangleMesh& mesh, const Triangle& t) {
 
 using detail::EdgeUse;
 
-// Every use of an edge with two distinct endpoints, sorted by (key, triangle) so that the uses of
-// one edge are contiguous and the order is deterministic. A collapsed (a, a, b) has the edge a-b
-// twice; it is kept once (its first corner's use).
-std::vector<EdgeUse> sorted_edge_uses(const TriangleMesh& mesh, bool include_collapsed) {
+// The uses of the edges of proper triangles (three distinct vertices), sorted by (key, triangle)
+// so that the uses of one edge are contiguous and the order is deterministic.
+std::vector<EdgeUse> proper_edge_uses(const TriangleMesh& mesh) {
   std::vector<EdgeUse> all = detail::sorted_edge_uses(mesh);
   std::vector<EdgeUse> uses;
   detail::reserve_large(uses, all.size());
-  for (const EdgeUse& use : all) {
-    if (static_cast<std::uint32_t>(use.key >> 32) == static_cast<std::uint32_t>(use.key & 0xffffffffu))
-      continue;
-    const bool degenerate = collapsed(mesh.triangles[use.triangle]);
-    if (degenerate && !include_collapsed) continue;
-    if (degenerate && !uses.empty() && uses.back().triangle == use.triangle && uses.back().key == use.key)
-      continue;
-    uses.push_back(use);
-  }
+  for (const EdgeUse& use : all)
+    if (!collapsed(mesh.triangles[use.triangle])) uses.push_back(use);
   return uses;
 }
 
@@ -145,12 +137,6 @@ void check_indices(const TriangleMesh& mesh) {
                          std::to_string(v) + " but there are " + std::to_string(n) + " vertices");
 }
 
-// Components of the triangles joined by the edges in `uses` (sorted by key).
-std::size_t components_of(const TriangleMesh& mesh, const std::vector<EdgeUse>& uses,
-                          std::vector<std::uint32_t>& component_of_triangle) {
-  return detail::components_of_uses(mesh.triangles.size(), uses, component_of_triangle);
-}
-
 // Whether each vertex's proper triangles form one disc or half-disc (vertices without any: true).
 std::vector<char> manifold_vertices(const TriangleMesh& mesh) {
   const std::size_t vertex_count = mesh.vertices.size();
@@ -194,7 +180,8 @@ std::vector<std::uint32_t> non_manifold_vertices(const TriangleMesh& mesh) {
 std::size_t connected_components(const TriangleMesh& mesh,
                                  std::vector<std::uint32_t>& component_of_triangle) {
   check_indices(mesh);
-  return components_of(mesh, sorted_edge_uses(mesh, /*include_collapsed=*/true), component_of_triangle);
+  return detail::components_of_uses(mesh.triangles.size(), detail::sorted_edge_uses(mesh),
+                                    component_of_triangle);
 }
 
 TopologyReport topology_report(const TriangleMesh& mesh) {
@@ -217,7 +204,7 @@ TopologyReport topology_report(const TriangleMesh& mesh) {
   report.vertices = static_cast<std::size_t>(std::count(referenced.begin(), referenced.end(), 1));
   report.unreferenced_vertices = vertex_count - report.vertices;
 
-  const std::vector<EdgeUse> uses = sorted_edge_uses(mesh, /*include_collapsed=*/false);
+  const std::vector<EdgeUse> uses = proper_edge_uses(mesh);
   for (std::size_t begin = 0; begin < uses.size();) {
     std::size_t end = begin + 1;
     while (end < uses.size() && uses[end].key == uses[begin].key) ++end;
@@ -236,11 +223,13 @@ TopologyReport topology_report(const TriangleMesh& mesh) {
   report.non_manifold_vertices = static_cast<std::size_t>(std::count(manifold.begin(), manifold.end(), 0));
 
   std::vector<std::uint32_t> component_of_triangle;
-  // Without collapsed triangles the edges joining components are the ones already sorted.
-  report.components =
-      proper_triangles == mesh.triangles.size()
-          ? components_of(mesh, uses, component_of_triangle)
-          : components_of(mesh, sorted_edge_uses(mesh, /*include_collapsed=*/true), component_of_triangle);
+  // Without collapsed triangles the edges joining components are the ones already sorted (a
+  // collapsed (a, a, b) still joins by its edge a-b).
+  if (proper_triangles == mesh.triangles.size())
+    report.components = detail::components_of_uses(mesh.triangles.size(), uses, component_of_triangle);
+  else
+    report.components = detail::components_of_uses(mesh.triangles.size(), detail::sorted_edge_uses(mesh),
+                                                   component_of_triangle);
   report.euler_characteristic = static_cast<long>(report.vertices) - static_cast<long>(report.edges) +
                                 static_cast<long>(proper_triangles);
   report.volume = enclosed_volume(mesh);
