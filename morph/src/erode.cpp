@@ -493,6 +493,9 @@ class Trimmer {
 
   double operator()(double u, double v) const { return evaluate_with_term(u, v, nullptr); }
 
+  /// Whether the sweep terms come from the tree's search (many candidates), not from a list.
+  bool searches_tree() const { return use_tree_; }
+
   /// g and, if `term` is given, which term attains it (the trimming curve through a root of g
   /// lies on that term's surface).
   double evaluate_with_term(double u, double v, int* term) const {
@@ -665,14 +668,19 @@ class Trimmer {
     *upper = best;
     // Within `radius` every term is within radius (and a tie jump) of its value at x.
     const double reach = best + 2.0 * radius + 4.0 * ctx_.tie;
+    const double margin = x_margin(x);
     Eigen::AlignedBox3d query(x);
     query.min().array() -= std::max(reach, 0.0) + 2.0 * ctx_.tie;
     query.max().array() += std::max(reach, 0.0) + 2.0 * ctx_.tie;
     ctx_.tree.for_each_overlapping(query, [&](std::size_t j) {
       const int js = static_cast<int>(j);
       if (js == patch_.exclude[0] || js == patch_.exclude[1]) return;
-      const double lower = box_bound(js, x) - 2.0 * ctx_.tie;
-      if (lower <= reach) terms.push_back({js, lower, plane_at(js, x, x_margin(x))});
+      if (box_bound(js, x) - 2.0 * ctx_.tie > reach) return;
+      // The plane facing x bounds the distance there nearly exactly (the box barely, its sweep
+      // reaching a tool length above the tip).
+      const SupportPlane plane = plane_at(js, x, margin);
+      const double lower = std::max(box_bound(js, x), plane.at(x)) - 2.0 * ctx_.tie;
+      if (lower <= reach) terms.push_back({js, lower, plane});
     });
     nearest_first(terms);
     return terms;
@@ -1348,7 +1356,8 @@ PatchMesh trim_on_grid(const Context& ctx, const Patch& patch, const Trimmer& g,
   auto pv = [&](int j) { return vs[static_cast<std::size_t>(j)]; };
 
   // Other patches: the sweep terms of g that can be the least one on each cell, found block by
-  // block (a block's terms from its parent's, the root's from the tree). Values on a cell then
+  // block (a block's terms from its parent's; the root's, or with many candidates those of the
+  // largest blocks of a few cells, from the tree). Values on a cell then
   // come from its terms alone: the same values as from all terms, far fewer distances.
   std::vector<Trimmer::SweepTerm> term_pool;
   struct ListAt {
@@ -1467,25 +1476,62 @@ PatchMesh trim_on_grid(const Context& ctx, const Patch& patch, const Trimmer& g,
                        memory->terms.begin() + r.first + r.count);
       return static_cast<std::uint32_t>(lists.size() - 1);
     };
-    if (const GridMemory::Block* r = remembered_block(root); r && r->state == kOpen) {
-      remembered_list(*r);
-    } else {
-      const double uc = 0.5 * (pu(0) + pu(nu)), vc = 0.5 * (pv(0) + pv(nv));
+    // A block's own terms from the tree (a list of its own, its parent having none).
+    constexpr std::uint32_t kFromTree = UINT32_MAX;
+    auto list_from_tree = [&](const Block& b) {
+      const double uc = 0.5 * (pu(b.i0) + pu(b.i1)), vc = 0.5 * (pv(b.j0) + pv(b.j1));
       double upper = 0.0;
-      term_pool = g.terms_within(uc, vc, radius_of(root), &upper);
-      lists.push_back({0, static_cast<std::uint32_t>(term_pool.size()), evaluate(patch, uc, vc), upper});
+      std::vector<Trimmer::SweepTerm> terms = g.terms_within(uc, vc, radius_of(b), &upper);
+      lists.push_back({static_cast<std::uint32_t>(term_pool.size()), static_cast<std::uint32_t>(terms.size()),
+                       evaluate(patch, uc, vc), upper});
+      term_pool.insert(term_pool.end(), terms.begin(), terms.end());
+      return static_cast<std::uint32_t>(lists.size() - 1);
+    };
+    // Where the tree is searched, the terms within a large block's reach are many more than can
+    // be the least on any small part of it (a short move's tube among dozens of neighbours in
+    // its row: nearly a thousand terms for the whole half circle, a few dozen for a few cells),
+    // and each level of blocks would sift them again: blocks of more cells than this take no
+    // list, their halves get theirs from the tree.
+    constexpr int kMostCellsFromTree = 8;
+    std::uint32_t root_list = kFromTree;
+    if (const GridMemory::Block* r = remembered_block(root); r && r->state == kOpen) {
+      root_list = remembered_list(*r);
+    } else if (!g.searches_tree() || cells <= static_cast<std::size_t>(kMostCellsFromTree)) {
+      root_list = list_from_tree(root);
     }
     cell_list.assign(cells, 0);
     struct Task {
       Block b;
-      std::uint32_t list;  // the block's terms
+      std::uint32_t list;  // the block's terms (kFromTree: none yet)
     };
-    std::vector<Task> stack{{root, 0}};
+    std::vector<Task> stack{{root, root_list}};
     std::vector<Trimmer::SweepTerm> near;
     while (!stack.empty()) {
-      const Task task = stack.back();
+      Task task = stack.back();
       const Block& b = task.b;
       stack.pop_back();
+      if (task.list == kFromTree && !remembered_block(b)) {
+        if ((b.i1 - b.i0) * (b.j1 - b.j0) > kMostCellsFromTree) {
+          // Proven from g's exact value at the centre (the tree's search), as below.
+          if (proofs) {
+            const double uc = 0.5 * (pu(b.i0) + pu(b.i1)), vc = 0.5 * (pv(b.j0) + pv(b.j1));
+            const double reach = lipschitz * radius_of(b);
+            const double gc = g(uc, vc);
+            if (gc < -reach || gc > reach) {
+              for (int i = b.i0; i < b.i1; ++i)
+                for (int j = b.j0; j < b.j1; ++j)
+                  cell_state[static_cast<std::size_t>(i) * nv + j] = gc > 0.0 ? kKept : kRemoved;
+              if (extra_u)
+                records.push_back(
+                    {rectangle_of(b), gc > 0.0 ? kKept : kRemoved, 0u, 0u, Vector3d::Zero(), 0.0});
+              continue;
+            }
+          }
+          for (const Block& half : halves(b)) stack.push_back({half, kFromTree});
+          continue;
+        }
+        task.list = list_from_tree(b);
+      }
       if (b.i1 - b.i0 == 1 && b.j1 - b.j0 == 1) {
         // A single cell's centre costs about what its nodes do: it keeps its parent's terms.
         cell_list[static_cast<std::size_t>(b.i0) * nv + b.j0] = task.list;
@@ -1500,9 +1546,12 @@ PatchMesh trim_on_grid(const Context& ctx, const Patch& patch, const Trimmer& g,
           for (const Block& half : halves(b)) stack.push_back({half, list});
         }
         if (extra_u) {
-          const ListAt& l = lists.back();
-          records.push_back({r->rectangle, r->state, r->state == kOpen ? l.first : 0u,
-                             r->state == kOpen ? l.count : 0u, l.centre, l.upper});
+          if (r->state == kOpen) {
+            const ListAt& l = lists.back();
+            records.push_back({r->rectangle, kOpen, l.first, l.count, l.centre, l.upper});
+          } else {
+            records.push_back({r->rectangle, r->state, 0u, 0u, Vector3d::Zero(), 0.0});
+          }
         }
         continue;
       }
