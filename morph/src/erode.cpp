@@ -496,6 +496,14 @@ class Trimmer {
   /// Whether the sweep terms come from the tree's search (many candidates), not from a list.
   bool searches_tree() const { return use_tree_; }
 
+  /// An upper bound of g at (u, v) without the tree's search: the patch's own terms, and each
+  /// sweep whose bounds hold X(u, v) by its tip's capsule (which the sweep holds; a tie shift
+  /// and rounding above it at most). Nearly exact inside another move's tip.
+  double upper_bound(double u, double v) const {
+    const Vector3d x = evaluate(patch_, u, v);
+    return std::min(own_terms(x, u, v), tips_upper_bound(x));
+  }
+
   /// g and, if `term` is given, which term attains it (the trimming curve through a root of g
   /// lies on that term's surface).
   double evaluate_with_term(double u, double v, int* term) const {
@@ -662,8 +670,10 @@ class Trimmer {
       nearest_first(terms);
       return terms;
     }
-    double best = std::numeric_limits<double>::infinity();
-    nearest_sweep_term(x, u, v, &best);
+    // Any upper bound of the least distance makes a list holding every term that can be the
+    // least (a few more at most): the tips' bound, else the tree's search.
+    double best = tips_upper_bound(x);
+    if (!std::isfinite(best)) nearest_sweep_term(x, u, v, &best);
     if (!std::isfinite(best)) return terms;
     *upper = best;
     // Within `radius` every term is within radius (and a tie jump) of its value at x.
@@ -755,6 +765,21 @@ class Trimmer {
 
  private:
   static constexpr std::size_t kListLimit = 64;
+  // An upper bound of the least sweep term at x from the sweeps whose bounds hold x: the tip's
+  // capsule lies in the sweep (its distance is the sweep's where the tip decides), and the term
+  // is at most a tie shift and rounding above the sweep's distance. Infinity if none holds x.
+  double tips_upper_bound(const Vector3d& x) const {
+    double least = std::numeric_limits<double>::infinity();
+    ctx_.tree.for_each_overlapping(Eigen::AlignedBox3d(x, x), [&](std::size_t j) {
+      const int js = static_cast<int>(j);
+      if (js == patch_.exclude[0] || js == patch_.exclude[1]) return;
+      const Capsule& c = ctx_.capsules[j];
+      if (!c.valid) return;
+      const double t = std::clamp((x - c.c0).dot(c.d) * c.inv_dd, 0.0, 1.0);
+      least = std::min(least, (x - (c.c0 + t * c.d)).norm() - c.r + 2.0 * c.margin + 2.0 * ctx_.tie);
+    });
+    return least;
+  }
   // The tree's best-first search for the least sweep term at x (the patch's own segments left
   // out). `best` follows the search's own minimum: a distance capped there changes no decision
   // of the search (it updates on smaller values only, which the cap leaves exact).
@@ -1516,7 +1541,9 @@ PatchMesh trim_on_grid(const Context& ctx, const Patch& patch, const Trimmer& g,
           if (proofs) {
             const double uc = 0.5 * (pu(b.i0) + pu(b.i1)), vc = 0.5 * (pv(b.j0) + pv(b.j1));
             const double reach = lipschitz * radius_of(b);
-            const double gc = g(uc, vc);
+            // Removed inside another move's tip, shown by a bound; kept only by the exact value.
+            double gc = g.upper_bound(uc, vc);
+            if (gc >= -reach && gc > reach) gc = g(uc, vc);
             if (gc < -reach || gc > reach) {
               for (int i = b.i0; i < b.i1; ++i)
                 for (int j = b.j0; j < b.j1; ++j)
