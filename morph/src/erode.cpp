@@ -210,6 +210,12 @@ BallEndParts ball_end_parts(const Tool& tool, const Vector3d& a, const Vector3d&
   // Lower bounds of the body sweep's distance: it lies above the lowest centre, and within r
   // (horizontally) of the centres' horizontal track.
   const double lowest = std::min(c0.z(), c0.z() + d.z());
+  // Below the lowest centre by more than the tip's distance the tip decides: every caller takes
+  // the tip's value whatever the body's bound is, as long as it is no less.
+  if (lowest - p.z() >= parts.ball) {
+    parts.body_lower = lowest - p.z();
+    return parts;
+  }
   double across;
   {
     const Eigen::Vector2d ph(p.x() - c0.x(), p.y() - c0.y()), dh(d.x(), d.y());
