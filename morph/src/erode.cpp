@@ -2547,9 +2547,11 @@ ErodeResult erode(const Job& job, const ErodeOptions& options) {
       first_triangle[i + 1] = first_triangle[i] + pieces[i].triangles.size();
     }
     detail::reserve_large(mesh.vertices, first_vertex.back());
-    detail::reserve_large(mesh.triangles, first_triangle.back());
-    detail::reserve_large(mesh.tags, first_triangle.back());
-    detail::reserve_large(patch_of_triangle, first_triangle.back());
+    // Room for the seams' splits, which grow the arrays in place (untouched room costs nothing).
+    const std::size_t room = first_triangle.back() + first_triangle.back() / 8;
+    detail::reserve_large(mesh.triangles, room);
+    detail::reserve_large(mesh.tags, room);
+    detail::reserve_large(patch_of_triangle, room);
     mesh.vertices.resize(first_vertex.back());
     mesh.triangles.resize(first_triangle.back());
     mesh.tags.resize(first_triangle.back());

@@ -517,15 +517,12 @@ std::size_t split_pass(TriangleMesh& mesh, std::vector<TriangleOrigin>& patch_of
   for (auto& [key, list] : splits) std::sort(list.begin(), list.end());
   if (splits.empty()) return 0;
 
+  // The triangles that replace the split ones, in order (the others move in place, below).
   std::vector<Triangle> triangles;
   std::vector<FaceTag> tags;
   std::vector<TriangleOrigin> patches;
-  reserve_large(triangles, mesh.triangles.size() + inserted * 2);
-  reserve_large(tags, mesh.triangles.size() + inserted * 2);
-  reserve_large(patches, mesh.triangles.size() + inserted * 2);
-  may_be_open.clear();
-  may_be_open.reserve(mesh.triangles.size() + inserted * 2);
-  // The triangles with a split edge, in order; the others are copied in runs.
+  std::vector<std::uint8_t> patches_may_be_open;
+  // The triangles with a split edge, in order.
   std::vector<std::uint32_t> split_triangles;
   split_triangles.reserve(splits.size());
   for (const auto& [key, list] : splits) split_triangles.push_back(static_cast<std::uint32_t>(key >> 32));
@@ -552,13 +549,13 @@ std::size_t split_pass(TriangleMesh& mesh, std::vector<TriangleOrigin>& patch_of
       triangles.push_back({a, b, c});
       tags.push_back(mesh.tags[t]);
       patches.push_back({patch_of[t].patch, border});
-      may_be_open.push_back(open[t] != 0);
+      patches_may_be_open.push_back(open[t] != 0);
     };
     if (split_edges == 0) {
       triangles.push_back(tri);
       tags.push_back(mesh.tags[t]);
       patches.push_back(patch_of[t]);
-      may_be_open.push_back(open[t] != 0);
+      patches_may_be_open.push_back(open[t] != 0);
       return;
     }
     const Vector3d normal =
@@ -613,19 +610,42 @@ std::size_t split_pass(TriangleMesh& mesh, std::vector<TriangleOrigin>& patch_of
     for (std::size_t i = 0; i < polygon.size(); ++i)
       push(centre, polygon[i], polygon[(i + 1) % polygon.size()], bit(from_edge[i], 1));
   };
-  const auto count = static_cast<std::uint32_t>(mesh.triangles.size());
-  for (std::uint32_t t = 0, next = 0; t < count; ++t) {
-    const std::uint32_t stop = next < split_triangles.size() ? split_triangles[next++] : count;
-    triangles.insert(triangles.end(), mesh.triangles.begin() + t, mesh.triangles.begin() + stop);
-    tags.insert(tags.end(), mesh.tags.begin() + t, mesh.tags.begin() + stop);
-    patches.insert(patches.end(), patch_of.begin() + t, patch_of.begin() + stop);
-    for (std::uint32_t u = t; u < stop; ++u) may_be_open.push_back(open[u] != 0);
-    t = stop;
-    if (t < count) split_triangle(t);
+  // Where each split triangle's replacements start in `triangles`.
+  std::vector<std::size_t> replaced_from;
+  replaced_from.reserve(split_triangles.size() + 1);
+  for (const std::uint32_t t : split_triangles) {
+    replaced_from.push_back(triangles.size());
+    split_triangle(t);
   }
-  mesh.triangles = std::move(triangles);
-  mesh.tags = std::move(tags);
-  patch_of = std::move(patches);
+  replaced_from.push_back(triangles.size());
+  // The mesh grows in place from its end: every triangle moves up by the replacements before
+  // it, never onto one not yet moved (no fresh arrays of the mesh's size to fault in).
+  const std::size_t count = mesh.triangles.size();
+  const std::size_t total = count - split_triangles.size() + triangles.size();
+  mesh.triangles.resize(total);
+  mesh.tags.resize(total);
+  patch_of.resize(total);
+  may_be_open.assign(total, 0);
+  std::size_t end = count, to = total;  // the unmoved run ends at `end`, goes to end at `to`
+  for (std::size_t i = split_triangles.size(); i-- > 0;) {
+    const std::size_t t = split_triangles[i];
+    const std::size_t run = end - (t + 1);
+    std::move_backward(mesh.triangles.begin() + t + 1, mesh.triangles.begin() + end,
+                       mesh.triangles.begin() + to);
+    std::move_backward(mesh.tags.begin() + t + 1, mesh.tags.begin() + end, mesh.tags.begin() + to);
+    std::move_backward(patch_of.begin() + t + 1, patch_of.begin() + end, patch_of.begin() + to);
+    for (std::size_t k = 0; k < run; ++k) may_be_open[to - run + k] = open[t + 1 + k] != 0;
+    to -= run;
+    const std::size_t first = replaced_from[i], last = replaced_from[i + 1];
+    to -= last - first;
+    std::copy(triangles.begin() + first, triangles.begin() + last, mesh.triangles.begin() + to);
+    std::copy(tags.begin() + first, tags.begin() + last, mesh.tags.begin() + to);
+    std::copy(patches.begin() + first, patches.begin() + last, patch_of.begin() + to);
+    std::copy(patches_may_be_open.begin() + first, patches_may_be_open.begin() + last,
+              may_be_open.begin() + to);
+    end = t;
+  }
+  for (std::size_t k = 0; k < end; ++k) may_be_open[k] = open[k] != 0;
   return inserted;
 }
 
