@@ -2710,7 +2710,10 @@ ErodeResult erode(const Job& job, const ErodeOptions& options) {
   // the pinch (a joint's cap and the cusp between two rows), and no fan around it fits. Welded
   // into the pinch like the open spots above, they leave one fan the repair can replace. (Without
   // any defect found no repair ran, and the repair counts pinched vertices as defects.)
-  if (repair_stats.defects > 0 && detail::weld_near_pinches(mesh, patch_of_triangle, 2e-1 * tolerance) > 0) {
+  // Pinches are defects of the repair too: the last pass's suspects hold them all.
+  if (repair_stats.defects > 0 &&
+      detail::weld_near_pinches(mesh, patch_of_triangle, 2e-1 * tolerance,
+                                suspects.known ? &suspects.vertices : nullptr) > 0) {
     suspects.known = false;  // the weld renumbered and changed fans anywhere
     repair.max_radius = 2.0 * budget.cell;
     repair.max_field_error = 0.5 * tolerance;

@@ -993,8 +993,9 @@ std::size_t weld_near_defects(TriangleMesh& mesh, std::vector<TriangleOrigin>& p
 }
 
 std::size_t weld_near_pinches(TriangleMesh& mesh, std::vector<TriangleOrigin>& patch_of_triangle,
-                              double distance) {
-  return weld_near(mesh, patch_of_triangle, non_manifold_vertices(mesh), distance, true);
+                              double distance, const std::vector<std::uint32_t>* among) {
+  return weld_near(mesh, patch_of_triangle,
+                   among ? non_manifold_vertices(mesh, *among) : non_manifold_vertices(mesh), distance, true);
 }
 
 std::size_t weld_near(TriangleMesh& mesh, std::vector<TriangleOrigin>& patch_of_triangle,

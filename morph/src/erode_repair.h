@@ -52,9 +52,11 @@ std::size_t weld_near_defects(TriangleMesh& mesh, std::vector<TriangleOrigin>& p
                               double distance, std::vector<EdgeUse>& uses);
 
 /// The same around every non-manifold vertex (two fans meeting at one point; see
-/// morph::non_manifold_vertices), with every vertex within `distance` of it.
+/// morph::non_manifold_vertices), with every vertex within `distance` of it. `among` (if given,
+/// sorted): the only vertices that can be non-manifold (a repair pass's suspects, which hold
+/// every vertex the repair would find defective, pinches among them).
 std::size_t weld_near_pinches(TriangleMesh& mesh, std::vector<TriangleOrigin>& patch_of_triangle,
-                              double distance);
+                              double distance, const std::vector<std::uint32_t>* among = nullptr);
 
 /// The same around the vertices `defect` (sorted, unique): with `whole_reach` every vertex within
 /// `distance` of one, else those in its own cell of side `distance`.

@@ -177,6 +177,39 @@ std::vector<std::uint32_t> non_manifold_vertices(const TriangleMesh& mesh) {
   return vertices;
 }
 
+std::vector<std::uint32_t> non_manifold_vertices(const TriangleMesh& mesh,
+                                                 const std::vector<std::uint32_t>& among) {
+  check_indices(mesh);
+  // Rows of incident proper triangles for the vertices asked about only.
+  std::vector<std::uint32_t> row_of(mesh.vertices.size(), UINT32_MAX);
+  for (std::uint32_t i = 0; i < among.size(); ++i) {
+    if (among[i] >= mesh.vertices.size())
+      throw InputError("non-manifold vertices: vertex " + std::to_string(among[i]) +
+                       " asked about but there are " + std::to_string(mesh.vertices.size()) + " vertices");
+    row_of[among[i]] = i;
+  }
+  std::vector<std::uint32_t> row_start(among.size() + 1, 0);
+  for (const Triangle& t : mesh.triangles)
+    if (!collapsed(t))
+      for (std::uint32_t v : t)
+        if (row_of[v] != UINT32_MAX) ++row_start[row_of[v] + 1];
+  std::partial_sum(row_start.begin(), row_start.end(), row_start.begin());
+  std::vector<std::uint32_t> incident_triangles(row_start.back());
+  std::vector<std::uint32_t> fill(row_start.begin(), row_start.end() - 1);
+  for (std::uint32_t t = 0; t < mesh.triangles.size(); ++t)
+    if (!collapsed(mesh.triangles[t]))
+      for (std::uint32_t v : mesh.triangles[t])
+        if (row_of[v] != UINT32_MAX) incident_triangles[fill[row_of[v]]++] = t;
+  std::vector<std::uint32_t> vertices;
+  LinkScratch scratch;
+  for (std::uint32_t i = 0; i < among.size(); ++i)
+    if (row_start[i] != row_start[i + 1] &&
+        !vertex_is_manifold(among[i], incident_triangles.data() + row_start[i],
+                            incident_triangles.data() + row_start[i + 1], mesh, scratch))
+      vertices.push_back(among[i]);
+  return vertices;
+}
+
 std::size_t connected_components(const TriangleMesh& mesh,
                                  std::vector<std::uint32_t>& component_of_triangle) {
   check_indices(mesh);

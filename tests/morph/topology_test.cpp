@@ -4,6 +4,7 @@
 #include <morph/topology.h>
 
 #include <cmath>
+#include <numeric>
 
 #include "common/test_meshes.h"
 
@@ -182,6 +183,26 @@ TEST(Topology, TwoCubesTouchingAtACornerMakeANonManifoldVertex) {
   // The pinch itself: the shared corner, and only it.
   EXPECT_EQ(morph::non_manifold_vertices(mesh), std::vector<std::uint32_t>{7});
   EXPECT_TRUE(morph::non_manifold_vertices(unit_cube()).empty());
+}
+
+TEST(Topology, NonManifoldVerticesAmongSomeAreThoseOfAllAmongThem) {
+  TriangleMesh mesh = unit_cube();
+  TriangleMesh other = box({1, 1, 1}, {2, 2, 2});
+  for (std::size_t i = 1; i < 8; ++i) mesh.vertices.push_back(other.vertices[i]);
+  for (const Triangle& t : other.triangles) {
+    Triangle w;
+    for (int k = 0; k < 3; ++k) w[k] = t[k] == 0 ? 7 : t[k] + 7;
+    mesh.triangles.push_back(w);
+  }
+  mesh.triangles.push_back({3, 3, 0});  // collapsed: left out as in the full search
+  EXPECT_EQ(morph::non_manifold_vertices(mesh, {0, 3, 7, 14}), std::vector<std::uint32_t>{7});
+  EXPECT_TRUE(morph::non_manifold_vertices(mesh, {0, 6, 8, 14}).empty());  // the pinch not asked about
+  EXPECT_TRUE(morph::non_manifold_vertices(mesh, {}).empty());
+  // Every vertex asked about: the full search's answer.
+  std::vector<std::uint32_t> every(mesh.vertices.size());
+  std::iota(every.begin(), every.end(), 0u);
+  EXPECT_EQ(morph::non_manifold_vertices(mesh, every), morph::non_manifold_vertices(mesh));
+  EXPECT_THROW(morph::non_manifold_vertices(mesh, {15}), morph::InputError);
 }
 
 TEST(Topology, DegenerateTrianglesAndUnreferencedVertices) {

@@ -38,6 +38,11 @@ TopologyReport topology_report(const TriangleMesh& mesh);
 /// half-disc, in increasing order: where two sheets of the surface meet at one point.
 std::vector<std::uint32_t> non_manifold_vertices(const TriangleMesh& mesh);
 
+/// The same among the vertices `among` only (sorted, unique; each must index a vertex): one
+/// pass over the triangles, fans of those vertices alone.
+std::vector<std::uint32_t> non_manifold_vertices(const TriangleMesh& mesh,
+                                                 const std::vector<std::uint32_t>& among);
+
 /// Triangle -> component index (edge-connected), components numbered by their smallest
 /// triangle index so the numbering is deterministic. Returns the number of components.
 std::size_t connected_components(const TriangleMesh& mesh, std::vector<std::uint32_t>& component_of_triangle);
