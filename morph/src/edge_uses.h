@@ -16,6 +16,12 @@ struct EdgeUse {
   std::uint32_t triangle;
   std::uint8_t corner;
   bool forward;
+
+  // Left unset when sized: buffers of millions are filled in parallel right after, and zeroing
+  // them first would fault every fresh page in on one thread.
+  EdgeUse() noexcept {}
+  EdgeUse(std::uint64_t key_, std::uint32_t triangle_, std::uint8_t corner_, bool forward_) noexcept
+      : key(key_), triangle(triangle_), corner(corner_), forward(forward_) {}
 };
 
 inline std::uint64_t edge_key(std::uint32_t a, std::uint32_t b) {
