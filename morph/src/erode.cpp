@@ -1898,8 +1898,9 @@ PatchMesh trim_on_grid(const Context& ctx, const Patch& patch, const Trimmer& g,
                         std::abs(g.term_value(tb, u, v)) < 100.0 * ctx.tie && u > pu(i) - 0.25 * du &&
                         u < pu(i + 1) + 0.25 * du && v > pv(j) - 0.25 * dv && v < pv(j + 1) + 0.25 * dv))
       return -1;
-    // No third term may cut the corner off.
-    if (g(u, v) < -100.0 * ctx.tie) return -1;
+    // No third term may cut the corner off (inside the cell its terms decide, as everywhere on it).
+    const bool inside_cell = u >= pu(i) && u <= pu(i + 1) && v >= pv(j) && v <= pv(j + 1);
+    if ((inside_cell ? eval(u, v) : g(u, v)) < -100.0 * ctx.tie) return -1;
     const auto id = static_cast<std::int64_t>(out.vertices.size());
     out.vertices.push_back(evaluate(patch, u, v));
     return id;
