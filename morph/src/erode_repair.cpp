@@ -267,6 +267,40 @@ class Repairer {
       around.push_back(t);
     });
     if (!plain || around.empty()) return false;
+    // Each triangle (v, next, previous): sound when every next is one triangle's previous and
+    // no other triangle's next (each edge at v used once each way), and following next ->
+    // the triangle it is previous of visits every triangle once (one fan). Small fans directly;
+    // the sort below for the rare large ones.
+    constexpr std::size_t kDirect = 32;
+    if (around.size() <= kDirect) {
+      std::uint32_t next[kDirect], previous[kDirect];
+      const std::size_t k = around.size();
+      for (std::size_t i = 0; i < k; ++i) {
+        const Triangle& tri = mesh_.triangles[around[i]];
+        const int corner = tri[0] == v ? 0 : (tri[1] == v ? 1 : 2);
+        next[i] = tri[(corner + 1) % 3];
+        previous[i] = tri[(corner + 2) % 3];
+      }
+      std::uint8_t follows[kDirect];
+      for (std::size_t i = 0; i < k; ++i) {
+        int as_previous = 0, as_next = 0;
+        for (std::size_t j = 0; j < k; ++j) {
+          if (previous[j] == next[i]) {
+            ++as_previous;
+            follows[i] = static_cast<std::uint8_t>(j);
+          }
+          as_next += next[j] == next[i];
+        }
+        if (as_previous != 1 || as_next != 1) return false;
+      }
+      std::size_t steps = 0;
+      std::size_t i = 0;
+      do {
+        i = follows[i];
+        ++steps;
+      } while (i != 0 && steps <= k);
+      return steps == k;
+    }
     auto& uses = scratch.uses;
     uses.clear();
     for (std::uint32_t i = 0; i < around.size(); ++i) {

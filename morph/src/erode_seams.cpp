@@ -528,6 +528,8 @@ std::size_t split_pass(TriangleMesh& mesh, std::vector<TriangleOrigin>& patch_of
   for (const auto& [key, list] : splits) split_triangles.push_back(static_cast<std::uint32_t>(key >> 32));
   std::sort(split_triangles.begin(), split_triangles.end());
   split_triangles.erase(std::unique(split_triangles.begin(), split_triangles.end()), split_triangles.end());
+  std::vector<std::uint32_t> kept, polygon;  // scratch of split_triangle
+  std::vector<int> from_edge;
   auto split_triangle = [&](std::uint32_t t) {
     const Triangle tri = mesh.triangles[t];
     const std::vector<std::pair<double, std::uint32_t>>* on_edge[3] = {nullptr, nullptr, nullptr};
@@ -568,7 +570,7 @@ std::size_t split_pass(TriangleMesh& mesh, std::vector<TriangleOrigin>& patch_of
       const int k = on_edge[0] ? 0 : on_edge[1] ? 1 : 2;
       const std::uint32_t p0 = tri[k], p1 = tri[(k + 1) % 3], o = tri[(k + 2) % 3];
       // Drop insertions that would fold the fan (a vertex off the chord on the wrong side).
-      std::vector<std::uint32_t> kept;
+      kept.clear();
       std::uint32_t previous = p0;
       const auto& list = *on_edge[k];
       for (std::size_t i = 0; i < list.size(); ++i) {
@@ -594,8 +596,8 @@ std::size_t split_pass(TriangleMesh& mesh, std::vector<TriangleOrigin>& patch_of
       return;
     }
     // Several edges split: fan from the centroid.
-    std::vector<std::uint32_t> polygon;
-    std::vector<int> from_edge;  // original edge of polygon edge i -> i+1
+    polygon.clear();
+    from_edge.clear();  // original edge of polygon edge i -> i+1
     for (int k = 0; k < 3; ++k) {
       polygon.push_back(tri[k]);
       from_edge.push_back(k);
