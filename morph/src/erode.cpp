@@ -2119,6 +2119,14 @@ class PatchBuilder {
   void add(Patch& p) {
     finish_patch(p);
     if (!p.box.intersects(ctx_.stock_box)) return;
+    // A tube one cell long (a short move) has grid lines only at its end profiles, which lie on
+    // the neighbouring moves' sweeps. Near a stock face the part it keeps can be a strip bounded
+    // by the face and another sweep that no grid edge meets (a raster's cusp within a cell of a
+    // face parallel to the rows: the next row's tube keeps 0.04 wide between them, and no edge
+    // scan can find it); a line through the middle profile meets it.
+    if (p.sweep && p.form == Form::Tube && p.nu == 1 &&
+        std::abs(ctx_.stock_distance(p.box.center())) <= 0.5 * p.box.diagonal().norm() + budget_.cell)
+      p.nu = 2;
     patches.push_back(p);
   }
   const Context& ctx_;

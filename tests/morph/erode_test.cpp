@@ -500,6 +500,33 @@ TEST(ErodeBallEnd, RowsRunningOffTheSideFaceLeaveNoHoleAtItsEdge) {
   expect_closed_within_tolerance(job, 1u);
 }
 
+// Rows of 0.104-long moves, 1 mm apart, over a block whose +y face lies on the cusp between
+// two rows: on the face the rows are within a few hundredths of each other, and the next row's
+// tube keeps a strip 0.04 wide between the cusp and the face, inside one grid cell of each of
+// its one-cell-long tubes and crossing no grid edge. The strip went missing and left 146 open
+// edges along the face until tubes near the stock's boundary took a line through their middle.
+TEST(ErodeBallEnd, ShortMovesWithTheirCuspOnAFaceAreClosed) {
+  auto height = [](double x, double y) { return -6.0 + 3.0 * std::sin(x / 9.0) * std::cos(y / 13.0); };
+  std::vector<Vector3d> path;
+  for (int row = 48; row < 50; ++row) {
+    const double y = 0.5 + row;
+    std::vector<Vector3d> points;
+    for (int k = 0; k <= 1000; ++k) {
+      const double x = -2.0 + 104.0 * k / 1000.0;
+      if (x >= 52.0 && x <= 57.0) points.push_back(Vector3d(x, y, height(x, y)));
+    }
+    if (row % 2 == 1) std::reverse(points.begin(), points.end());
+    path.insert(path.end(), points.begin(), points.end());
+  }
+  ASSERT_EQ(path.size(), 96u);
+  const Job job = box_job({51, 46, -20}, {58, 49, 0}, ballend_tool(1.5875, 25.4), {path}, 0.01);
+  const morph::ErodeResult result = morph::erode(job);
+  const morph::TopologyReport topology = morph::topology_report(result.mesh);
+  EXPECT_TRUE(topology.closed_manifold()) << topology.boundary_edges << " open edges";
+  EXPECT_EQ(topology.components, 1u);
+  expect_within_tolerance_both_ways(job, result.mesh, 2000);
+}
+
 // The moves of the 100k-move raster benchmark (1000 per row, 0.104 long) that pass within
 // `reach` of `spot`, as runs of consecutive moves.
 std::vector<std::vector<Vector3d>> raster_runs_near(const Vector3d& spot, double reach) {
