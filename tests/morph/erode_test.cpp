@@ -482,19 +482,27 @@ TEST(ErodeBallEnd, AlignedJointsOfAdjacentRowsLeaveNoFold) {
 // end profile 0.003 inside it, a sliver within the tie of the next move's tube, where the cusp
 // between two rows meets the face: the hole there straddles the stock's edge, and no fan fits
 // both the face and the cuts (8 open and 2 non-manifold edges).
-TEST(ErodeBallEnd, RowsRunningOffTheSideFaceLeaveNoHoleAtItsEdge) {
+// Rows first_row..last_row - 1 of the 100k-move raster benchmark (row r at y = r + 0.5, 1000
+// moves 0.104 long across x in [-2, 102], odd rows run backwards), only their points with x in
+// [x_min, x_max], joined into one path by the step-overs between rows.
+std::vector<Vector3d> raster_rows(int first_row, int last_row, double x_min, double x_max) {
   auto height = [](double x, double y) { return -6.0 + 3.0 * std::sin(x / 9.0) * std::cos(y / 13.0); };
   std::vector<Vector3d> path;
-  for (int row = 52; row < 58; ++row) {
+  for (int row = first_row; row < last_row; ++row) {
     const double y = 0.5 + row;
     std::vector<Vector3d> points;
     for (int k = 0; k <= 1000; ++k) {
       const double x = -2.0 + 104.0 * k / 1000.0;
-      if (x >= 97.0) points.push_back(Vector3d(x, y, height(x, y)));
+      if (x >= x_min && x <= x_max) points.push_back(Vector3d(x, y, height(x, y)));
     }
     if (row % 2 == 1) std::reverse(points.begin(), points.end());
     path.insert(path.end(), points.begin(), points.end());
   }
+  return path;
+}
+
+TEST(ErodeBallEnd, RowsRunningOffTheSideFaceLeaveNoHoleAtItsEdge) {
+  const std::vector<Vector3d> path = raster_rows(52, 58, 97.0, 200.0);
   ASSERT_EQ(path.size(), 294u);
   const Job job = box_job({0, 0, -20}, {100, 100, 0}, ballend_tool(1.5875, 25.4), {path}, 0.01);
   expect_closed_within_tolerance(job, 1u);
@@ -506,18 +514,7 @@ TEST(ErodeBallEnd, RowsRunningOffTheSideFaceLeaveNoHoleAtItsEdge) {
 // its one-cell-long tubes and crossing no grid edge. The strip went missing and left 146 open
 // edges along the face until tubes near the stock's boundary took a line through their middle.
 TEST(ErodeBallEnd, ShortMovesWithTheirCuspOnAFaceAreClosed) {
-  auto height = [](double x, double y) { return -6.0 + 3.0 * std::sin(x / 9.0) * std::cos(y / 13.0); };
-  std::vector<Vector3d> path;
-  for (int row = 48; row < 50; ++row) {
-    const double y = 0.5 + row;
-    std::vector<Vector3d> points;
-    for (int k = 0; k <= 1000; ++k) {
-      const double x = -2.0 + 104.0 * k / 1000.0;
-      if (x >= 52.0 && x <= 57.0) points.push_back(Vector3d(x, y, height(x, y)));
-    }
-    if (row % 2 == 1) std::reverse(points.begin(), points.end());
-    path.insert(path.end(), points.begin(), points.end());
-  }
+  const std::vector<Vector3d> path = raster_rows(48, 50, 52.0, 57.0);
   ASSERT_EQ(path.size(), 96u);
   const Job job = box_job({51, 46, -20}, {58, 49, 0}, ballend_tool(1.5875, 25.4), {path}, 0.01);
   const morph::ErodeResult result = morph::erode(job);
