@@ -691,11 +691,12 @@ class Trimmer {
     ctx_.tree.for_each_overlapping(query, [&](std::size_t j) {
       const int js = static_cast<int>(j);
       if (js == patch_.exclude[0] || js == patch_.exclude[1]) return;
-      if (box_bound(js, x) - 2.0 * ctx_.tie > reach) return;
+      const double box = box_bound(js, x);
+      if (box - 2.0 * ctx_.tie > reach) return;
       // The plane facing x bounds the distance there nearly exactly (the box barely, its sweep
       // reaching a tool length above the tip).
       const SupportPlane plane = plane_at(js, x, margin);
-      const double lower = std::max(box_bound(js, x), plane.at(x)) - 2.0 * ctx_.tie;
+      const double lower = std::max(box, plane.at(x)) - 2.0 * ctx_.tie;
       if (lower <= reach) terms.push_back({js, lower, plane});
     });
     nearest_first(terms);
@@ -1543,13 +1544,13 @@ PatchMesh trim_on_grid(const Context& ctx, const Patch& patch, const Trimmer& g,
       stack.pop_back();
       if (task.list == kFromTree && !remembered_block(b)) {
         if ((b.i1 - b.i0) * (b.j1 - b.j0) > kMostCellsFromTree) {
-          // Proven from g's exact value at the centre (the tree's search), as below.
+          // Proven as below from g at the centre: removed by an upper bound of it (inside another
+          // move's tip), kept only by its exact value (the tree's search).
           if (proofs) {
             const double uc = 0.5 * (pu(b.i0) + pu(b.i1)), vc = 0.5 * (pv(b.j0) + pv(b.j1));
             const double reach = lipschitz * radius_of(b);
-            // Removed inside another move's tip, shown by a bound; kept only by the exact value.
             double gc = g.upper_bound(uc, vc);
-            if (gc >= -reach && gc > reach) gc = g(uc, vc);
+            if (gc > reach) gc = g(uc, vc);
             if (gc < -reach || gc > reach) {
               for (int i = b.i0; i < b.i1; ++i)
                 for (int j = b.j0; j < b.j1; ++j)
