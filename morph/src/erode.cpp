@@ -1508,6 +1508,15 @@ PatchMesh trim_on_grid(const Context& ctx, const Patch& patch, const Trimmer& g,
                        memory->terms.begin() + r.first + r.count);
       return static_cast<std::uint32_t>(lists.size() - 1);
     };
+    auto set_state = [&](const Block& b, std::uint8_t state) {
+      for (int i = b.i0; i < b.i1; ++i)
+        for (int j = b.j0; j < b.j1; ++j) cell_state[static_cast<std::size_t>(i) * nv + j] = state;
+    };
+    // A block proven kept or removed, and recorded for the next round.
+    auto prove = [&](const Block& b, std::uint8_t state) {
+      set_state(b, state);
+      if (extra_u) records.push_back({rectangle_of(b), state, 0u, 0u, Vector3d::Zero(), 0.0});
+    };
     // A block's own terms from the tree (a list of its own, its parent having none).
     constexpr std::uint32_t kFromTree = UINT32_MAX;
     auto list_from_tree = [&](const Block& b) {
@@ -1552,12 +1561,7 @@ PatchMesh trim_on_grid(const Context& ctx, const Patch& patch, const Trimmer& g,
             double gc = g.upper_bound(uc, vc);
             if (gc > reach) gc = g(uc, vc);
             if (gc < -reach || gc > reach) {
-              for (int i = b.i0; i < b.i1; ++i)
-                for (int j = b.j0; j < b.j1; ++j)
-                  cell_state[static_cast<std::size_t>(i) * nv + j] = gc > 0.0 ? kKept : kRemoved;
-              if (extra_u)
-                records.push_back(
-                    {rectangle_of(b), gc > 0.0 ? kKept : kRemoved, 0u, 0u, Vector3d::Zero(), 0.0});
+              prove(b, gc > 0.0 ? kKept : kRemoved);
               continue;
             }
           }
@@ -1573,8 +1577,7 @@ PatchMesh trim_on_grid(const Context& ctx, const Patch& patch, const Trimmer& g,
       }
       if (const GridMemory::Block* r = remembered_block(b)) {
         if (r->state != kOpen) {
-          for (int i = b.i0; i < b.i1; ++i)
-            for (int j = b.j0; j < b.j1; ++j) cell_state[static_cast<std::size_t>(i) * nv + j] = r->state;
+          set_state(b, r->state);
         } else {
           const std::uint32_t list = remembered_list(*r);
           for (const Block& half : halves(b)) stack.push_back({half, list});
@@ -1606,11 +1609,7 @@ PatchMesh trim_on_grid(const Context& ctx, const Patch& patch, const Trimmer& g,
           }
         }
         if (gc < -reach || gc > reach || inside) {
-          for (int i = b.i0; i < b.i1; ++i)
-            for (int j = b.j0; j < b.j1; ++j)
-              cell_state[static_cast<std::size_t>(i) * nv + j] = gc > 0.0 ? kKept : kRemoved;
-          if (extra_u)
-            records.push_back({rectangle_of(b), gc > 0.0 ? kKept : kRemoved, 0u, 0u, Vector3d::Zero(), 0.0});
+          prove(b, gc > 0.0 ? kKept : kRemoved);
           continue;
         }
       }

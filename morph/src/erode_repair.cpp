@@ -187,7 +187,7 @@ class Repairer {
   /// Scratch space of `manifold_vertex`, reused from vertex to vertex.
   struct FanScratch {
     std::vector<std::uint32_t> around, parent, link;
-    std::vector<std::array<std::uint32_t, 3>> uses;  // (link vertex, direction, triangle)
+    std::vector<std::uint32_t> next, previous, follows;  // plainly_sound's, per triangle of `around`
 
     /// Disjoint sets over the triangles in `around`, each on its own.
     void separate_fans() {
@@ -268,56 +268,37 @@ class Repairer {
     });
     if (!plain || around.empty()) return false;
     // Each triangle (v, next, previous): sound when every next is one triangle's previous and
-    // no other triangle's next (each edge at v used once each way), and following next ->
-    // the triangle it is previous of visits every triangle once (one fan). Small fans directly;
-    // the sort below for the rare large ones.
-    constexpr std::size_t kDirect = 32;
-    if (around.size() <= kDirect) {
-      std::uint32_t next[kDirect], previous[kDirect];
-      const std::size_t k = around.size();
-      for (std::size_t i = 0; i < k; ++i) {
-        const Triangle& tri = mesh_.triangles[around[i]];
-        const int corner = tri[0] == v ? 0 : (tri[1] == v ? 1 : 2);
-        next[i] = tri[(corner + 1) % 3];
-        previous[i] = tri[(corner + 2) % 3];
-      }
-      std::uint8_t follows[kDirect];
-      for (std::size_t i = 0; i < k; ++i) {
-        int as_previous = 0, as_next = 0;
-        for (std::size_t j = 0; j < k; ++j) {
-          if (previous[j] == next[i]) {
-            ++as_previous;
-            follows[i] = static_cast<std::uint8_t>(j);
-          }
-          as_next += next[j] == next[i];
-        }
-        if (as_previous != 1 || as_next != 1) return false;
-      }
-      std::size_t steps = 0;
-      std::size_t i = 0;
-      do {
-        i = follows[i];
-        ++steps;
-      } while (i != 0 && steps <= k);
-      return steps == k;
-    }
-    auto& uses = scratch.uses;
-    uses.clear();
-    for (std::uint32_t i = 0; i < around.size(); ++i) {
+    // no other triangle's next (each edge at v used once each way), and following next -> the
+    // triangle it is previous of visits every triangle once (one fan). Fans are small: pairs.
+    const std::size_t k = around.size();
+    std::vector<std::uint32_t>&next = scratch.next, &previous = scratch.previous, &follows = scratch.follows;
+    next.resize(k);
+    previous.resize(k);
+    follows.resize(k);
+    for (std::size_t i = 0; i < k; ++i) {
       const Triangle& tri = mesh_.triangles[around[i]];
-      const int k = tri[0] == v ? 0 : (tri[1] == v ? 1 : 2);
-      uses.push_back({tri[(k + 1) % 3], 1u, i});  // v -> next
-      uses.push_back({tri[(k + 2) % 3], 0u, i});  // previous -> v
+      const int corner = tri[0] == v ? 0 : (tri[1] == v ? 1 : 2);
+      next[i] = tri[(corner + 1) % 3];
+      previous[i] = tri[(corner + 2) % 3];
     }
-    std::sort(uses.begin(), uses.end());
-    scratch.separate_fans();
-    for (std::size_t i = 0; i < uses.size(); i += 2) {
-      if (i + 1 >= uses.size() || uses[i + 1][0] != uses[i][0] || uses[i][1] == uses[i + 1][1] ||
-          (i + 2 < uses.size() && uses[i + 2][0] == uses[i][0]))
-        return false;
-      scratch.join_fans(uses[i + 1][2], uses[i][2]);
+    for (std::size_t i = 0; i < k; ++i) {
+      int as_previous = 0, as_next = 0;
+      for (std::size_t j = 0; j < k; ++j) {
+        if (previous[j] == next[i]) {
+          ++as_previous;
+          follows[i] = static_cast<std::uint32_t>(j);
+        }
+        as_next += next[j] == next[i];
+      }
+      if (as_previous != 1 || as_next != 1) return false;
     }
-    return scratch.fan_count() == 1;
+    std::size_t steps = 0;
+    std::size_t i = 0;
+    do {
+      i = follows[i];
+      ++steps;
+    } while (i != 0 && steps <= k);
+    return steps == k;
   }
 
   /// Vertices of bad edges and non-manifold vertices, grouped by proximity (max_radius); only

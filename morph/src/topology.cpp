@@ -137,33 +137,43 @@ void check_indices(const TriangleMesh& mesh) {
                          std::to_string(v) + " but there are " + std::to_string(n) + " vertices");
 }
 
-// Whether each vertex's proper triangles form one disc or half-disc (vertices without any: true).
-std::vector<char> manifold_vertices(const TriangleMesh& mesh) {
-  const std::size_t vertex_count = mesh.vertices.size();
-  // Incident proper triangles of every vertex, in compressed rows.
-  std::vector<std::uint32_t> row_start(vertex_count + 1, 0);
+// Whether each of `count` vertices (row i: vertex_of(i); row_of(v): v's row, or kNoRow) has
+// proper triangles forming one disc or half-disc (vertices without any: true).
+constexpr std::uint32_t kNoRow = UINT32_MAX;
+template <class RowOf, class VertexOf>
+std::vector<char> manifold_rows(const TriangleMesh& mesh, std::size_t count, RowOf&& row_of,
+                                VertexOf&& vertex_of) {
+  // Incident proper triangles of every row's vertex, in compressed rows.
+  std::vector<std::uint32_t> row_start(count + 1, 0);
   for (const Triangle& t : mesh.triangles)
     if (!collapsed(t))
-      for (std::uint32_t v : t) ++row_start[v + 1];
+      for (std::uint32_t v : t)
+        if (const std::uint32_t row = row_of(v); row != kNoRow) ++row_start[row + 1];
   std::partial_sum(row_start.begin(), row_start.end(), row_start.begin());
   std::vector<std::uint32_t> incident_triangles = detail::large_vector<std::uint32_t>(row_start.back());
   std::vector<std::uint32_t> fill(row_start.begin(), row_start.end() - 1);
   for (std::uint32_t t = 0; t < mesh.triangles.size(); ++t)
     if (!collapsed(mesh.triangles[t]))
-      for (std::uint32_t v : mesh.triangles[t]) incident_triangles[fill[v]++] = t;
+      for (std::uint32_t v : mesh.triangles[t])
+        if (const std::uint32_t row = row_of(v); row != kNoRow) incident_triangles[fill[row]++] = t;
   // Each vertex is judged by its own fan alone.
-  std::vector<char> manifold(vertex_count, 1);
-  tbb::parallel_for(tbb::blocked_range<std::uint32_t>(0, static_cast<std::uint32_t>(vertex_count)),
+  std::vector<char> manifold(count, 1);
+  tbb::parallel_for(tbb::blocked_range<std::uint32_t>(0, static_cast<std::uint32_t>(count)),
                     [&](const tbb::blocked_range<std::uint32_t>& range) {
                       LinkScratch scratch;
-                      for (std::uint32_t v = range.begin(); v != range.end(); ++v) {
-                        if (row_start[v] == row_start[v + 1]) continue;
-                        manifold[v] =
-                            vertex_is_manifold(v, incident_triangles.data() + row_start[v],
-                                               incident_triangles.data() + row_start[v + 1], mesh, scratch);
+                      for (std::uint32_t i = range.begin(); i != range.end(); ++i) {
+                        if (row_start[i] == row_start[i + 1]) continue;
+                        manifold[i] =
+                            vertex_is_manifold(vertex_of(i), incident_triangles.data() + row_start[i],
+                                               incident_triangles.data() + row_start[i + 1], mesh, scratch);
                       }
                     });
   return manifold;
+}
+
+std::vector<char> manifold_vertices(const TriangleMesh& mesh) {
+  auto same = [](std::uint32_t v) { return v; };
+  return manifold_rows(mesh, mesh.vertices.size(), same, same);
 }
 
 }  // namespace
@@ -180,33 +190,19 @@ std::vector<std::uint32_t> non_manifold_vertices(const TriangleMesh& mesh) {
 std::vector<std::uint32_t> non_manifold_vertices(const TriangleMesh& mesh,
                                                  const std::vector<std::uint32_t>& among) {
   check_indices(mesh);
-  // Rows of incident proper triangles for the vertices asked about only.
-  std::vector<std::uint32_t> row_of(mesh.vertices.size(), UINT32_MAX);
+  std::vector<std::uint32_t> row_of(mesh.vertices.size(), kNoRow);
   for (std::uint32_t i = 0; i < among.size(); ++i) {
     if (among[i] >= mesh.vertices.size())
       throw InputError("non-manifold vertices: vertex " + std::to_string(among[i]) +
                        " asked about but there are " + std::to_string(mesh.vertices.size()) + " vertices");
     row_of[among[i]] = i;
   }
-  std::vector<std::uint32_t> row_start(among.size() + 1, 0);
-  for (const Triangle& t : mesh.triangles)
-    if (!collapsed(t))
-      for (std::uint32_t v : t)
-        if (row_of[v] != UINT32_MAX) ++row_start[row_of[v] + 1];
-  std::partial_sum(row_start.begin(), row_start.end(), row_start.begin());
-  std::vector<std::uint32_t> incident_triangles(row_start.back());
-  std::vector<std::uint32_t> fill(row_start.begin(), row_start.end() - 1);
-  for (std::uint32_t t = 0; t < mesh.triangles.size(); ++t)
-    if (!collapsed(mesh.triangles[t]))
-      for (std::uint32_t v : mesh.triangles[t])
-        if (row_of[v] != UINT32_MAX) incident_triangles[fill[row_of[v]]++] = t;
+  const std::vector<char> manifold = manifold_rows(
+      mesh, among.size(), [&](std::uint32_t v) { return row_of[v]; },
+      [&](std::uint32_t i) { return among[i]; });
   std::vector<std::uint32_t> vertices;
-  LinkScratch scratch;
   for (std::uint32_t i = 0; i < among.size(); ++i)
-    if (row_start[i] != row_start[i + 1] &&
-        !vertex_is_manifold(among[i], incident_triangles.data() + row_start[i],
-                            incident_triangles.data() + row_start[i + 1], mesh, scratch))
-      vertices.push_back(among[i]);
+    if (!manifold[i]) vertices.push_back(among[i]);
   return vertices;
 }
 
