@@ -83,8 +83,12 @@ void print_stats(const std::string& title, const raytest::DeviationStats& s) {
   fmt::print("  mean {:.9g}  mean|d| {:.9g}  RMS {:.9g}\n", s.mean, s.mean_abs, s.rms);
   fmt::print("  |d| percentiles: 50% {:.6g}  90% {:.6g}  99% {:.6g}  99.9% {:.6g}\n", s.p50, s.p90, s.p99,
              s.p999);
-  if (s.tolerance > 0)
+  if (s.tolerance > 0) {
     fmt::print("  within tolerance {:.6g}: {:.4f}%\n", s.tolerance, 100.0 * s.share_within_tolerance);
+    if (s.min < 0)
+      fmt::print("  signed: below -{0:.6g} (gouge) {1:.4f}%, above +{0:.6g} (excess) {2:.4f}%\n", s.tolerance,
+                 100.0 * s.share_gouge, 100.0 * s.share_excess);
+  }
 }
 
 void print_groups(const std::vector<raytest::GroupStats>& groups) {
@@ -168,6 +172,7 @@ void run_deviation(const DeviationArgs& args) {
   const double measure_seconds = measuring.seconds();
 
   fmt::print("deviation of {} against {} ({} mode)\n", args.a_path, args.b_path, mode_name(options.mode));
+  if (options.mode != raytest::DeviationMode::Unsigned) fmt::print("sign: {}\n", raytest::kSignConvention);
   print_stats("A -> B", result.a_to_b.stats);
   print_groups(result.a_to_b.groups);
   if (!args.one_sided) {
@@ -206,6 +211,7 @@ void run_deviation(const DeviationArgs& args) {
     j["a"] = args.a_path;
     j["b"] = args.b_path;
     j["mode"] = mode_name(options.mode);
+    if (options.mode != raytest::DeviationMode::Unsigned) j["sign_convention"] = raytest::kSignConvention;
     j["sampling"] = {{"vertices", options.sampling.vertices},
                      {"edge_samples", options.sampling.edge_samples},
                      {"face_samples", options.sampling.face_samples},

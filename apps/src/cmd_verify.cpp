@@ -14,7 +14,9 @@ void register_verify_command(CLI::App& app) {
       "a report. Checks that the generator stays within the job's tolerance of the exact surface (both\n"
       "ways) and that generator and reference agree within tolerance + sqrt(3) * voxel wherever the\n"
       "surface is resolvable at that voxel size (acute wedges, thin walls and gaps under two voxels are\n"
-      "reported but left out), with the same pieces and volumes.\n"
+      "reported but left out), with the same pieces and volumes; when the job names a design, also that\n"
+      "the machined result is within the design's band (see morphmill compare).\n"
+      "Signed deviations: + excess (A outside B's solid), - gouge (A inside).\n"
       "Exit code 0 when the verdict holds, 1 when it does not, 2 for bad input.\n"
       "Example: morphmill verify data/jobs/through_slots.json --out out/slots");
   verify->add_option("job", options->job_path, "Job file (JSON, see docs/job-format.md)")
@@ -47,6 +49,11 @@ void register_verify_command(CLI::App& app) {
               << "\n  generator and reference agree: " << (outcome.sides_agree ? "yes" : "no")
               << "\n  pieces: generator " << outcome.morph_pieces.size() << ", reference "
               << outcome.reference_pieces.size() << (outcome.pieces_match ? " (match)" : " (MISMATCH)")
+              << (outcome.design_path.empty()
+                      ? std::string()
+                      : "\n  design: " + std::to_string(outcome.design.gouge_regions) + " gouge, " +
+                            std::to_string(outcome.design.excess_regions) + " excess regions" +
+                            (outcome.design.within_band() ? " (within the band)" : " (OUT OF THE BAND)"))
               << "\n  report: " << run.out_dir << "/report.html\n";
     if (!outcome.verdict()) throw VerdictFailed();
   });

@@ -21,6 +21,7 @@ void register_erode_command(CLI::App& app);       // erode
 void register_reference_command(CLI::App& app);   // reference
 void register_deviation_commands(CLI::App& app);  // deviation, render
 void register_verify_command(CLI::App& app);      // verify
+void register_compare_command(CLI::App& app);     // compare
 void register_stress_command(CLI::App& app);      // stress
 void register_study_command(CLI::App& app);       // study
 

@@ -154,6 +154,28 @@ class JobParser {
     fail(at, "expected a tool number (an integer >= 0), got " + describe_value(v));
   }
 
+  /// "design": "part.stl" or {"path": "part.stl", "band": [-0.02, 0.1]}.
+  DesignSpec design(const json& v, const std::string& at) const {
+    DesignSpec spec;
+    if (v.is_string()) {
+      spec.path = referenced_file(v, at, "design");
+      return spec;
+    }
+    object(v, at);
+    check_keys(v, at, {"path", "band", "description"});
+    spec.path = referenced_file(require(v, at, "path"), join_path(at, "path"), "design");
+    if (const json* band = find(v, "band")) {
+      const std::string band_at = join_path(at, "band");
+      if (!band->is_array() || band->size() != 2)
+        fail(band_at, "expected [low, high] with low <= 0 <= high, got " + describe_value(*band));
+      spec.low = number((*band)[0], index_path(band_at, 0));
+      spec.high = number((*band)[1], index_path(band_at, 1));
+      if (spec.low > 0 || spec.high < 0 || (spec.low == 0 && spec.high == 0))
+        fail(band_at, "expected [low, high] with low <= 0 <= high (not both 0), got " + band->dump());
+    }
+    return spec;
+  }
+
   /// A file named in the job, relative to the job file's directory; must exist.
   std::string referenced_file(const json& v, const std::string& at, const char* what) const {
     const std::string name = string(v, at);
@@ -382,7 +404,9 @@ morph::Job parse_job(const nlohmann::json& root, const std::string& file) {
   JobParser parser(file, job.warnings);
   parser.object(root, "");
   if (!root.is_object()) parser.fail("", "a job file must hold one JSON object");
-  parser.check_keys(root, "", {"name", "description", "units", "stock", "tools", "paths", "tolerance"});
+  parser.check_keys(root, "",
+                    {"name", "description", "units", "stock", "tools", "paths", "tolerance", "design"});
+  if (const json* design = parser.find(root, "design")) parser.design(*design, "design");
 
   job.name = fs::path(file).stem().string();
   if (const json* name = parser.find(root, "name")) job.name = parser.string(*name, "name");
@@ -418,6 +442,26 @@ morph::Job parse_job(const nlohmann::json& root, const std::string& file) {
   for (std::size_t i = 0; i < paths.size(); ++i)
     job.paths.push_back(parser.path(paths[i], i, job.tools, job.units));
   return job;
+}
+
+DesignSpec parse_design(const nlohmann::json& root, const std::string& file) {
+  std::vector<morph::Warning> warnings;
+  JobParser parser(file, warnings);
+  if (!root.is_object()) parser.fail("", "a job file must hold one JSON object");
+  const json* design = parser.find(root, "design");
+  return design ? parser.design(*design, "design") : DesignSpec{};
+}
+
+DesignSpec load_design(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw morph::IoError("cannot open job file '" + path + "': " + std::strerror(errno));
+  json root;
+  try {
+    root = json::parse(in);
+  } catch (const json::parse_error& e) {
+    throw InputError(path + ": not valid JSON: " + e.what());
+  }
+  return parse_design(root, path);
 }
 
 morph::Job load_job(const std::string& path) {

@@ -27,6 +27,7 @@ int main(int argc, char** argv) {
   morphmill::register_reference_command(app);
   morphmill::register_deviation_commands(app);
   morphmill::register_verify_command(app);
+  morphmill::register_compare_command(app);
   morphmill::register_stress_command(app);
   morphmill::register_study_command(app);
   try {

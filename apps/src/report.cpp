@@ -103,13 +103,15 @@ std::vector<Table> tables(const VerifyOutcome& o) {
                            m && r ? number(o.morph_pieces[i].volume - o.reference_pieces[i].volume) : "-"});
   }
   result.push_back(pieces);
-  Table deviation{"Deviation (" + u + ")",
-                  {"from -> to", "samples", "max", "mean", "RMS", "p50", "p99", "p99.9", "within tolerance"},
+  Table deviation{"Signed deviation (" + u + "; + excess, - gouge; band -/+ tolerance)",
+                  {"from -> to", "samples", "min", "max", "mean", "RMS", "max |d|", "p99 |d|", "gouge",
+                   "within", "excess"},
                   {}};
+  auto percent = [](double share) { return fmt::format("{:.3f}%", 100.0 * share); };
   auto row = [&](const std::string& name, const raytest::DeviationStats& s) {
-    deviation.rows.push_back({name, std::to_string(s.count), number(s.max_abs), number(s.mean_abs),
-                              number(s.rms), number(s.p50), number(s.p99), number(s.p999),
-                              fmt::format("{:.3f}%", 100.0 * s.share_within_tolerance)});
+    deviation.rows.push_back({name, std::to_string(s.count), number(s.min), number(s.max), number(s.mean),
+                              number(s.rms), number(s.max_abs), number(s.p99), percent(s.share_gouge),
+                              percent(s.share_within_band), percent(s.share_excess)});
   };
   row("generator -> exact", o.morph_to_exact.stats);
   row("exact -> generator", o.exact_to_morph);
@@ -117,11 +119,69 @@ std::vector<Table> tables(const VerifyOutcome& o) {
   row("generator -> reference", o.morph_to_reference.stats);
   row("reference -> generator", o.reference_to_morph.stats);
   result.push_back(deviation);
-  Table worst{"Worst places", {"against", "deviation", "x", "y", "z", "made by"}, {}};
+  const raytest::Histogram& h = o.morph_to_exact.stats.band_histogram;
+  if (!h.counts.empty()) {
+    const double n = static_cast<double>(std::max<std::size_t>(1, o.morph_to_exact.stats.count));
+    Table histogram{"Histogram of generator -> exact (bins of one tolerance, " + u + ")",
+                    {"from", "to", "samples", "share"},
+                    {}};
+    auto bin = [&](const std::string& from, const std::string& to, std::size_t count) {
+      histogram.rows.push_back({from, to, std::to_string(count), percent(static_cast<double>(count) / n)});
+    };
+    bin("-inf", number(h.edges.front()), h.underflow);
+    for (std::size_t i = 0; i < h.counts.size(); ++i)
+      bin(number(h.edges[i]), number(h.edges[i + 1]), h.counts[i]);
+    bin(number(h.edges.back()), "+inf", h.overflow);
+    result.push_back(histogram);
+  }
+  Table moves{"Worst moves (generator -> exact, by the face the sample lies on)",
+              {"made by", "samples", "min", "max", "max |d|"},
+              {}};
+  for (const auto& g : o.morph_to_exact.groups)
+    moves.rows.push_back({tag_text(g.tag), std::to_string(g.stats.count), number(g.stats.min),
+                          number(g.stats.max), number(g.stats.max_abs)});
+  result.push_back(moves);
+  Table regions{
+      fmt::format("Regions out of the band ({} against the exact surface, {} against the reference; "
+                  "on the generator's surface refined to {} {})",
+                  o.exact_regions, o.reference_regions, number(o.region_resolution), u),
+      {"against", "band", "kind", "depth", "area (" + u + "^2)", "x", "y", "z", "made by"},
+      {}};
+  for (const auto& r : o.regions) {
+    std::string made_by;
+    for (std::size_t i = 0; i < r.region.sources.size() && i < 3; ++i)
+      made_by += (i ? "; " : "") + tag_text(r.region.sources[i].tag);
+    regions.rows.push_back({r.against, fmt::format("{} / +{}", number(r.band.low), number(r.band.high)),
+                            raytest::to_string(r.region.kind), number(r.region.worst), number(r.region.area),
+                            number(r.region.location.x()), number(r.region.location.y()),
+                            number(r.region.location.z()), made_by.empty() ? "-" : made_by});
+  }
+  result.push_back(regions);
+  Table worst{"Decisive place", {"against", "deviation", "x", "y", "z", "made by"}, {}};
   for (const auto& w : o.worst)
     worst.rows.push_back({w.against, number(w.deviation), number(w.position.x()), number(w.position.y()),
                           number(w.position.z()), tag_text(w.tag)});
   result.push_back(worst);
+  if (!o.design_path.empty()) {
+    const DesignComparison& d = o.design;
+    Table design{
+        fmt::format("Design comparison against {} (band {} / +{} {}; {} gouge and {} excess regions)",
+                    o.design_path, number(d.band.low), number(d.band.high), u, d.gouge_regions,
+                    d.excess_regions),
+        {"kind", "depth", "area (" + u + "^2)", "x", "y", "z", "made by", "nearest move"},
+        {}};
+    for (const DesignRegion& r : d.regions) {
+      std::string made_by;
+      for (std::size_t i = 0; i < r.region.sources.size() && i < 3; ++i)
+        made_by += (i ? "; " : "") + tag_text(r.region.sources[i].tag);
+      design.rows.push_back(
+          {raytest::to_string(r.region.kind), number(r.region.worst), number(r.region.area),
+           number(r.region.location.x()), number(r.region.location.y()), number(r.region.location.z()),
+           made_by.empty() ? "-" : made_by,
+           r.nearest_move < 0 ? "-" : fmt::format("move {} (line {})", r.nearest_move, r.nearest_line)});
+    }
+    result.push_back(design);
+  }
   result.push_back(
       {"Verdict",
        {"check", "holds", "measured", "bound"},
@@ -136,6 +196,11 @@ std::vector<Table> tables(const VerifyOutcome& o) {
          yes_no(o.sides_agree), number(o.resolvable_hausdorff), number(o.agreement_bound)},
         {"same pieces, volumes within half a voxel times area", yes_no(o.pieces_match),
          fmt::format("{} vs {}", o.morph_pieces.size(), o.reference_pieces.size()), "-"}}});
+  if (!o.design_path.empty())
+    result.back().rows.push_back(
+        {"machined result within the design's band", yes_no(o.design.within_band()),
+         fmt::format("{} .. {}", number(o.design.per_point.min), number(o.design.per_point.max)),
+         fmt::format("{} .. {}", number(o.design.band.low), number(o.design.band.high))});
   return result;
 }
 
@@ -156,11 +221,21 @@ nlohmann::json stats_to_json(const raytest::DeviationStats& s) {
           {"p99_9", s.p999},
           {"tolerance", s.tolerance},
           {"share_within_tolerance", s.share_within_tolerance},
-          {"histogram", {{"edges", s.histogram.edges}, {"counts", s.histogram.counts}}}};
+          {"band", {{"low", s.band.low}, {"high", s.band.high}}},
+          {"share_gouge", s.share_gouge},
+          {"share_within_band", s.share_within_band},
+          {"share_excess", s.share_excess},
+          {"histogram", {{"edges", s.histogram.edges}, {"counts", s.histogram.counts}}},
+          {"band_histogram",
+           {{"edges", s.band_histogram.edges},
+            {"counts", s.band_histogram.counts},
+            {"underflow", s.band_histogram.underflow},
+            {"overflow", s.band_histogram.overflow}}}};
 }
 
 nlohmann::json outcome_to_json(const VerifyOutcome& o) {
   nlohmann::json j;
+  j["sign_convention"] = std::string(raytest::kSignConvention) + " (\"A -> B\": A measured, B the reference)";
   j["job"] = {{"name", o.job.name},
               {"file", o.job.file},
               {"units", morph::to_string(o.job.units)},
@@ -191,6 +266,35 @@ nlohmann::json outcome_to_json(const VerifyOutcome& o) {
                                  {"patch_kind", morph::to_string(w.tag.kind)},
                                  {"source", w.tag.source},
                                  {"line", w.tag.line}});
+  j["worst_moves"] = nlohmann::json::array();
+  for (const auto& g : o.morph_to_exact.groups)
+    j["worst_moves"].push_back({{"patch_kind", morph::to_string(g.tag.kind)},
+                                {"move", g.tag.source},
+                                {"line", g.tag.line},
+                                {"stats", stats_to_json(g.stats)}});
+  j["regions"] = {{"resolution", o.region_resolution},
+                  {"count", {{"exact_surface", o.exact_regions}, {"reference", o.reference_regions}}},
+                  {"listed", nlohmann::json::array()}};
+  for (const auto& r : o.regions) {
+    nlohmann::json sources = nlohmann::json::array();
+    for (const auto& s : r.region.sources)
+      sources.push_back({{"patch_kind", morph::to_string(s.tag.kind)},
+                         {"move", s.tag.source},
+                         {"line", s.tag.line},
+                         {"worst", s.worst}});
+    j["regions"]["listed"].push_back(
+        {{"against", r.against},
+         {"band", {{"low", r.band.low}, {"high", r.band.high}}},
+         {"kind", raytest::to_string(r.region.kind)},
+         {"worst", r.region.worst},
+         {"area", r.region.area},
+         {"location", {r.region.location.x(), r.region.location.y(), r.region.location.z()}},
+         {"made_by", sources}});
+  }
+  if (!o.design_path.empty()) {
+    j["design"] = comparison_to_json(o.design, o.job);
+    j["design"]["path"] = o.design_path;
+  }
   j["verdict"] = {{"holds", o.verdict()},
                   {"generator_within_tolerance", o.generator_within_tolerance},
                   {"sides_agree", o.sides_agree},
@@ -198,7 +302,8 @@ nlohmann::json outcome_to_json(const VerifyOutcome& o) {
                   {"resolvable_hausdorff", o.resolvable_hausdorff},
                   {"agreement_samples", o.agreement_samples},
                   {"unresolvable_samples", o.unresolvable_samples},
-                  {"pieces_match", o.pieces_match}};
+                  {"pieces_match", o.pieces_match},
+                  {"design_within_band", o.design_within_band()}};
   return j;
 }
 
@@ -209,7 +314,8 @@ void write_reports(const VerifyOutcome& o, const std::string& out_dir,
   const std::string verdict = o.verdict() ? "HOLDS" : "DOES NOT HOLD";
   {
     std::ofstream md(dir / "report.md");
-    md << "# MorphMill verification: " << o.job.name << "\n\n**Verdict: " << verdict << "**\n\n";
+    md << "# MorphMill verification: " << o.job.name << "\n\n**Verdict: " << verdict << "**\n\n"
+       << "Sign of every deviation: " << raytest::kSignConvention << ".\n\n";
     for (const auto& t : all) md << markdown(t);
     md << "### Pictures\n\n";
     for (const auto& [title, file] : pictures) md << "![" << title << "](" << file << ")\n\n";
@@ -225,7 +331,9 @@ void write_reports(const VerifyOutcome& o, const std::string& out_dir,
           ".fails{background:#f8d0d0}\nfigure{display:inline-block;margin:0 1em 1em 0}"
           "figcaption{text-align:center}\n</style></head>\n<body>\n<h1>MorphMill verification: "
        << html_escape(o.job.name) << "</h1>\n<p class=\"verdict " << (o.verdict() ? "holds" : "fails")
-       << "\">Verdict: " << verdict << "</p>\n";
+       << "\">Verdict: " << verdict
+       << "</p>\n<p class=\"sign\">Sign of every deviation: " << html_escape(raytest::kSignConvention)
+       << ".</p>\n";
   for (const auto& t : all) page << html(t);
   page << "<h3>Pictures</h3>\n";
   for (const auto& [title, file] : pictures) {

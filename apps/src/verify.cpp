@@ -138,34 +138,6 @@ std::vector<Eigen::Vector3d> project_onto_exact_surface(const morph::ErosionFiel
   return kept;
 }
 
-std::vector<WorstPlace> worst_places(const raytest::OneSidedDeviation& deviation,
-                                     const morph::TriangleMesh& mesh, const std::string& against,
-                                     std::size_t count, double separation) {
-  std::vector<std::size_t> order(deviation.values.size());
-  std::iota(order.begin(), order.end(), 0);
-  std::stable_sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) {
-    const double va = std::isnan(deviation.values[a]) ? -1 : std::abs(deviation.values[a]);
-    const double vb = std::isnan(deviation.values[b]) ? -1 : std::abs(deviation.values[b]);
-    return va > vb;
-  });
-  std::vector<WorstPlace> places;
-  for (std::size_t i : order) {
-    if (places.size() >= count || std::isnan(deviation.values[i])) break;
-    const auto& sample = deviation.samples[i];
-    const bool near_listed = std::any_of(places.begin(), places.end(), [&](const WorstPlace& w) {
-      return (w.position - sample.position).norm() < separation;
-    });
-    if (near_listed) continue;
-    WorstPlace place;
-    place.position = sample.position;
-    place.deviation = deviation.values[i];
-    if (sample.triangle < mesh.tags.size()) place.tag = mesh.tags[sample.triangle];
-    place.against = against;
-    places.push_back(place);
-  }
-  return places;
-}
-
 // A level set of voxel h rounds convex edges by about a voxel but truncates acute wedges by about
 // h / sin(angle / 2), and loses walls and gaps thinner than a couple of voxels altogether. A sample is
 // resolvable when no two parts of the surface within `radius` face more than about 96 degrees
@@ -208,37 +180,12 @@ std::vector<bool> resolvable_samples(const std::vector<raytest::SurfaceSample>& 
   return resolvable;
 }
 
-// One 1-to-4 split at shared edge midpoints: the generator's vertices lie on the exact surface, so
-// its deviation lives inside the triangles (chord error) and only shows at new interior points.
-morph::TriangleMesh split_at_edge_midpoints(const morph::TriangleMesh& mesh) {
-  morph::TriangleMesh out;
-  out.vertices = mesh.vertices;
-  std::map<std::pair<std::uint32_t, std::uint32_t>, std::uint32_t> midpoint;
-  auto middle = [&](std::uint32_t a, std::uint32_t b) {
-    const auto key = std::minmax(a, b);
-    auto [it, inserted] = midpoint.try_emplace({key.first, key.second}, 0u);
-    if (inserted) {
-      it->second = static_cast<std::uint32_t>(out.vertices.size());
-      out.vertices.push_back(0.5 * (mesh.vertices[a] + mesh.vertices[b]));
-    }
-    return it->second;
-  };
-  const bool tagged = mesh.tags.size() == mesh.triangles.size();
-  for (std::size_t t = 0; t < mesh.triangles.size(); ++t) {
-    const auto& [a, b, c] = mesh.triangles[t];
-    const std::uint32_t ab = middle(a, b), bc = middle(b, c), ca = middle(c, a);
-    for (const morph::Triangle& child : {morph::Triangle{a, ab, ca}, morph::Triangle{ab, b, bc},
-                                         morph::Triangle{ca, bc, c}, morph::Triangle{ab, bc, ca}}) {
-      out.triangles.push_back(child);
-      if (tagged) out.tags.push_back(mesh.tags[t]);
-    }
-  }
-  return out;
-}
-
+// Colours on a fixed diverging map centred on zero, its ends at twice the band (the tolerance), so
+// the same colour means the same deviation in every picture.
 void write_heatmap(morph::TriangleMesh mesh, const std::string& scalar, const std::vector<double>& values,
-                   const fs::path& ply, const fs::path& png, const std::string& unit, int width, int height) {
-  const raytest::ScalarRange range = raytest::auto_range(values, true);
+                   const fs::path& ply, const fs::path& png, const std::string& unit, int width, int height,
+                   double band) {
+  const raytest::ScalarRange range{-2.0 * band, 2.0 * band};
   raytest::apply_heatmap(mesh, scalar, values, raytest::ColorMap::CoolWarm, range);
   write_mesh(mesh, ply.string());
   raytest::RenderOptions render;
@@ -301,6 +248,7 @@ Evaluation evaluate_job(const morph::Job& job, const EvaluateOptions& options) {
   clock.run("deviation (Embree)", [&] {
     if (options.progress) options.progress->begin("verify: deviation", 5);
     raytest::DeviationOptions deviation;
+    deviation.mode = raytest::DeviationMode::Signed;
     deviation.sampling.face_samples = options.face_samples;
     deviation.sampling.seed = options.seed;
     deviation.stats.tolerance = out.tolerance;
@@ -325,7 +273,8 @@ Evaluation evaluate_job(const morph::Job& job, const EvaluateOptions& options) {
     const auto on_surface = project_onto_exact_surface(field, seeds, 1e-6 * std::max(1.0, out.voxel_size));
     std::vector<double> distances(on_surface.size());
     morph::for_each_index(morph::ExecutionPolicy::Parallel, 0, on_surface.size(), [&](std::size_t i) {
-      distances[i] = morph_query.closest_point(on_surface[i]).distance;
+      const raytest::ClosestPoint closest = morph_query.closest_point(on_surface[i]);
+      distances[i] = morph_query.side(on_surface[i], closest) * closest.distance;
     });
     raytest::StatsOptions stats;
     stats.tolerance = out.tolerance;
@@ -333,11 +282,6 @@ Evaluation evaluate_job(const morph::Job& job, const EvaluateOptions& options) {
     out.exact_to_morph.misses += seeds.size() - on_surface.size();
     if (options.progress) options.progress->end();
   });
-
-  out.worst = worst_places(out.morph_to_exact, eroded.mesh, "exact surface", 10, out.voxel_size);
-  const auto versus_reference =
-      worst_places(out.morph_to_reference, eroded.mesh, "reference", 10, out.voxel_size);
-  out.worst.insert(out.worst.end(), versus_reference.begin(), versus_reference.end());
 
   out.generator_within_tolerance =
       out.morph_to_exact.stats.count > 0 && out.morph_to_exact.stats.max_abs <= out.tolerance &&
@@ -402,6 +346,9 @@ VerifyOutcome run_verify(const VerifyOptions& options) {
   std::vector<StageRecord> load_stage;
   StageClock clock(load_stage);
   const morph::Job job = clock.run("load job", [&] { return load_job(options.job_path); });
+  const DesignSpec design_spec = load_design(options.job_path);
+  const morph::TriangleMesh design_mesh =
+      design_spec.path.empty() ? morph::TriangleMesh{} : read_mesh(design_spec.path);
   // Bad input fails before the output directory is made (evaluate_job checks this again).
   const double tolerance = options.tolerance > 0 ? options.tolerance : job.tolerance;
   if (!(tolerance > 0)) throw morph::InputError("--tolerance must be positive");
@@ -432,8 +379,14 @@ VerifyOutcome run_verify(const VerifyOptions& options) {
   StageClock picture_clock(out.stages);
   picture_clock.run("pictures", [&] {
     const int w = options.image_width, h = options.image_height;
-    const morph::TriangleMesh morph_display =
-        morph_mesh.triangle_count() <= 1000000 ? split_at_edge_midpoints(morph_mesh) : morph_mesh;
+    // The generator's vertices lie on the exact surface; its error is inside its triangles, so they
+    // are refined until a feature of a few hundredths of the part shows (capped at 4M triangles).
+    Eigen::AlignedBox3d box;
+    for (const auto& v : morph_mesh.vertices) box.extend(v);
+    const raytest::RefinedMesh refined =
+        raytest::refine_long_edges(morph_mesh, std::max(box.diagonal().norm() / 300.0, 1e-9), 4'000'000);
+    const morph::TriangleMesh& morph_display = refined.mesh;
+    out.region_resolution = refined.max_edge;
     std::vector<double> morph_exact(morph_display.vertex_count()),
         reference_exact(reference_mesh.vertex_count());
     morph::for_each_index(morph::ExecutionPolicy::Parallel, 0, morph_exact.size(),
@@ -443,13 +396,24 @@ VerifyOutcome run_verify(const VerifyOptions& options) {
     });
     const raytest::SurfaceQuery reference_query(reference_mesh);
     const auto morph_reference =
-        raytest::vertex_deviation(morph_mesh, reference_query, raytest::DeviationMode::Signed);
+        raytest::vertex_deviation(morph_display, reference_query, raytest::DeviationMode::Signed);
+    const raytest::ToleranceBand exact_band{-out.tolerance, out.tolerance};
+    const raytest::ToleranceBand reference_band{-out.agreement_bound, out.agreement_bound};
+    auto keep_regions = [&](const std::vector<double>& values, const raytest::ToleranceBand& band,
+                            const std::string& against) {
+      const auto regions = raytest::find_regions(morph_display, values, band);
+      for (std::size_t i = 0; i < regions.size() && i < 10; ++i)
+        out.regions.push_back({against, band, regions[i]});
+      return regions.size();
+    };
+    out.exact_regions = keep_regions(morph_exact, exact_band, "exact surface");
+    out.reference_regions = keep_regions(morph_reference, reference_band, "reference");
     write_heatmap(morph_display, "deviation_exact", morph_exact, dir / "morph_vs_exact.ply",
-                  dir / "morph_vs_exact.png", unit, w, h);
-    write_heatmap(morph_mesh, "deviation_reference", morph_reference, dir / "morph_vs_reference.ply",
-                  dir / "morph_vs_reference.png", unit, w, h);
+                  dir / "morph_vs_exact.png", unit, w, h, out.tolerance);
+    write_heatmap(morph_display, "deviation_reference", morph_reference, dir / "morph_vs_reference.ply",
+                  dir / "morph_vs_reference.png", unit, w, h, out.agreement_bound);
     write_heatmap(reference_mesh, "deviation_exact", reference_exact, dir / "reference_vs_exact.ply",
-                  dir / "reference_vs_exact.png", unit, w, h);
+                  dir / "reference_vs_exact.png", unit, w, h, out.agreement_bound);
     raytest::RenderOptions plain;
     plain.width = w;
     plain.height = h;
@@ -461,18 +425,38 @@ VerifyOutcome run_verify(const VerifyOptions& options) {
          "reference.png", "morph_vs_exact.png", "morph_vs_reference.png", "reference_vs_exact.png"});
   });
 
+  if (!design_spec.path.empty()) {
+    picture_clock.run("design comparison", [&] {
+      CompareOptions compare;
+      compare.band = default_band(out.job, design_spec.low, design_spec.high);
+      compare.face_samples = options.face_samples;
+      compare.seed = options.seed;
+      out.design = compare_with_design(out.job, morph_mesh, design_mesh, compare);
+      out.design_path = design_spec.path;
+      const double reach = 2.0 * std::max(-compare.band.low, compare.band.high);
+      write_heatmap(out.design.refined.mesh, "deviation_design", out.design.point_values,
+                    dir / "machined_vs_design.ply", dir / "machined_vs_design.png", unit, options.image_width,
+                    options.image_height, reach / 2.0);
+      out.design.refined = {};
+      out.design.point_values.clear();
+      out.files.insert(out.files.end(), {"machined_vs_design.ply", "machined_vs_design.png"});
+    });
+  }
   {
     std::ofstream json(dir / "deviation.json");
     json << outcome_to_json(out).dump(2) << '\n';
     if (!json) throw morph::IoError((dir / "deviation.json").string() + ": cannot write");
   }
   out.files.push_back("deviation.json");
-  write_reports(out, options.out_dir,
-                {{"Generator (morph)", "morph.png"},
-                 {"Reference (OpenVDB)", "reference.png"},
-                 {"Generator against the exact surface", "morph_vs_exact.png"},
-                 {"Generator against the reference", "morph_vs_reference.png"},
-                 {"Reference against the exact surface", "reference_vs_exact.png"}});
+  std::vector<std::pair<std::string, std::string>> pictures{
+      {"Generator (morph)", "morph.png"},
+      {"Reference (OpenVDB)", "reference.png"},
+      {"Generator against the exact surface", "morph_vs_exact.png"},
+      {"Generator against the reference", "morph_vs_reference.png"},
+      {"Reference against the exact surface", "reference_vs_exact.png"}};
+  if (!out.design_path.empty())
+    pictures.push_back({"Machined result against the design", "machined_vs_design.png"});
+  write_reports(out, options.out_dir, pictures);
   out.files.insert(out.files.end(), {"report.md", "report.html"});
   return out;
 }

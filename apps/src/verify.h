@@ -5,11 +5,14 @@
 #include <morph/progress.h>
 #include <morph/topology.h>
 #include <raytest/deviation.h>
+#include <raytest/regions.h>
 #include <vdb_ref/reference.h>
 
 #include <nlohmann/json.hpp>
+
 #include <string>
 #include <vector>
+#include "compare.h"
 
 namespace morphmill {
 
@@ -38,7 +41,14 @@ struct PieceRecord {
   Eigen::AlignedBox3d bounds;
 };
 
-/// A sample with one of the largest deviations, and where it came from.
+/// A gouge or excess region of the generator's surface against one truth, out of `band`.
+struct RegionRecord {
+  std::string against;  ///< "exact surface" or "reference"
+  raytest::ToleranceBand band;
+  raytest::DeviationRegion region;
+};
+
+/// The sample that decided a check, and where it came from.
 struct WorstPlace {
   Eigen::Vector3d position;
   double deviation = 0.0;
@@ -56,8 +66,15 @@ struct VerifyOutcome {
   std::vector<PieceRecord> morph_pieces, reference_pieces;
   raytest::OneSidedDeviation morph_to_reference, reference_to_morph;
   raytest::OneSidedDeviation morph_to_exact, reference_to_exact;
-  raytest::DeviationStats exact_to_morph;  ///< points of the exact surface to the generator's mesh
-  std::vector<WorstPlace> worst;
+  /// Points of the exact surface to the generator's mesh, signed (+ where the exact surface lies
+  /// outside the generator's solid).
+  raytest::DeviationStats exact_to_morph;
+  std::vector<WorstPlace> worst;  ///< the place that decided the agreement check
+  /// Out-of-band regions of the generator's (refined) surface, deepest first, at most 10 per truth;
+  /// filled by run_verify, with the counts of all of them.
+  std::vector<RegionRecord> regions;
+  std::size_t exact_regions = 0, reference_regions = 0;
+  double region_resolution = 0.0;  ///< longest edge of the refined surface the regions are on
   /// The verdict and its parts.
   bool generator_within_tolerance = false;
   bool sides_agree = false;
@@ -68,7 +85,14 @@ struct VerifyOutcome {
   /// wall or narrow gap there), and how many samples were left out as unresolvable.
   double resolvable_hausdorff = 0.0;
   std::size_t unresolvable_samples = 0, agreement_samples = 0;
-  bool verdict() const { return generator_within_tolerance && sides_agree && pieces_match; }
+  /// The machined result against the design the job names (design_path empty when it names none);
+  /// its per-point arrays are dropped once written.
+  std::string design_path;
+  DesignComparison design;
+  bool design_within_band() const { return design_path.empty() || design.within_band(); }
+  bool verdict() const {
+    return generator_within_tolerance && sides_agree && pieces_match && design_within_band();
+  }
   std::vector<std::string> files;  ///< written into out_dir, relative names
 };
 

@@ -17,9 +17,58 @@ double percentile_of_sorted(const std::vector<double>& sorted, double q) {
   return sorted[below] + (h - static_cast<double>(below)) * (sorted[above] - sorted[below]);
 }
 
+DeviationClass classify(double value, const ToleranceBand& band) {
+  if (value < band.low) return DeviationClass::Gouge;
+  if (value > band.high) return DeviationClass::Excess;
+  return DeviationClass::Within;
+}
+
+const char* to_string(DeviationClass kind) {
+  switch (kind) {
+    case DeviationClass::Gouge:
+      return "gouge";
+    case DeviationClass::Within:
+      return "within";
+    case DeviationClass::Excess:
+      return "excess";
+  }
+  return "?";
+}
+
+namespace {
+
+// Edges k * band.low .. 0 .. k * band.high; values beyond the outer edges are under/overflow.
+Histogram band_histogram(const std::vector<double>& sorted, const ToleranceBand& band, std::size_t per_side) {
+  Histogram h;
+  for (std::size_t k = band.low < 0 ? per_side : 0; k >= 1; --k)
+    h.edges.push_back(band.low * static_cast<double>(k));
+  h.edges.push_back(0.0);
+  for (std::size_t k = 1; band.high > 0 && k <= per_side; ++k)
+    h.edges.push_back(band.high * static_cast<double>(k));
+  if (h.edges.size() < 2) return {};
+  h.counts.assign(h.edges.size() - 1, 0);
+  for (double v : sorted) {
+    if (v < h.edges.front()) {
+      ++h.underflow;
+    } else if (v > h.edges.back()) {
+      ++h.overflow;
+    } else {
+      const auto above = std::upper_bound(h.edges.begin(), h.edges.end(), v) - h.edges.begin();
+      const std::size_t bin = std::min<std::size_t>(static_cast<std::size_t>(above) - 1, h.counts.size() - 1);
+      ++h.counts[bin];
+    }
+  }
+  return h;
+}
+
+}  // namespace
+
 DeviationStats compute_stats(std::vector<double> values, const StatsOptions& options) {
   DeviationStats stats;
   stats.tolerance = options.tolerance;
+  stats.band = options.band.empty() ? ToleranceBand{-options.tolerance, options.tolerance} : options.band;
+  if (stats.band.low > 0 || stats.band.high < 0 || std::isnan(stats.band.low) || std::isnan(stats.band.high))
+    throw morph::InputError("tolerance band must satisfy low <= 0 <= high");
   const auto finite_end =
       std::partition(values.begin(), values.end(), [](double v) { return !std::isnan(v); });
   stats.misses = static_cast<std::size_t>(values.end() - finite_end);
@@ -31,7 +80,7 @@ DeviationStats compute_stats(std::vector<double> values, const StatsOptions& opt
   stats.min = values.front();
   stats.max = values.back();
   long double sum = 0, sum_abs = 0, sum_squares = 0;
-  std::size_t within = 0;
+  std::size_t within = 0, gouge = 0, excess = 0;
   std::vector<double> magnitudes(values.size());
   for (std::size_t i = 0; i < values.size(); ++i) {
     const double v = values[i];
@@ -39,6 +88,9 @@ DeviationStats compute_stats(std::vector<double> values, const StatsOptions& opt
     sum_abs += std::abs(v);
     sum_squares += static_cast<long double>(v) * v;
     if (std::abs(v) <= options.tolerance) ++within;
+    const DeviationClass kind = classify(v, stats.band);
+    gouge += kind == DeviationClass::Gouge;
+    excess += kind == DeviationClass::Excess;
     magnitudes[i] = std::abs(v);
   }
   const auto n = static_cast<long double>(values.size());
@@ -46,6 +98,11 @@ DeviationStats compute_stats(std::vector<double> values, const StatsOptions& opt
   stats.mean_abs = static_cast<double>(sum_abs / n);
   stats.rms = static_cast<double>(std::sqrt(sum_squares / n));
   stats.share_within_tolerance = static_cast<double>(within) / static_cast<double>(values.size());
+  stats.share_gouge = static_cast<double>(gouge) / static_cast<double>(values.size());
+  stats.share_excess = static_cast<double>(excess) / static_cast<double>(values.size());
+  stats.share_within_band =
+      static_cast<double>(values.size() - gouge - excess) / static_cast<double>(values.size());
+  stats.band_histogram = band_histogram(values, stats.band, options.band_bins_per_side);
   std::sort(magnitudes.begin(), magnitudes.end());
   stats.max_abs = magnitudes.back();
   stats.p50 = percentile_of_sorted(magnitudes, 50);

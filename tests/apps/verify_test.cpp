@@ -73,6 +73,28 @@ TEST_F(VerifySingleSlot, JsonMatchesTheClosedForm) {
   EXPECT_TRUE(json["verdict"]["holds"].get<bool>());
 }
 
+TEST_F(VerifySingleSlot, DeviationIsSignedWithBandsAndRegions) {
+  const auto json = nlohmann::json::parse(slurp(*out_ / "deviation.json"));
+  EXPECT_NE(json["sign_convention"].get<std::string>().find("- gouge"), std::string::npos);
+  const auto& exact = json["deviation"]["generator_to_exact"];
+  // The generator's chords across the slot's cylinder lie in the removed region, outside the exact
+  // part: excess (+), within the tolerance; nowhere inside the part (beyond rounding).
+  EXPECT_GT(exact["max"].get<double>(), 1e-4);
+  EXPECT_LE(exact["max"].get<double>(), 0.01);
+  EXPECT_GE(exact["min"].get<double>(), -1e-6);
+  // Seen from the exact surface, the same chords: exact points inside the generator's solid (-).
+  EXPECT_LT(json["deviation"]["exact_to_generator"]["min"].get<double>(), -1e-4);
+  EXPECT_EQ(exact["band"]["low"].get<double>(), -0.01);
+  EXPECT_DOUBLE_EQ(exact["share_within_band"].get<double>(), 1.0);
+  std::size_t binned = exact["band_histogram"]["underflow"].get<std::size_t>() +
+                       exact["band_histogram"]["overflow"].get<std::size_t>();
+  for (const auto& c : exact["band_histogram"]["counts"]) binned += c.get<std::size_t>();
+  EXPECT_EQ(binned, exact["count"].get<std::size_t>());
+  // Within tolerance everywhere on the refined surface too: no region against the exact surface.
+  EXPECT_EQ(json["regions"]["count"]["exact_surface"].get<int>(), 0) << json["regions"].dump(1);
+  EXPECT_GT(json["regions"]["resolution"].get<double>(), 0.0);
+}
+
 TEST_F(VerifySingleSlot, ReportLoadsInAHeadlessBrowser) {
   const fs::path report = *out_ / "report.html";
   ASSERT_TRUE(fs::exists(report));
@@ -89,7 +111,8 @@ TEST_F(VerifySingleSlot, ReportLoadsInAHeadlessBrowser) {
       << browser.output.substr(0, 2000);
   EXPECT_EQ(match[1], match[2]);
   EXPECT_EQ(match[2], "5");
-  for (const char* heading : {"Stages", "Pieces", "Deviation", "Worst places", "Verdict"})
+  for (const char* heading : {"Stages", "Pieces", "Signed deviation", "Histogram", "Worst moves",
+                              "Regions out of the band", "Decisive place", "Verdict"})
     EXPECT_NE(browser.output.find(std::string("<h3>") + heading), std::string::npos) << heading;
   EXPECT_GE(std::count(browser.output.begin(), browser.output.end(), '<'), 100);
 }

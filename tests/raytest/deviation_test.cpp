@@ -188,3 +188,44 @@ TEST(Deviation, VertexDeviationOfScaledSphere) {
 }
 
 }  // namespace
+
+namespace {
+
+TEST(DeviationStats, BandSharesAndToleranceBins) {
+  // Band -0.02 / +0.1: bins of 0.02 below zero and 0.1 above, four a side.
+  raytest::StatsOptions options;
+  options.band = {-0.02, 0.1};
+  const raytest::DeviationStats s =
+      raytest::compute_stats({-0.5, -0.03, -0.01, 0.0, 0.05, 0.1, 0.15, 0.35, 1.0, -0.07}, options);
+  EXPECT_EQ(s.band.low, -0.02);
+  EXPECT_EQ(s.band.high, 0.1);
+  EXPECT_DOUBLE_EQ(s.share_gouge, 0.3);   // -0.5, -0.07, -0.03
+  EXPECT_DOUBLE_EQ(s.share_excess, 0.3);  // 0.15, 0.35, 1.0
+  EXPECT_DOUBLE_EQ(s.share_within_band, 0.4);
+  const raytest::Histogram& h = s.band_histogram;
+  ASSERT_EQ(h.edges.size(), 9u);
+  EXPECT_DOUBLE_EQ(h.edges.front(), -0.08);
+  EXPECT_EQ(h.edges[4], 0.0);
+  EXPECT_DOUBLE_EQ(h.edges.back(), 0.4);
+  EXPECT_EQ(h.underflow, 1u);  // -0.5
+  EXPECT_EQ(h.overflow, 1u);   // 1.0
+  // [-0.08,-0.06) holds -0.07; [-0.04,-0.02) -0.03; [-0.02,0) -0.01; [0,0.1) 0, 0.05; [0.1,0.2) 0.1, 0.15;
+  // [0.3,0.4] 0.35.
+  const std::vector<std::size_t> expected{1, 0, 1, 1, 2, 2, 0, 1};
+  EXPECT_EQ(h.counts, expected);
+}
+
+TEST(DeviationStats, ToleranceGivesASymmetricBandAndBadBandsThrow) {
+  raytest::StatsOptions options;
+  options.tolerance = 0.5;
+  const raytest::DeviationStats s = raytest::compute_stats({-1.0, 0.2, 0.7}, options);
+  EXPECT_EQ(s.band.low, -0.5);
+  EXPECT_EQ(s.band.high, 0.5);
+  EXPECT_EQ(raytest::classify(-1.0, s.band), raytest::DeviationClass::Gouge);
+  EXPECT_EQ(raytest::classify(0.5, s.band), raytest::DeviationClass::Within);
+  EXPECT_EQ(raytest::classify(0.7, s.band), raytest::DeviationClass::Excess);
+  options.band = {0.1, 0.2};
+  EXPECT_THROW(raytest::compute_stats({0.0}, options), morph::InputError);
+}
+
+}  // namespace

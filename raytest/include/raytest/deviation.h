@@ -13,15 +13,43 @@
 
 namespace raytest {
 
+/// The sign convention of every signed deviation MorphMill reports, stated in its outputs.
+/// A measured surface (the machined part, the generator's mesh) against a reference (the design,
+/// the exact surface): + where the measured surface lies outside the reference solid (excess:
+/// material left where the reference wants none), - where it lies inside (gouge: material removed
+/// where the reference wants it).
+inline constexpr const char* kSignConvention =
+    "+ excess: material left where the reference wants none (measured surface outside the reference "
+    "solid); - gouge: material removed where the reference wants it (measured surface inside)";
+
+/// Allowed signed deviation: values in [low, high] are within (low <= 0 <= high, data units),
+/// e.g. -0.02 / +0.1 mm for a part that may keep a little stock but must not be gouged.
+struct ToleranceBand {
+  double low = 0.0;
+  double high = 0.0;
+  bool empty() const { return low == 0.0 && high == 0.0; }
+};
+
+/// Where a signed deviation falls relative to a band.
+enum class DeviationClass { Gouge, Within, Excess };
+DeviationClass classify(double value, const ToleranceBand& band);
+const char* to_string(DeviationClass kind);
+
 /// Counts of values per bin; bin i holds values in [edges[i], edges[i+1]) (the last bin is closed).
 struct Histogram {
   std::vector<double> edges;  ///< bins + 1 increasing values, same units as the data
   std::vector<std::size_t> counts;
+  std::size_t underflow = 0;  ///< values below edges.front()
+  std::size_t overflow = 0;   ///< values above edges.back()
 };
 
 struct StatsOptions {
   std::size_t histogram_bins = 20;
   double tolerance = 0.0;  ///< share_within_tolerance counts |value| <= tolerance (units of the data)
+  /// Signed band for the band shares and the band histogram; empty: [-tolerance, +tolerance].
+  ToleranceBand band;
+  /// Bins of the band histogram on each side of zero, each as wide as the band limit on its side.
+  std::size_t band_bins_per_side = 4;
 };
 
 /// Statistics of a set of deviations (all in the units of the meshes).
@@ -37,6 +65,13 @@ struct DeviationStats {
   Histogram histogram;  ///< of the values as given (signed in signed mode), over [min, max]
   double tolerance = 0;
   double share_within_tolerance = 0;  ///< fraction of values with |value| <= tolerance, in [0, 1]
+  ToleranceBand band;                 ///< the band the shares below refer to
+  double share_gouge = 0;             ///< fraction of values below band.low
+  double share_within_band = 0;       ///< fraction in [band.low, band.high]
+  double share_excess = 0;            ///< fraction above band.high
+  /// Bins by tolerance: edges at k * band.low (k = per_side..1), 0 and k * band.high (k = 1..per_side);
+  /// a side whose limit is 0 has no bins (its values are under- or overflow). Empty without a band.
+  Histogram band_histogram;
 };
 
 /// Statistics of `values` (NaN entries are counted as misses). Deterministic.
