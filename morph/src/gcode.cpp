@@ -474,8 +474,8 @@ void Interpreter::execute_block() {
 }
 
 void Interpreter::count_words() {
-  for (int k = 0; k < 26; ++k)
-    if (block_.present & (std::uint32_t{1} << k)) ++letter_counts_[static_cast<std::size_t>(k)];
+  for (std::uint32_t bits = block_.present; bits != 0; bits &= bits - 1)
+    ++letter_counts_[static_cast<std::size_t>(__builtin_ctz(bits))];
   if (block_.line_number) ++letter_counts_[static_cast<std::size_t>('N' - 'A')];
   for (int k = 0; k < block_.g_count; ++k) ++g_counts_[block_.g_codes[static_cast<std::size_t>(k)]];
   for (int k = 0; k < block_.m_count; ++k) ++m_counts_[block_.m_codes[static_cast<std::size_t>(k)]];

@@ -4,6 +4,7 @@
 #include <charconv>
 #include <cmath>
 #include <cstdio>
+#include <cstring>
 #include <optional>
 
 namespace morph::gcode {
@@ -57,23 +58,30 @@ OKind read_keyword(std::string_view s, std::size_t& i) {
 
 /// Lower case without blanks outside comments (LinuxCNC ignores both outside comments).
 void normalize_into(std::string_view line, std::string& s) {
-  s.clear();
+  s.resize(line.size());
+  char* out = s.data();
   bool comment = false;
   for (std::size_t k = 0; k < line.size(); ++k) {
     const char c = line[k];
+    if (!comment && c > ' ' && c != ';' && c != '(') {  // the common case: a word character
+      *out++ = (c >= 'A' && c <= 'Z') ? static_cast<char>(c - 'A' + 'a') : c;
+      continue;
+    }
     if (comment) {
-      s += c;
+      *out++ = c;
       if (c == ')') comment = false;
       continue;
     }
     if (c == ';') {
-      s.append(line.substr(k));
+      std::memcpy(out, line.data() + k, line.size() - k);
+      out += line.size() - k;
       break;
     }
     if (is_blank(c)) continue;
     if (c == '(') comment = true;
-    s += (c >= 'A' && c <= 'Z') ? static_cast<char>(c - 'A' + 'a') : c;
+    *out++ = (c >= 'A' && c <= 'Z') ? static_cast<char>(c - 'A' + 'a') : c;
   }
+  s.resize(static_cast<std::size_t>(out - s.data()));
 }
 
 }  // namespace

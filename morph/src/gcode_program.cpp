@@ -26,7 +26,7 @@ ProgramIndex::ProgramIndex(std::string_view text) {
     ++line_number;
     const std::string_view line = text.substr(begin, end - begin);
     // Most lines hold no 'o' at all; only those are looked at closely.
-    if (line.find_first_of("oO") != std::string_view::npos) {
+    if (std::any_of(line.begin(), line.end(), [](char c) { return (c | 0x20) == 'o'; })) {
       OLine o;
       o.begin = begin;
       o.end = end;
