@@ -220,7 +220,8 @@ json moves_json(const std::vector<morph::Path>& paths, const std::string& file, 
   out["moves"] = std::move(list);
   auto notes = [](const std::vector<morph::Warning>& ws) {
     json a = json::array();
-    for (const morph::Warning& w : ws) a.push_back({{"file", w.file}, {"line", w.line}, {"message", w.message}});
+    for (const morph::Warning& w : ws)
+      a.push_back({{"file", w.file}, {"line", w.line}, {"message", w.message}});
     return a;
   };
   out["warnings"] = notes(warnings);
@@ -279,22 +280,26 @@ void register_info_commands(CLI::App& app) {
       "  morphmill info data/jobs/slots.json --json\n"
       "  morphmill info --moves data/gcode/conformance/cycles.ngc --format json --start 0,0,0\n"
       "Job format: docs/job-format.md; G-code: docs/gcode.md");
-  info->add_option("job", job_options->path, "Job file (JSON, see docs/job-format.md), or with --moves a G-code file")
+  info->add_option("job", job_options->path,
+                   "Job file (JSON, see docs/job-format.md), or with --moves a G-code file")
       ->required();
-  info->add_flag("--json", job_options->json, "Print the summary as JSON instead of a table (same as --format json)");
+  info->add_flag("--json", job_options->json,
+                 "Print the summary as JSON instead of a table (same as --format json)");
   info->add_option("--format", job_options->format, "Output format")->check(CLI::IsMember({"text", "json"}));
-  info->add_flag("--moves", job_options->moves,
-                 "Print every move as understood: tool tip in machine coordinates (job units), kind, arc centre,\n"
-                 "axis and sweep, tool, source line, feed. Takes a job (.json) or a G-code file (any other\n"
-                 "extension), so that MorphMill's reading can be diffed against another interpreter's");
+  info->add_flag(
+      "--moves", job_options->moves,
+      "Print every move as understood: tool tip in machine coordinates (job units), kind, arc centre,\n"
+      "axis and sweep, tool, source line, feed. Takes a job (.json) or a G-code file (any other\n"
+      "extension), so that MorphMill's reading can be diffed against another interpreter's");
   info->add_option("--units", job_options->units, "G-code file only: the units of the moves")
       ->check(CLI::IsMember({"mm", "inch"}));
   info->add_option("--var-file", job_options->var_file,
                    "G-code file only: a LinuxCNC parameter file (work offsets, G28/G30 positions)")
       ->check(CLI::ExistingFile);
-  info->add_option("--start", job_options->start,
-                   "G-code file only: where the tool tip is before the first line, X,Y,Z (else moves start once\n"
-                   "X, Y and Z are known)")
+  info->add_option(
+          "--start", job_options->start,
+          "G-code file only: where the tool tip is before the first line, X,Y,Z (else moves start once\n"
+          "X, Y and Z are known)")
       ->delimiter(',')
       ->expected(3);
   info->add_flag("!--no-block-delete", job_options->block_delete,

@@ -54,7 +54,8 @@ Interpreter::Interpreter(const std::string& name, const GcodeOptions& options)
   if (!options.var_file.empty()) initial = read_var_file(options.var_file);
   for (const auto& [number, value] : options.parameters) initial[number] = value;
   for (const auto& [index, offset] : options.work_offsets) {
-    if (index < 1 || index > 9) throw InputError("work offset index " + std::to_string(index) + " is not 1 (G54) .. 9 (G59.3)");
+    if (index < 1 || index > 9)
+      throw InputError("work offset index " + std::to_string(index) + " is not 1 (G54) .. 9 (G59.3)");
     for (int a = 0; a < 3; ++a) initial[param::system_base(index) + a] = offset[a];
   }
   for (const auto& [number, value] : initial) {
@@ -67,7 +68,8 @@ Interpreter::Interpreter(const std::string& name, const GcodeOptions& options)
   const double active = parameters_.numbered(param::kCoordSystem);
   try {
     system_ = 0;  // nothing loaded yet
-    select_system((active >= 1.0 && active <= 9.0 && active == std::floor(active)) ? static_cast<int>(active) : 1);
+    select_system((active >= 1.0 && active <= 9.0 && active == std::floor(active)) ? static_cast<int>(active)
+                                                                                   : 1);
     if (parameters_.numbered(param::kG92Applied) == 1.0)
       for (int a = 0; a < 3; ++a) axis_offset_[a] = parameters_.numbered(param::kG92 + a);
   } catch (const BlockError& e) {
@@ -85,7 +87,8 @@ GcodeResult Interpreter::run(std::string_view text) {
   bool seen_content = false;  // an opening '%' may only come before any content
   while (pos_offset_ < text.size()) {
     const std::size_t begin = pos_offset_;
-    const char* newline = static_cast<const char*>(std::memchr(text.data() + begin, '\n', text.size() - begin));
+    const char* newline =
+        static_cast<const char*>(std::memchr(text.data() + begin, '\n', text.size() - begin));
     const std::size_t end = newline ? static_cast<std::size_t>(newline - text.data()) : text.size();
     std::string_view line = text.substr(begin, end - begin);
     if (!line.empty() && line.back() == '\r') line.remove_suffix(1);
@@ -126,9 +129,9 @@ GcodeResult Interpreter::run(std::string_view text) {
     result_.warnings.push_back(
         Warning{name_, ended_after_line_, "lines after the program end (" + end_code_ + ") are ignored"});
   if (selected_tool_ && !selection_reached_spindle_ && *selected_tool_ != current_tool_)
-    result_.warnings.push_back(Warning{name_, selected_line_,
-                                       "T" + std::to_string(*selected_tool_) +
-                                           " is selected but never put in the spindle (no M6 follows)"});
+    result_.warnings.push_back(Warning{
+        name_, selected_line_,
+        "T" + std::to_string(*selected_tool_) + " is selected but never put in the spindle (no M6 follows)"});
   auto& counts = result_.word_counts;
   for (int k = 0; k < 26; ++k)
     if (letter_counts_[static_cast<std::size_t>(k)] != 0)
@@ -208,6 +211,11 @@ void Interpreter::execute_o_word(std::size_t k) {
       returned_value_ = !block_.o_args.empty();
       if (returned_value_) return_value_ = value();
       const Call call = calls_.back();
+      if (saved_.size() > calls_.size()) {
+        const std::optional<ModalState> state = saved_[calls_.size()];
+        saved_.resize(calls_.size());
+        if (state && state->restore_on_return) restore(*state);
+      }
       calls_.pop_back();
       loops_.resize(call.loops);
       parameters_.pop_call();
@@ -279,7 +287,8 @@ void Interpreter::execute_o_word(std::size_t k) {
       return;
     }
     case OKind::EndWhile:
-      if (loops_.empty() || loops_.back().start != o.partner) fail("o" + o.label + " endwhile without its while");
+      if (loops_.empty() || loops_.back().start != o.partner)
+        fail("o" + o.label + " endwhile without its while");
       iterate(loops_.back());
       jump_to(o.partner, false);  // evaluate the condition again
       return;
@@ -291,12 +300,14 @@ void Interpreter::execute_o_word(std::size_t k) {
       }
       if (count > static_cast<double>(options_.max_loop_iterations))
         fail("o" + o.label + " repeat [" + format_number(count) + "] exceeds " +
-             std::to_string(options_.max_loop_iterations) + " iterations (GcodeOptions::max_loop_iterations)");
+             std::to_string(options_.max_loop_iterations) +
+             " iterations (GcodeOptions::max_loop_iterations)");
       loops_.push_back(Loop{k, 0, static_cast<long>(count)});
       return;
     }
     case OKind::EndRepeat: {
-      if (loops_.empty() || loops_.back().start != o.partner) fail("o" + o.label + " endrepeat without its repeat");
+      if (loops_.empty() || loops_.back().start != o.partner)
+        fail("o" + o.label + " endrepeat without its repeat");
       Loop& loop = loops_.back();
       iterate(loop);
       if (--loop.remaining > 0)
@@ -327,7 +338,7 @@ void Interpreter::execute_block() {
   count_words();
   const LineCodes codes = sort_g_codes();
   if (codes.feed_mode >= 0)
-    feed_mode_ = codes.feed_mode == 940 ? FeedMode::PerMinute
+    feed_mode_ = codes.feed_mode == 940   ? FeedMode::PerMinute
                  : codes.feed_mode == 930 ? FeedMode::InverseTime
                                           : FeedMode::PerRevolution;
   if (block_.has('f')) {
@@ -356,13 +367,14 @@ void Interpreter::execute_block() {
     fail("cutter radius compensation (" + code_name('G', codes.cutter) +
          ") is not supported: the path would be offset by the tool radius");
   if (codes.length >= 0) set_length_offset(codes.length);
-  if (codes.system >= 0) select_system(codes.system == 540 ? 1 : codes.system < 591 ? codes.system / 10 - 53 : codes.system - 584);
+  if (codes.system >= 0)
+    select_system(codes.system == 540 ? 1 : codes.system < 591 ? codes.system / 10 - 53 : codes.system - 584);
   if (codes.path >= 0) used_ |= bit('p') | bit('q');
   if (codes.distance >= 0) incremental_ = codes.distance == 910;
   if (codes.arc_distance >= 0) incremental_centre_ = codes.arc_distance == 911;
   if (codes.retract >= 0) retract_to_r_ = codes.retract == 990;
 
-  const bool axis_words = (block_.present & kAxisBits) != 0;
+  const bool axis_words = (block_.present & kAxisBits) != 0 || block_.polar_present != 0;
   bool axes_taken = false;  // a non-modal code used the axis words
   switch (codes.non_modal) {
     case 100: {
@@ -399,6 +411,8 @@ void Interpreter::execute_block() {
       break;
   }
   if (codes.length == 431) axes_taken = true;
+  if (axes_taken && block_.polar_present != 0)
+    fail("polar coordinates (@, ^) cannot give the values of this line's G10/G28/G30/G52/G92");
   if (axes_taken && codes.motion >= 0 && codes.motion != 800 && axis_words)
     fail(code_name('G', codes.non_modal >= 0 ? codes.non_modal : codes.length) + " and " +
          code_name('G', codes.motion) + " both use the axis words");
@@ -409,8 +423,10 @@ void Interpreter::execute_block() {
       motion_ = Motion::None;
       if (axis_words && !axes_taken) fail("axis words with G80 (cancel canned cycle), which has no motion");
     } else if (codes.motion <= 30) {
-      motion_ = codes.motion == 0 ? Motion::Rapid : codes.motion == 10 ? Motion::Linear
-                : codes.motion == 20 ? Motion::ArcClockwise : Motion::ArcCounterClockwise;
+      motion_ = codes.motion == 0    ? Motion::Rapid
+                : codes.motion == 10 ? Motion::Linear
+                : codes.motion == 20 ? Motion::ArcClockwise
+                                     : Motion::ArcCounterClockwise;
     } else {
       motion_ = Motion::Cycle;
       cycle_code_ = codes.motion;
@@ -423,7 +439,8 @@ void Interpreter::execute_block() {
     if (!block_.has(letter)) continue;
     used_ |= bit(letter);
     if (block_.get(letter) != 0.0)
-      fail(std::string("axis ") + static_cast<char>(letter - 32) + " is not supported (3-axis X, Y, Z reader)");
+      fail(std::string("axis ") + static_cast<char>(letter - 32) +
+           " is not supported (3-axis X, Y, Z reader)");
     warn(std::string(1, static_cast<char>(letter - 32)) + "0 ignored (3-axis reader)");
   }
   const bool moves = axis_words && !axes_taken;
@@ -441,7 +458,7 @@ void Interpreter::execute_block() {
     case Motion::ArcClockwise:
     case Motion::ArcCounterClockwise: {
       const std::uint32_t arc_words = kAxisBits | bit('i') | bit('j') | bit('k') | bit('r');
-      if ((block_.present & arc_words) != 0 && !axes_taken) {
+      if (((block_.present & arc_words) != 0 || block_.polar_present != 0) && !axes_taken) {
         note_missing_units();
         require_feed(motion_ == Motion::ArcClockwise ? "G2" : "G3");
         arc(motion_ == Motion::ArcClockwise);
@@ -455,7 +472,8 @@ void Interpreter::execute_block() {
         note_missing_units();
         canned_cycle();
       } else if (codes.motion >= 0 && !axes_taken) {
-        used_ |= bit('r') | bit('l') | bit('p') | bit('q') | bit('i') | bit('j') | bit('k');  // stored for later
+        used_ |=
+            bit('r') | bit('l') | bit('p') | bit('q') | bit('i') | bit('j') | bit('k');  // stored for later
       }
       break;
     case Motion::None:
@@ -467,7 +485,8 @@ void Interpreter::execute_block() {
     if ((unused & (std::uint32_t{1} << k)) == 0) continue;
     const char letter = static_cast<char>('A' + k);
     const std::string word = letter + format_number(block_.value[static_cast<std::size_t>(k)]);
-    if (std::strchr("IJKRPQLHDEXYZ", letter)) fail(word + ": nothing on this line uses it (LinuxCNC refuses it too)");
+    if (std::strchr("IJKRPQLHDEXYZ", letter))
+      fail(word + ": nothing on this line uses it (LinuxCNC refuses it too)");
     fail("unsupported word " + word);
   }
   if (stop) ended_ = true;

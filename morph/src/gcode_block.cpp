@@ -19,11 +19,11 @@ struct Keyword {
   OKind kind;
 };
 constexpr Keyword kKeywords[] = {
-    {"endsub", OKind::EndSub}, {"sub", OKind::Sub},           {"call", OKind::Call},
-    {"return", OKind::Return}, {"elseif", OKind::ElseIf},     {"else", OKind::Else},
-    {"endif", OKind::EndIf},   {"if", OKind::If},             {"endwhile", OKind::EndWhile},
-    {"while", OKind::While},   {"do", OKind::Do},             {"endrepeat", OKind::EndRepeat},
-    {"repeat", OKind::Repeat}, {"break", OKind::Break},       {"continue", OKind::Continue},
+    {"endsub", OKind::EndSub}, {"sub", OKind::Sub},       {"call", OKind::Call},
+    {"return", OKind::Return}, {"elseif", OKind::ElseIf}, {"else", OKind::Else},
+    {"endif", OKind::EndIf},   {"if", OKind::If},         {"endwhile", OKind::EndWhile},
+    {"while", OKind::While},   {"do", OKind::Do},         {"endrepeat", OKind::EndRepeat},
+    {"repeat", OKind::Repeat}, {"break", OKind::Break},   {"continue", OKind::Continue},
 };
 
 /// Reads an O-word label at `i` (just after the 'o') of a normalized line.
@@ -117,6 +117,7 @@ void BlockReader::read(std::string_view line, Block& block) {
   block.g_count = 0;
   block.m_count = 0;
   block.line_number = false;
+  block.polar_present = 0;
   block.block_delete = false;
   block.assignments.clear();
   block.o_kind = OKind::None;
@@ -148,6 +149,15 @@ void BlockReader::read(std::string_view line, Block& block) {
       ++i;
       a.value = real_value(i, '=');
       block.assignments.push_back(std::move(a));
+      first_word = false;
+      continue;
+    }
+    if (c == '@' || c == '^') {  // polar radius and angle (LinuxCNC)
+      const unsigned which = c == '@' ? 0 : 1;
+      ++i;
+      if (block.polar_present & (1u << which)) fail(std::string("two ") + c + " words on one line");
+      block.polar[which] = real_value(i, c);
+      block.polar_present |= 1u << which;
       first_word = false;
       continue;
     }
@@ -216,7 +226,8 @@ std::string BlockReader::substitute(std::string_view text) const {
       if (close != std::string_view::npos) {
         std::string name;
         for (std::size_t n = end + 1; n < close; ++n)
-          if (!is_blank(text[n])) name += static_cast<char>(text[n] >= 'A' && text[n] <= 'Z' ? text[n] + 32 : text[n]);
+          if (!is_blank(text[n]))
+            name += static_cast<char>(text[n] >= 'A' && text[n] <= 'Z' ? text[n] + 32 : text[n]);
         value = parameters_.named(name);
         end = close + 1;
       }
@@ -264,7 +275,8 @@ void BlockReader::read_o_word(std::size_t& i, Block& block) {
     }
     if (s_[i] == ';') break;
     if (kind == OKind::ProgramNumber)
-      fail("O-word o" + block.o_label + " with an unknown keyword: expected sub, endsub, call, return, if, "
+      fail("O-word o" + block.o_label +
+           " with an unknown keyword: expected sub, endsub, call, return, if, "
            "elseif, else, endif, while, endwhile, do, repeat, endrepeat, break or continue");
     fail("unexpected '" + s_.substr(i) + "' after o" + block.o_label + " " + to_string(kind) +
          " (an O-word line holds nothing else)");

@@ -12,16 +12,35 @@
 
 namespace morph::gcode {
 
-constexpr int letter_index(char lower) { return lower - 'a'; }
-constexpr std::uint32_t bit(char lower) { return std::uint32_t{1} << letter_index(lower); }
+constexpr int letter_index(char lower) {
+  return lower - 'a';
+}
+constexpr std::uint32_t bit(char lower) {
+  return std::uint32_t{1} << letter_index(lower);
+}
 
 /// G and M codes are kept as ten times their number, so G90.1 is 901.
 std::string code_name(char letter, int code10);
 std::string format_number(double value);
 
 enum class OKind {
-  None, ProgramNumber, Sub, EndSub, Call, Return, If, ElseIf, Else, EndIf,
-  While, EndWhile, Do, Repeat, EndRepeat, Break, Continue
+  None,
+  ProgramNumber,
+  Sub,
+  EndSub,
+  Call,
+  Return,
+  If,
+  ElseIf,
+  Else,
+  EndIf,
+  While,
+  EndWhile,
+  Do,
+  Repeat,
+  EndRepeat,
+  Break,
+  Continue
 };
 const char* to_string(OKind kind);
 
@@ -41,18 +60,22 @@ struct Block {
   int g_count = 0;
   std::array<int, 8> m_codes{};
   int m_count = 0;
-  bool line_number = false;   ///< an N word was read
-  bool block_delete = false;  ///< the line starts with '/'
+  std::array<double, 2> polar{};  ///< @ (polar radius) and ^ (polar angle, degrees)
+  unsigned polar_present = 0;     ///< bit 0: @, bit 1: ^
+  bool line_number = false;       ///< an N word was read
+  bool block_delete = false;      ///< the line starts with '/'
   std::vector<Assignment> assignments;
   OKind o_kind = OKind::None;
-  std::string o_label;  ///< "100" for o100, "<name>" for o<name>
+  std::string o_label;         ///< "100" for o100, "<name>" for o<name>
   std::vector<double> o_args;  ///< call arguments, or the one value of if/while/repeat/return
   Note note = Note::None;
   std::string note_text;  ///< message text, parameters substituted for DEBUG/PRINT
 
   bool has(char lower) const { return (present & bit(lower)) != 0; }
   double get(char lower) const { return value[static_cast<std::size_t>(letter_index(lower))]; }
-  bool empty() const { return present == 0 && g_count == 0 && m_count == 0 && !line_number; }
+  bool empty() const {
+    return present == 0 && polar_present == 0 && g_count == 0 && m_count == 0 && !line_number;
+  }
 };
 
 /// Reads lines into blocks, evaluating expressions against `parameters`.

@@ -15,9 +15,15 @@ void Interpreter::canned_cycle() {
   const char depth_letter = kAxisLetters[ax.normal];
   const char depth_upper = static_cast<char>(depth_letter - 32);
   used_ |= kAxisBits | bit('r') | bit('l') | bit('p') | bit('q') | bit('i') | bit('j') | bit('k') | bit('d');
+  const bool polar = block_.polar_present != 0;
+  if (polar && plane_ != Plane::XY) fail(name + " with polar coordinates (@, ^) needs the G17 plane");
+  if (polar && (block_.has('x') || block_.has('y')))
+    fail("X or Y words cannot be used with polar coordinates (@, ^)");
   if (code == 880)
-    fail("G88 (boring with a manual retract) is not supported: the path after its stop is not in the program");
-  if (feed_mode_ == FeedMode::InverseTime) fail(name + ": canned cycles cannot be used in inverse-time mode (G93)");
+    fail(
+        "G88 (boring with a manual retract) is not supported: the path after its stop is not in the program");
+  if (feed_mode_ == FeedMode::InverseTime)
+    fail(name + ": canned cycles cannot be used in inverse-time mode (G93)");
   require_feed(name.c_str());
   if (!all_known()) fail(name + " from an unknown position: program X, Y and Z first");
   const bool same = previous_cycle_ == code;
@@ -74,6 +80,13 @@ void Interpreter::canned_cycle() {
     bb = block_.has(kAxisLetters[ax.second]) ? block_.get(kAxisLetters[ax.second]) : cur[ax.second];
     r = r_word;
     cc = z_word;
+    if (polar) {
+      const double radius = (block_.polar_present & 1u) ? block_.polar[0] : std::hypot(cur[0], cur[1]);
+      const double angle =
+          (block_.polar_present & 2u) ? block_.polar[1] * M_PI / 180.0 : std::atan2(cur[1], cur[0]);
+      aa = radius * std::cos(angle);
+      bb = radius * std::sin(angle);
+    }
   } else {
     if (block_.has(kAxisLetters[ax.first])) aa_step = block_.get(kAxisLetters[ax.first]);
     if (block_.has(kAxisLetters[ax.second])) bb_step = block_.get(kAxisLetters[ax.second]);
@@ -82,15 +95,16 @@ void Interpreter::canned_cycle() {
     aa = cur[ax.first];
     bb = cur[ax.second];
   }
-  if (r < cc) fail(name + ": R (" + format_number(r) + ") is below the bottom " + depth_upper + " (" + format_number(cc) + ")");
+  if (r < cc)
+    fail(name + ": R (" + format_number(r) + ") is below the bottom " + depth_upper + " (" +
+         format_number(cc) + ")");
 
   // Straight moves given in the plane's (first, second, normal) program coordinates.
   auto go = [&](MoveKind kind, double a1, double a2, double a3) {
     Eigen::Vector3d end;
     const double p[3] = {a1, a2, a3};
     const int axis[3] = {ax.first, ax.second, ax.normal};
-    for (int k = 0; k < 3; ++k)
-      end[axis[k]] = p[k] * scale_ + work_offset_[axis[k]] + axis_offset_[axis[k]];
+    for (int k = 0; k < 3; ++k) end[axis[k]] = p[k] * scale_ + work_offset_[axis[k]] + axis_offset_[axis[k]];
     move_to(kind, end, {true, true, true});
   };
   auto traverse = [&](double a1, double a2, double a3) { go(MoveKind::Rapid, a1, a2, a3); };
@@ -104,7 +118,9 @@ void Interpreter::canned_cycle() {
   }
   const double clear_cc = retract_to_r_ ? r : old_cc;
   // LinuxCNC's G73/G83 retract clearance: 1 on a millimetre machine, 0.05 on an inch machine.
-  const double rapid_delta = block_.has('d') ? block_.get('d') : options_.job_units == Units::Inch ? 0.05 : 1.0;
+  const double rapid_delta = block_.has('d')                     ? block_.get('d')
+                             : options_.job_units == Units::Inch ? 0.05
+                                                                 : 1.0;
   double i = 0.0, j = 0.0, k = 0.0;
   if (code == 870) {
     i = sticky('i', cycle_i_, "the X offset");
@@ -113,9 +129,18 @@ void Interpreter::canned_cycle() {
     if (incremental_) k += cc;
   }
 
+  const double radius_step = incremental_ && (block_.polar_present & 1u) ? block_.polar[0] : 0.0;
+  const double angle_step =
+      incremental_ && (block_.polar_present & 2u) ? block_.polar[1] * M_PI / 180.0 : 0.0;
   for (int repeat = repeats; repeat > 0; --repeat) {
     aa += aa_step;
     bb += bb_step;
+    if (radius_step != 0.0 || angle_step != 0.0) {  // G91 polar: step the radius and angle
+      if (aa == 0.0 && bb == 0.0) fail(name + ": incremental polar motion at the origin is indeterminate");
+      const double radius = std::hypot(aa, bb) + radius_step, angle = std::atan2(bb, aa) + angle_step;
+      aa = radius * std::cos(angle);
+      bb = radius * std::sin(angle);
+    }
     if (repeat == repeats && current_cc > r) {
       traverse(aa, bb, current_cc);
       traverse(aa, bb, r);

@@ -21,8 +21,8 @@ struct OpText {
 };
 constexpr OpText kOps[] = {
     {"**", Op::Power, 6}, {"*", Op::Times, 5}, {"/", Op::Divide, 5}, {"mod", Op::Mod, 5}, {"+", Op::Plus, 4},
-    {"-", Op::Minus, 4},  {"eq", Op::Eq, 3},   {"ne", Op::Ne, 3},    {"gt", Op::Gt, 3},    {"ge", Op::Ge, 3},
-    {"lt", Op::Lt, 3},    {"le", Op::Le, 3},   {"and", Op::And, 2},  {"or", Op::Or, 2},    {"xor", Op::Xor, 2},
+    {"-", Op::Minus, 4},  {"eq", Op::Eq, 3},   {"ne", Op::Ne, 3},    {"gt", Op::Gt, 3},   {"ge", Op::Ge, 3},
+    {"lt", Op::Lt, 3},    {"le", Op::Le, 3},   {"and", Op::And, 2},  {"or", Op::Or, 2},   {"xor", Op::Xor, 2},
 };
 
 const OpText* peek_op(std::string_view s, std::size_t i) {
@@ -126,7 +126,7 @@ double BlockReader::binary(std::size_t& i, int min_precedence) {
 }
 
 double BlockReader::unary_function(std::size_t& i, char letter) {
-  static constexpr const char* kNames[] = {"abs", "acos", "asin", "atan", "cos",   "exists", "exp",
+  static constexpr const char* kNames[] = {"abs", "acos", "asin", "atan",  "cos", "exists", "exp",
                                            "fix", "fup",  "ln",   "round", "sin", "sqrt",   "tan"};
   std::string_view name;
   for (const char* n : kNames) {
@@ -226,7 +226,8 @@ double BlockReader::number(std::size_t& i, char letter) {
   if (i - begin > 60) fail(std::string("number after ") + letter + " is too long");
   double value = 0.0;
   const auto parsed = std::from_chars(s_.data() + digits, s_.data() + i, value);
-  if (parsed.ec != std::errc() || parsed.ptr != s_.data() + i) fail(std::string("malformed number after ") + letter);
+  if (parsed.ec != std::errc() || parsed.ptr != s_.data() + i)
+    fail(std::string("malformed number after ") + letter);
   return negative ? -value : value;
 }
 

@@ -70,9 +70,25 @@ class Interpreter {
   void set_work_offsets(int l);
   void update_tip_shift();
   double length_of(int tool, const char* word) const;
+  struct ModalState {
+    Units units;
+    bool incremental, incremental_centre;
+    Plane plane;
+    FeedMode feed_mode;
+    double feed, spindle;
+    int spindle_direction;
+    bool mist, flood;
+    int system;
+    bool retract_to_r;
+    bool restore_on_return;  ///< M73
+  };
+  void modal_state(int m);
+  void restore(const ModalState& state);
+  std::vector<std::optional<ModalState>> saved_;  ///< per call level
 
   // ---- gcode_motion.cpp ----
   Eigen::Vector3d target(std::array<bool, 3>& known_after, bool machine) const;
+  Eigen::Vector3d polar_target(std::array<bool, 3>& known_after, bool machine) const;
   void straight(MoveKind kind, bool machine);
   void arc(bool clockwise);
   void go_home(int code10);
@@ -103,7 +119,7 @@ class Interpreter {
   // Line loop and control flow.
   std::size_t pos_offset_ = 0;  ///< byte offset of the next line
   int next_line_ = 1;
-  std::size_t next_o_ = 0;      ///< index of the next O-line at or after pos_offset_
+  std::size_t next_o_ = 0;  ///< index of the next O-line at or after pos_offset_
   struct Call {
     std::size_t return_offset;
     int return_line;
@@ -126,10 +142,10 @@ class Interpreter {
   // Machine state, lengths in job units.
   Eigen::Vector3d position_ = Eigen::Vector3d::Zero();  ///< machine position less tool length offset
   std::array<bool, 3> known_{false, false, false};
-  Eigen::Vector3d work_offset_ = Eigen::Vector3d::Zero();  ///< G54..G59.3 in effect
-  Eigen::Vector3d axis_offset_ = Eigen::Vector3d::Zero();  ///< G92/G52 in effect
+  Eigen::Vector3d work_offset_ = Eigen::Vector3d::Zero();    ///< G54..G59.3 in effect
+  Eigen::Vector3d axis_offset_ = Eigen::Vector3d::Zero();    ///< G92/G52 in effect
   Eigen::Vector3d length_offset_ = Eigen::Vector3d::Zero();  ///< G43.. in effect
-  Eigen::Vector3d tip_shift_ = Eigen::Vector3d::Zero();  ///< tip = position_ + this
+  Eigen::Vector3d tip_shift_ = Eigen::Vector3d::Zero();      ///< tip = position_ + this
   int system_ = 1;
   std::array<bool, 2> home_known_{false, false};  ///< G28, G30 stored positions given
   std::map<int, GcodeTool> table_;                ///< the controller's table (G10 L1 edits it)

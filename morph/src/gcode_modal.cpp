@@ -40,65 +40,125 @@ LineCodes Interpreter::sort_g_codes() {
   for (int k = 0; k < block_.g_count; ++k) {
     const int g = block_.g_codes[static_cast<std::size_t>(k)];
     switch (g) {
-      case 0: case 10: case 20: case 30: case 730: case 740: case 800: case 810: case 820: case 830:
-      case 840: case 850: case 860: case 870: case 880: case 890:
+      case 0:
+      case 10:
+      case 20:
+      case 30:
+      case 730:
+      case 740:
+      case 800:
+      case 810:
+      case 820:
+      case 830:
+      case 840:
+      case 850:
+      case 860:
+      case 870:
+      case 880:
+      case 890:
         set_once(c.motion, g, "motion");
         break;
-      case 40: case 100: case 280: case 281: case 300: case 301: case 520: case 920: case 921: case 922:
+      case 40:
+      case 100:
+      case 280:
+      case 281:
+      case 300:
+      case 301:
+      case 520:
+      case 920:
+      case 921:
+      case 922:
       case 923:
         set_once(c.non_modal, g, "non-modal (group 0)");
         break;
       case 530:
         c.g53 = true;
         break;
-      case 170: case 180: case 190:
+      case 170:
+      case 180:
+      case 190:
         set_once(c.plane, g, "plane");
         break;
-      case 200: case 210:
+      case 200:
+      case 210:
         set_once(c.units, g, "units");
         break;
-      case 400: case 410: case 411: case 420: case 421:
+      case 400:
+      case 410:
+      case 411:
+      case 420:
+      case 421:
         set_once(c.cutter, g, "cutter compensation");
         break;
-      case 430: case 431: case 432: case 490:
+      case 430:
+      case 431:
+      case 432:
+      case 490:
         set_once(c.length, g, "tool length offset");
         break;
-      case 540: case 550: case 560: case 570: case 580: case 590: case 591: case 592: case 593:
+      case 540:
+      case 550:
+      case 560:
+      case 570:
+      case 580:
+      case 590:
+      case 591:
+      case 592:
+      case 593:
         set_once(c.system, g, "coordinate system");
         break;
-      case 610: case 611: case 640:
+      case 610:
+      case 611:
+      case 640:
         set_once(c.path, g, "path control");
         break;
-      case 900: case 910:
+      case 900:
+      case 910:
         set_once(c.distance, g, "distance mode");
         break;
-      case 901: case 911:
+      case 901:
+      case 911:
         set_once(c.arc_distance, g, "arc distance mode");
         break;
-      case 930: case 940: case 950:
+      case 930:
+      case 940:
+      case 950:
         set_once(c.feed_mode, g, "feed mode");
         break;
-      case 980: case 990:
+      case 980:
+      case 990:
         set_once(c.retract, g, "canned-cycle return");
         break;
-      case 80: case 960: case 970:
+      case 80:
+      case 960:
+      case 970:
         used_ |= bit('d');
         break;  // radius mode (the mill default), spindle speed modes: no effect on the path
-      case 50: case 51: case 52: case 53:
+      case 50:
+      case 51:
+      case 52:
+      case 53:
         fail("spline motion (" + code_name('G', g) + ") is not supported");
       case 70:
         fail("lathe diameter mode (G7) is not supported");
       case 160:
         fail("polar coordinates (G16) are not supported");
-      case 330: case 331: case 760:
+      case 330:
+      case 331:
+      case 760:
         fail("threading (" + code_name('G', g) + ") is not supported");
-      case 382: case 383: case 384: case 385:
+      case 382:
+      case 383:
+      case 384:
+      case 385:
         fail("probing (" + code_name('G', g) + ") is not supported: its motion depends on the part");
       case 510:
         fail("scaling (G51) is not supported");
       case 680:
         fail("coordinate rotation (G68) is not supported");
-      case 171: case 181: case 191:
+      case 171:
+      case 181:
+      case 191:
         fail("the UVW planes (" + code_name('G', g) + ") are not supported (3-axis X, Y, Z reader)");
       default:
         fail("unsupported code " + code_name('G', g));
@@ -111,10 +171,12 @@ void Interpreter::select_and_change_tools() {
   if (block_.has('t')) {
     const int t = whole(block_.get('t'), "T");
     used_ |= bit('t');
-    if (selected_tool_ && !selection_reached_spindle_ && *selected_tool_ != t && *selected_tool_ != current_tool_)
-      result_.warnings.push_back(Warning{name_, selected_line_,
-                                         "T" + std::to_string(*selected_tool_) +
-                                             " is selected but never put in the spindle (no M6 before the next T)"});
+    if (selected_tool_ && !selection_reached_spindle_ && *selected_tool_ != t &&
+        *selected_tool_ != current_tool_)
+      result_.warnings.push_back(
+          Warning{name_, selected_line_,
+                  "T" + std::to_string(*selected_tool_) +
+                      " is selected but never put in the spindle (no M6 before the next T)"});
     selected_tool_ = t;
     selected_line_ = line_;
     selection_reached_spindle_ = false;
@@ -158,40 +220,64 @@ void Interpreter::execute_m_codes(bool& stop) {
     const int code10 = block_.m_codes[static_cast<std::size_t>(k)];
     const int m = code10 / 10;
     switch (m) {
-      case 0: case 1: case 60:
+      case 0:
+      case 1:
+      case 60:
         in_group(0, code10);
         break;  // pauses: no motion
-      case 2: case 30:
+      case 2:
+      case 30:
         in_group(0, code10);
         stop = true;
         end_code_ = code_name('M', code10);
         break;
-      case 6: case 61:
+      case 6:
+      case 61:
         in_group(1, code10);
         break;  // done by select_and_change_tools
-      case 3: case 4: case 5:
+      case 3:
+      case 4:
+      case 5:
         in_group(2, code10);
         spindle_direction_ = m == 3 ? 1 : m == 4 ? -1 : 0;
         break;
       case 19:
         used_ |= bit('r') | bit('q') | bit('p');
         break;  // spindle orientation
-      case 7: case 8: case 9:
+      case 7:
+      case 8:
+      case 9:
         in_group(3, code10);
         if (m == 7) coolant_mist_ = true;
         if (m == 8) coolant_flood_ = true;
         if (m == 9) coolant_mist_ = coolant_flood_ = false;
         break;
-      case 48: case 49: case 50: case 51: case 52: case 53:
+      case 48:
+      case 49:
+      case 50:
+      case 51:
+      case 52:
+      case 53:
         in_group(4, code10);
         used_ |= bit('p');
         break;  // overrides: the commanded path is unchanged
-      case 62: case 63: case 64: case 65: case 66: case 67: case 68:
+      case 62:
+      case 63:
+      case 64:
+      case 65:
+      case 66:
+      case 67:
+      case 68:
         used_ |= bit('p') | bit('e') | bit('l') | bit('q');
         break;  // digital and analog I/O
-      case 70: case 71: case 72: case 73:
-        fail("modal state save and restore (" + code_name('M', code10) + ") is not supported");
-      case 98: case 99:
+      case 70:
+      case 71:
+      case 72:
+      case 73:
+        modal_state(m);
+        break;
+      case 98:
+      case 99:
         fail("subprogram calls (M98/M99) are not supported: use O-word subroutines (o<name> call)");
       default:
         if (m >= 100 && m <= 199) {
@@ -219,7 +305,8 @@ double Interpreter::length_of(int tool, const char* word) const {
   const auto it = table_.find(tool);
   if (it != table_.end()) return it->second.length_offset;
   if (options_.tools.empty()) return 0.0;  // no table at all: warned by the caller
-  fail(std::string(word) + std::to_string(tool) + ": tool " + std::to_string(tool) + " is not in the tool table");
+  fail(std::string(word) + std::to_string(tool) + ": tool " + std::to_string(tool) +
+       " is not in the tool table");
 }
 
 void Interpreter::set_length_offset(int code10) {
@@ -322,7 +409,8 @@ void Interpreter::set_tool_table() {
 
 void Interpreter::set_work_offsets(int l) {
   used_ |= bit('p') | bit('r') | kAxisBits;
-  if (!block_.has('p')) fail("G10 L" + std::to_string(l) + " needs P (0 for the active system, 1-9 for G54-G59.3)");
+  if (!block_.has('p'))
+    fail("G10 L" + std::to_string(l) + " needs P (0 for the active system, 1-9 for G54-G59.3)");
   int p = whole(block_.get('p'), "G10 L" + std::to_string(l) + " P");
   if (p > 9) fail("G10 L" + std::to_string(l) + " P must be 0 to 9");
   if (p == 0) p = system_;
@@ -342,6 +430,43 @@ void Interpreter::set_work_offsets(int l) {
     parameters_.set_numbered(base + a, offset);
     if (p == system_) work_offset_[a] = offset;
   }
+}
+
+/// M70 saves the modal state, M71 forgets it, M72 restores it, M73 saves it and restores it when
+/// the current subroutine returns (LinuxCNC's set: units, distance modes, plane, feed mode and
+/// rate, spindle, coolant, coordinate system, G98/G99).
+void Interpreter::modal_state(int m) {
+  const std::size_t level = calls_.size();
+  if (saved_.size() <= level) saved_.resize(level + 1);
+  std::optional<ModalState>& slot = saved_[level];
+  if (m == 71) {
+    slot.reset();
+    return;
+  }
+  if (m == 72) {
+    if (!slot) fail("M72 with no state saved by M70 or M73 at this call level");
+    restore(*slot);
+    return;
+  }
+  slot = ModalState{
+      program_units_,     incremental_,  incremental_centre_, plane_,  feed_mode_,    feed_program_, spindle_,
+      spindle_direction_, coolant_mist_, coolant_flood_,      system_, retract_to_r_, m == 73};
+  if (m == 73 && level == 0) fail("M73 (restore on return) outside a subroutine");
+}
+
+void Interpreter::restore(const ModalState& s) {
+  set_units(s.units);
+  incremental_ = s.incremental;
+  incremental_centre_ = s.incremental_centre;
+  plane_ = s.plane;
+  feed_mode_ = s.feed_mode;
+  feed_program_ = s.feed;
+  spindle_ = s.spindle;
+  spindle_direction_ = s.spindle_direction;
+  coolant_mist_ = s.mist;
+  coolant_flood_ = s.flood;
+  select_system(s.system);
+  retract_to_r_ = s.retract_to_r;
 }
 
 double Interpreter::program_coordinate(int axis) const {
@@ -366,15 +491,21 @@ std::optional<double> Interpreter::live_parameter(int number, std::string_view n
     if (name == kAxes[a]) return program_coordinate(a);
     if (name == kAbs[a]) return (position_[a] + length_offset_[a]) / scale_;
   }
-  for (const char* other : {"_a", "_b", "_c", "_u", "_v", "_w", "_abs_a", "_abs_b", "_abs_c", "_abs_u", "_abs_v", "_abs_w"})
+  for (const char* other :
+       {"_a", "_b", "_c", "_u", "_v", "_w", "_abs_a", "_abs_b", "_abs_c", "_abs_u", "_abs_v", "_abs_w"})
     if (name == other) return 0.0;  // the axes this 3-axis reader does not have
-  const int motion_code = motion_ == Motion::Rapid ? 0 : motion_ == Motion::Linear ? 10
-                          : motion_ == Motion::ArcClockwise ? 20 : motion_ == Motion::ArcCounterClockwise ? 30
-                          : motion_ == Motion::Cycle ? cycle_code_ : 800;
+  const int motion_code = motion_ == Motion::Rapid                 ? 0
+                          : motion_ == Motion::Linear              ? 10
+                          : motion_ == Motion::ArcClockwise        ? 20
+                          : motion_ == Motion::ArcCounterClockwise ? 30
+                          : motion_ == Motion::Cycle               ? cycle_code_
+                                                                   : 800;
   const std::pair<const char*, double> values[] = {
       {"_line", line_},
       {"_motion_mode", motion_code},
-      {"_plane", plane_ == Plane::XY ? 170 : plane_ == Plane::XZ ? 180 : 190},
+      {"_plane", plane_ == Plane::XY   ? 170
+                 : plane_ == Plane::XZ ? 180
+                                       : 190},
       {"_ccomp", 400},
       {"_metric", flag(program_units_ == Units::Millimetre)},
       {"_imperial", flag(program_units_ == Units::Inch)},

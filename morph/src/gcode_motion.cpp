@@ -13,6 +13,7 @@ constexpr double kTwoPi = 2.0 * M_PI;
 Eigen::Vector3d Interpreter::target(std::array<bool, 3>& known_after, bool machine) const {
   Eigen::Vector3d end = position_;
   known_after = known_;
+  if (block_.polar_present != 0) return polar_target(known_after, machine);
   for (int a = 0; a < 3; ++a) {
     if (!block_.has(kAxisLetters[a])) continue;
     const double v = block_.get(kAxisLetters[a]) * scale_;
@@ -25,6 +26,36 @@ Eigen::Vector3d Interpreter::target(std::array<bool, 3>& known_after, bool machi
       end[a] = v + work_offset_[a] + axis_offset_[a];
       known_after[a] = true;
     }
+  }
+  return end;
+}
+
+/// LinuxCNC's polar words: @ the distance and ^ the angle (degrees from +X) of the XY end point
+/// from the origin of the program's coordinates (G90), or changes to them (G91).
+Eigen::Vector3d Interpreter::polar_target(std::array<bool, 3>& known_after, bool machine) const {
+  if (machine) fail("polar coordinates (@, ^) cannot be used with G53");
+  if (block_.has('x') || block_.has('y')) fail("X or Y words cannot be used with polar coordinates (@, ^)");
+  if (!known_[0] || !known_[1])
+    fail("polar coordinates (@, ^) from an unknown X or Y: program X and Y first");
+  const bool has_radius = (block_.polar_present & 1u) != 0, has_angle = (block_.polar_present & 2u) != 0;
+  const double x = program_coordinate(0), y = program_coordinate(1);
+  double radius = std::hypot(x, y), angle = std::atan2(y, x);
+  if ((!has_angle || incremental_) && x == 0.0 && y == 0.0)
+    fail("polar coordinates at the origin need an angle (^) and G90: the direction is undefined");
+  if (incremental_) {
+    if (has_radius) radius += block_.polar[0];
+    if (has_angle) angle += block_.polar[1] * M_PI / 180.0;
+  } else {
+    if (has_radius) radius = block_.polar[0];
+    if (has_angle) angle = block_.polar[1] * M_PI / 180.0;
+  }
+  Eigen::Vector3d end = position_;
+  end[0] = radius * std::cos(angle) * scale_ + work_offset_[0] + axis_offset_[0];
+  end[1] = radius * std::sin(angle) * scale_ + work_offset_[1] + axis_offset_[1];
+  if (block_.has('z')) {
+    const double v = block_.get('z') * scale_;
+    end[2] = incremental_ ? end[2] + v : v + work_offset_[2] + axis_offset_[2];
+    if (!incremental_) known_after[2] = true;
   }
   return end;
 }
@@ -139,12 +170,13 @@ void Interpreter::arc(bool clockwise) {
     fail("arc with both R and an I/J/K centre: give one or the other");
   if (!has_radius && !has_first_offset && !has_second_offset) {
     if (block_.has(normal_offset))
-      fail(std::string("arc in ") + axes.code + " has only " + normal_upper + ", which is not an offset in this plane");
+      fail(std::string("arc in ") + axes.code + " has only " + normal_upper +
+           ", which is not an offset in this plane");
     fail("arc with neither an I/J/K centre nor an R radius");
   }
   if (block_.has(normal_offset))
-    warn(std::string(1, normal_upper) + format_number(block_.get(normal_offset)) + " ignored: not an offset in " +
-         axes.code);
+    warn(std::string(1, normal_upper) + format_number(block_.get(normal_offset)) +
+         " ignored: not an offset in " + axes.code);
 
   const double s1 = start[axes.first], s2 = start[axes.second];
   const double e1 = end[axes.first], e2 = end[axes.second];
@@ -159,8 +191,8 @@ void Interpreter::arc(bool clockwise) {
     const double abs_radius = std::abs(radius);
     double half = chord / 2.0;
     if (half - abs_radius > tolerances_.radius_reach)
-      fail("arc radius R" + format_number(block_.get('r')) + " is too small to reach the end point (half chord " +
-           format_number(half / scale_) + ")");
+      fail("arc radius R" + format_number(block_.get('r')) +
+           " is too small to reach the end point (half chord " + format_number(half / scale_) + ")");
     half = std::min(half, abs_radius);
     const double offset = std::sqrt(std::max(0.0, abs_radius * abs_radius - half * half));
     // Centre to the right of the chord for a short clockwise or long counter-clockwise arc.
@@ -188,9 +220,10 @@ void Interpreter::arc(bool clockwise) {
     const double mismatch = std::abs(r_start - r_end);
     const double relative = mismatch / std::max(r_start, r_end);
     if (mismatch > tolerances_.radius_mismatch ||
-        (relative > 0.001 && mismatch > tolerances_.radius_mismatch_min))  // LinuxCNC's SPIRAL_RELATIVE_TOLERANCE
-      fail("arc end is not on its circle: radius to start " + format_number(r_start / scale_) + ", radius to end " +
-           format_number(r_end / scale_) + " (" + to_string(program_units_) + ")");
+        (relative > 0.001 &&
+         mismatch > tolerances_.radius_mismatch_min))  // LinuxCNC's SPIRAL_RELATIVE_TOLERANCE
+      fail("arc end is not on its circle: radius to start " + format_number(r_start / scale_) +
+           ", radius to end " + format_number(r_end / scale_) + " (" + to_string(program_units_) + ")");
   }
 
   const double u1 = s1 - c1, u2 = s2 - c2, v1 = e1 - c1, v2 = e2 - c2;

@@ -4,10 +4,10 @@
 // var file. Values are plain doubles; lengths held here (offsets, stored positions) are in the
 // job's units, which play the part of LinuxCNC's machine ("user") units.
 #include <array>
-#include <stdexcept>
 #include <functional>
 #include <map>
 #include <optional>
+#include <stdexcept>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -29,7 +29,9 @@ constexpr int kG92Applied = 5210;   ///< 1 while G92/G52 offsets are applied
 constexpr int kG92 = 5211;          ///< 5211-5213: G92/G52 offsets
 constexpr int kCoordSystem = 5220;  ///< active system 1 (G54) .. 9 (G59.3)
 /// First parameter (X) of coordinate system `index` 1..9: 5221, 5241, ... 5381; +9 is rotation.
-constexpr int system_base(int index) { return 5201 + 20 * index; }
+constexpr int system_base(int index) {
+  return 5201 + 20 * index;
+}
 constexpr int kLast = 5602;
 }  // namespace param
 

@@ -21,7 +21,8 @@ ProgramIndex::ProgramIndex(std::string_view text) {
   std::size_t begin = 0;
   int line_number = 0;
   while (begin < text.size()) {
-    const char* newline = static_cast<const char*>(std::memchr(text.data() + begin, '\n', text.size() - begin));
+    const char* newline =
+        static_cast<const char*>(std::memchr(text.data() + begin, '\n', text.size() - begin));
     const std::size_t end = newline ? static_cast<std::size_t>(newline - text.data()) : text.size();
     ++line_number;
     const std::string_view line = text.substr(begin, end - begin);
@@ -123,7 +124,9 @@ void ProgramIndex::add(OLine o) {
     case OKind::EndSub:
     case OKind::EndWhile:
     case OKind::EndRepeat: {
-      const OKind start = o.kind == OKind::EndSub ? OKind::Sub : o.kind == OKind::EndWhile ? OKind::While : OKind::Repeat;
+      const OKind start = o.kind == OKind::EndSub     ? OKind::Sub
+                          : o.kind == OKind::EndWhile ? OKind::While
+                                                      : OKind::Repeat;
       const std::size_t s = open_top(start);
       if (s == kNone) {
         mismatch(to_string(start));
@@ -140,14 +143,16 @@ void ProgramIndex::add(OLine o) {
     case OKind::Return: {
       for (auto it = open_.rbegin(); it != open_.rend(); ++it) {
         const OLine& l = lines_[*it];
-        const bool fits = o.kind == OKind::Return ? l.kind == OKind::Sub : is_loop_start(l);
-        if (fits && l.label == o.label) {
+        // A return leaves the sub it is in, whatever its label (as in LinuxCNC).
+        const bool fits =
+            o.kind == OKind::Return ? l.kind == OKind::Sub : is_loop_start(l) && l.label == o.label;
+        if (fits) {
           o.loop = *it;
           break;
         }
       }
       if (o.loop == kNone)
-        o.problem = name_of(o) + (o.kind == OKind::Return ? " outside o" + o.label + " sub"
+        o.problem = name_of(o) + (o.kind == OKind::Return ? std::string(" outside a sub")
                                                           : " outside a loop labelled o" + o.label);
       break;
     }
@@ -162,7 +167,11 @@ void ProgramIndex::close_open() {
     OLine& l = lines_[s];
     if (l.problem.empty())
       l.problem = name_of(l) + " is never closed (no matching o" + l.label + " " +
-                  (l.kind == OKind::Sub ? "endsub" : l.kind == OKind::If ? "endif" : l.kind == OKind::Do ? "while" : l.kind == OKind::Repeat ? "endrepeat" : "endwhile") +
+                  (l.kind == OKind::Sub      ? "endsub"
+                   : l.kind == OKind::If     ? "endif"
+                   : l.kind == OKind::Do     ? "while"
+                   : l.kind == OKind::Repeat ? "endrepeat"
+                                             : "endwhile") +
                   ")";
   }
 }

@@ -43,8 +43,8 @@ class ProgramIndex {
   void close_open();
 
   std::vector<OLine> lines_;
-  std::vector<std::size_t> open_;          // stack of unclosed block starts
-  std::vector<std::size_t> last_branch_;   // per open if: its latest if/elseif/else
+  std::vector<std::size_t> open_;         // stack of unclosed block starts
+  std::vector<std::size_t> last_branch_;  // per open if: its latest if/elseif/else
   std::map<std::string, std::size_t> subs_;
 };
 

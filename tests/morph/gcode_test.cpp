@@ -145,7 +145,8 @@ TEST(GcodeArcs, RadiusFormatBothSignsBothDirections) {
 }
 
 TEST(GcodeArcs, RadiusFormatInOtherPlanes) {
-  const GcodeResult r = parse("G21 F100 G18\nG0 X10 Y0 Z0\nG3 X0 Z-10 R10\nG19 G0 X0 Y10 Z0\nG2 Y0 Z10 R-10\n");
+  const GcodeResult r =
+      parse("G21 F100 G18\nG0 X10 Y0 Z0\nG3 X0 Z-10 R10\nG19 G0 X0 Y10 Z0\nG2 Y0 Z10 R-10\n");
   ASSERT_EQ(r.path.moves.size(), 3u);
   expect_on_circle(r.path.moves[0], Vector3d::Zero(), kY, 10.0, M_PI / 2, 0.0);
   // G19 clockwise (negative about +X) from +Y to +Z the long way: round the origin, 270 degrees.
@@ -381,8 +382,8 @@ TEST(GcodeStart, HomeMakesItsAxesUnknownAgain) {
 // ---- warnings ------------------------------------------------------------------------------------
 
 TEST(GcodeWarnings, UserMCodesAndNormalOffsetsAreWarningsWithTheirLine) {
-  const GcodeResult r = parse(
-      "G21 F100 G0 X0 Y0 Z0\nG1 X1\nM123\nG17 G2 X2 Y1 I0 J1 K2\nG43 H1 G54 G64 P0.1 G94\n");
+  const GcodeResult r =
+      parse("G21 F100 G0 X0 Y0 Z0\nG1 X1\nM123\nG17 G2 X2 Y1 I0 J1 K2\nG43 H1 G54 G64 P0.1 G94\n");
   EXPECT_TRUE(has_warning(r, 3, "M123"));
   EXPECT_TRUE(has_warning(r, 4, "K2 ignored"));
   EXPECT_TRUE(has_warning(r, 5, "no tool table"));  // G43 H1 without a table applies 0
@@ -484,8 +485,8 @@ TEST(GcodeErrors, EveryErrorNamesFileAndLine) {
       {"G1 X1 )", "')' without"},
       {"G1 X1 / Y2", "block delete"},
       {"M98 P100", "subprogram"},
-      {"M70", "modal state"},
-      {"G1 X1 @2", "unexpected character '@'"},
+      {"M72", "no state saved"},
+      {"G1 X1 @2", "cannot be used with polar"},
       {"G0 G80 X1", "two motion codes"},
       {"T1.5 M6", "T must be an integer"},
   };

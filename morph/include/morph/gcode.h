@@ -17,7 +17,8 @@ namespace morph {
 
 /// What the controller's tool table says about one tool (LinuxCNC .tbl), in job units.
 struct GcodeTool {
-  double length_offset = 0.0;  ///< Z length offset: G43 H<n> applies it; the tip is this far below the gauge line
+  double length_offset =
+      0.0;  ///< Z length offset: G43 H<n> applies it; the tip is this far below the gauge line
   double diameter = 0.0;
 };
 
@@ -47,10 +48,10 @@ struct GcodeOptions {
   bool block_delete = true;
 
   // ---- bounds that keep a runaway program from hanging or exhausting memory ----
-  int max_call_depth = 10;                            ///< nested O-word calls (LinuxCNC's limit)
-  std::size_t max_loop_iterations = 1'000'000;        ///< per while/do/repeat loop entry
-  std::size_t max_blocks = 100'000'000;               ///< lines executed in all
-  std::size_t max_moves = 20'000'000;                 ///< moves produced in all
+  int max_call_depth = 10;                      ///< nested O-word calls (LinuxCNC's limit)
+  std::size_t max_loop_iterations = 1'000'000;  ///< per while/do/repeat loop entry
+  std::size_t max_blocks = 100'000'000;         ///< lines executed in all
+  std::size_t max_moves = 20'000'000;           ///< moves produced in all
 };
 
 struct GcodeResult {
