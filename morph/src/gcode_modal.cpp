@@ -40,13 +40,15 @@ LineCodes Interpreter::sort_g_codes() {
   for (int k = 0; k < block_.g_count; ++k) {
     const int g = block_.g_codes[static_cast<std::size_t>(k)];
     switch (g) {
+      case 800:
+        if (c.motion < 0) c.motion = g;  // with another motion code on the line, G80 is ignored (LinuxCNC)
+        break;
       case 0:
       case 10:
       case 20:
       case 30:
       case 730:
       case 740:
-      case 800:
       case 810:
       case 820:
       case 830:
@@ -56,6 +58,7 @@ LineCodes Interpreter::sort_g_codes() {
       case 870:
       case 880:
       case 890:
+        if (c.motion == 800) c.motion = -1;
         set_once(c.motion, g, "motion");
         break;
       case 40:

@@ -487,7 +487,7 @@ TEST(GcodeErrors, EveryErrorNamesFileAndLine) {
       {"M98 P100", "subprogram"},
       {"M72", "no state saved"},
       {"G1 X1 @2", "cannot be used with polar"},
-      {"G0 G80 X1", "two motion codes"},
+      {"G0 G1 G80 X1", "two motion codes"},
       {"T1.5 M6", "T must be an integer"},
   };
   for (const auto& c : cases) {
@@ -690,7 +690,9 @@ TEST(GcodeRealFiles, Cameo) {
   EXPECT_EQ(r.path.moves.size(), 35280u);
   EXPECT_EQ(r.tools_used, (std::set<int>{1}));
   EXPECT_EQ(r.word_counts.at("G43"), 1);
-  EXPECT_TRUE(r.warnings.empty());  // the closing '%' after M30 is not content
+  // The closing '%' after M30 is not content; G43 H1 without a tool table applies offset 0.
+  ASSERT_EQ(r.warnings.size(), 1u);
+  EXPECT_NE(r.warnings[0].message.find("G43 H1: no tool table"), std::string::npos);
   Bounds all;
   for (const Move& m : r.path.moves) {
     all.add(m.start);
