@@ -434,32 +434,43 @@ TEST(StressCampaign, MergeOfOneShardOfTwoIsRefusedNamingWhatIsMissing) {
   EXPECT_NE(slurp(out / "summary.md").find("partial: 4 of 8 cases, missing 1, 3, 5, 7"), std::string::npos);
 }
 
+namespace {
+
+/// A shell command: `command` in the background; once DIR/cases holds a finished case, `kill
+/// -SIGNAL`; prints "exit=N", the command's exit code.
+std::string signal_after_first_case(const std::string& command, const fs::path& dir,
+                                    const std::string& signal) {
+  return "sh -c '" + command + " >/dev/null 2>&1 & pid=$!; i=0; while [ -z \"$(ls " + dir.string() +
+         "/cases 2>/dev/null)\" ] && [ $i -lt 600 ]; do sleep 0.1; i=$((i+1)); done; kill -" + signal +
+         " $pid; wait $pid; echo exit=$?'";
+}
+
+}  // namespace
+
 // Issue 19's reproduction: SIGTERM (and SIGINT) stop a campaign cleanly, keeping the finished cases
 // and writing a summary that says it was interrupted (exit 4, not 0); --resume DIR finishes it.
 TEST(StressCampaign, SignalStopsCleanlyAndResumeFinishes) {
   const std::string binary = MORPHMILL_BINARY;
   for (const std::string signal : {"TERM", "INT"}) {
     const fs::path dir = scratch("signal_" + signal);
-    // The first case written, then the signal; the shell reports the exit code.
-    const CommandResult stopped = run(
-        "sh -c '" + binary + " stress --cases 100 --seed 99 --threads 1 --samples 200 --out " + dir.string() +
-        " >/dev/null 2>&1 & pid=$!; i=0; while [ -z "$(ls " + dir.string() +
-        "/cases 2>/dev/null)" ] && [ $i -lt 600 ]; do sleep 0.1; i=$((i+1)); done; kill -" + signal +
-        " $pid; wait $pid; echo exit=$?'");
+    const CommandResult stopped = run(signal_after_first_case(
+        binary + " stress --cases 100 --seed 99 --threads 1 --samples 200 --out " + dir.string(), dir,
+        signal));
     EXPECT_NE(stopped.output.find("exit=4"), std::string::npos) << signal << ": " << stopped.output;
     ASSERT_TRUE(fs::exists(dir / "summary.json")) << signal;
     const auto json = nlohmann::json::parse(slurp(dir / "summary.json"));
     EXPECT_EQ(json["complete"], false);
     EXPECT_GE(json["cases_run"].get<int>(), 1);
     EXPECT_LT(json["cases_run"].get<int>(), 100);
-    EXPECT_NE(json["incomplete"].dump().find("interrupted by SIG" + signal), std::string::npos) << json["incomplete"];
+    EXPECT_NE(json["incomplete"].dump().find("interrupted by SIG" + signal), std::string::npos)
+        << json["incomplete"];
     EXPECT_NE(slurp(dir / "summary.md").find("partial: "), std::string::npos);
   }
-  // Resume a small campaign stopped the same way.
+  // Resume a small campaign stopped the same way: only the options in campaign.json are needed.
   const fs::path dir = scratch("signal_resume");
-  run("sh -c '" + binary + " stress --cases 5 --seed 99 --threads 1 --samples 200 --out " + dir.string() +
-      " >/dev/null 2>&1 & pid=$!; i=0; while [ -z "$(ls " + dir.string() +
-      "/cases 2>/dev/null)" ] && [ $i -lt 600 ]; do sleep 0.1; i=$((i+1)); done; kill -TERM $pid; wait $pid'");
+  const CommandResult stopped = run(signal_after_first_case(
+      binary + " stress --cases 5 --seed 99 --threads 1 --samples 200 --out " + dir.string(), dir, "TERM"));
+  EXPECT_NE(stopped.output.find("exit=4"), std::string::npos) << stopped.output;
   const CommandResult resumed = run(binary + " stress --resume " + dir.string());
   EXPECT_EQ(resumed.exit_code, 0) << resumed.output;
   const auto json = nlohmann::json::parse(slurp(dir / "summary.json"));
