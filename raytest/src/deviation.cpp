@@ -176,6 +176,13 @@ void for_each_chunk(morph::ExecutionPolicy policy, std::size_t n, F&& f) {
 
 enum class TagSource { Auto, Source, Target };
 
+// Sample normals only where rays are cast along them.
+SamplingOptions sampling_for(const DeviationOptions& options) {
+  SamplingOptions sampling = options.sampling;
+  sampling.vertex_normals = options.mode == DeviationMode::Ray;
+  return sampling;
+}
+
 std::vector<GroupStats> group_stats(const OneSidedDeviation& result, const morph::TriangleMesh& from,
                                     const morph::TriangleMesh* to, TagSource source,
                                     const DeviationOptions& options) {
@@ -238,10 +245,14 @@ OneSidedDeviation measure_samples_tagged(const morph::TriangleMesh& from, std::v
   // (face samples are drawn in random order); each value still goes to its own slot.
   std::vector<std::uint32_t> order(n);
   std::iota(order.begin(), order.end(), 0u);
-  std::sort(order.begin(), order.end(), [&](std::uint32_t x, std::uint32_t y) {
-    const std::uint32_t tx = result.samples[x].triangle, ty = result.samples[y].triangle;
-    return tx != ty ? tx < ty : x < y;
-  });
+  // Vertex samples come in vertex order, already neighbours; only face samples need sorting.
+  const bool by_vertex = std::all_of(result.samples.begin(), result.samples.end(),
+                                     [](const SurfaceSample& s) { return s.kind == SampleKind::Vertex; });
+  if (!by_vertex)
+    std::sort(order.begin(), order.end(), [&](std::uint32_t x, std::uint32_t y) {
+      const std::uint32_t tx = result.samples[x].triangle, ty = result.samples[y].triangle;
+      return tx != ty ? tx < ty : x < y;
+    });
   for_each_chunk(options.policy, n, [&](std::size_t begin, std::size_t end) {
     std::uint32_t hint = kNoHint;
     for (std::size_t k = begin; k < end; ++k) {
@@ -265,7 +276,7 @@ OneSidedDeviation measure_samples(const morph::TriangleMesh& from, std::vector<S
 
 OneSidedDeviation measure_one_sided(const morph::TriangleMesh& from, const SurfaceQuery& to,
                                     const DeviationOptions& options) {
-  return measure_samples(from, sample_surface(from, options.sampling), to, options);
+  return measure_samples(from, sample_surface(from, sampling_for(options)), to, options);
 }
 
 TwoSidedDeviation measure_two_sided(const SurfaceQuery& query_a, const SurfaceQuery& query_b,
@@ -273,9 +284,9 @@ TwoSidedDeviation measure_two_sided(const SurfaceQuery& query_a, const SurfaceQu
   const morph::TriangleMesh& a = query_a.mesh();
   const morph::TriangleMesh& b = query_b.mesh();
   TwoSidedDeviation result;
-  result.a_to_b = measure_samples_tagged(a, sample_surface(a, options.sampling), query_b, options,
+  result.a_to_b = measure_samples_tagged(a, sample_surface(a, sampling_for(options)), query_b, options,
                                          a.tags.empty() ? TagSource::Auto : TagSource::Source);
-  result.b_to_a = measure_samples_tagged(b, sample_surface(b, options.sampling), query_a, options,
+  result.b_to_a = measure_samples_tagged(b, sample_surface(b, sampling_for(options)), query_a, options,
                                          a.tags.empty() ? TagSource::Auto : TagSource::Target);
   result.hausdorff = std::max(result.a_to_b.stats.max_abs, result.b_to_a.stats.max_abs);
   return result;

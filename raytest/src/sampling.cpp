@@ -1,7 +1,9 @@
 #include <morph/exceptions.h>
+#include <morph/parallel.h>
 #include <raytest/sampling.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <random>
 #include <string>
@@ -9,8 +11,10 @@
 namespace raytest {
 
 std::vector<Eigen::Vector3d> angle_weighted_vertex_normals(const morph::TriangleMesh& mesh) {
-  std::vector<Eigen::Vector3d> normals(mesh.vertices.size(), Eigen::Vector3d::Zero());
-  for (std::size_t t = 0; t < mesh.triangles.size(); ++t) {
+  // The weighted face normals (the atan2 calls are most of the cost) in parallel; the sums in
+  // triangle order, so the result does not depend on the threads.
+  std::vector<std::array<Eigen::Vector3d, 3>> weighted(mesh.triangles.size());
+  morph::for_each_index(morph::ExecutionPolicy::Parallel, 0, mesh.triangles.size(), [&](std::size_t t) {
     const morph::Triangle& tri = mesh.triangles[t];
     const Eigen::Vector3d n = morph::face_normal(mesh, t);
     for (int k = 0; k < 3; ++k) {
@@ -18,10 +22,12 @@ std::vector<Eigen::Vector3d> angle_weighted_vertex_normals(const morph::Triangle
       const Eigen::Vector3d e1 = mesh.vertices[tri[(k + 1) % 3]] - v0;
       const Eigen::Vector3d e2 = mesh.vertices[tri[(k + 2) % 3]] - v0;
       // atan2 of |cross| and dot is accurate for tiny and near-flat angles alike.
-      const double angle = std::atan2(e1.cross(e2).norm(), e1.dot(e2));
-      normals[tri[k]] += angle * n;
+      weighted[t][k] = std::atan2(e1.cross(e2).norm(), e1.dot(e2)) * n;
     }
-  }
+  });
+  std::vector<Eigen::Vector3d> normals(mesh.vertices.size(), Eigen::Vector3d::Zero());
+  for (std::size_t t = 0; t < mesh.triangles.size(); ++t)
+    for (int k = 0; k < 3; ++k) normals[mesh.triangles[t][k]] += weighted[t][k];
   for (Eigen::Vector3d& n : normals) {
     const double length = n.norm();
     if (length > 0) n /= length;
@@ -137,7 +143,8 @@ std::vector<SurfaceSample> sample_surface(const morph::TriangleMesh& mesh, const
   out.reserve((options.vertices ? mesh.vertices.size() : 0) + options.edge_samples + options.face_samples +
               (options.centroids ? mesh.triangles.size() : 0));
   if (options.vertices) {
-    const std::vector<Eigen::Vector3d> normals = angle_weighted_vertex_normals(mesh);
+    const std::vector<Eigen::Vector3d> normals =
+        options.vertex_normals ? angle_weighted_vertex_normals(mesh) : std::vector<Eigen::Vector3d>{};
     constexpr std::uint32_t kUnused = 0xffffffffu;
     std::vector<std::uint32_t> first_triangle(mesh.vertices.size(), kUnused);
     for (std::size_t t = mesh.triangles.size(); t-- > 0;)
@@ -146,7 +153,7 @@ std::vector<SurfaceSample> sample_surface(const morph::TriangleMesh& mesh, const
       if (first_triangle[v] == kUnused) continue;
       SurfaceSample sample;
       sample.position = mesh.vertices[v];
-      sample.normal = normals[v];
+      sample.normal = options.vertex_normals ? normals[v] : Eigen::Vector3d::Zero();
       sample.triangle = first_triangle[v];
       sample.kind = SampleKind::Vertex;
       out.push_back(sample);

@@ -5,6 +5,7 @@
 #include <raytest/surface_query.h>
 
 #include <algorithm>
+#include <array>
 #include <cfloat>
 #include <cmath>
 #include <mutex>
@@ -45,6 +46,9 @@ struct SurfaceQuery::Impl {
   RTCDevice device = nullptr;
   RTCScene scene = nullptr;
   double coordinate_scale = 0;  // max |coordinate| of the mesh: bounds float rounding errors
+  // Each triangle's bounds in double precision (min xyz, max xyz): a lower bound of its distance
+  // that is much cheaper than the exact closest point.
+  std::vector<std::array<double, 6>> bounds;
 
   // Pseudo-normals for the sign, built on first use.
   mutable std::once_flag normals_once;
@@ -104,6 +108,7 @@ namespace {
 
 struct PointQueryState {
   const morph::TriangleMesh* mesh;
+  const std::array<double, 6>* bounds;
   Eigen::Vector3d p;
   double margin;
   double best = std::numeric_limits<double>::infinity();
@@ -118,6 +123,16 @@ struct PointQueryState {
 bool visit_triangle(RTCPointQueryFunctionArguments* args) {
   auto* state = static_cast<PointQueryState*>(args->userPtr);
   const std::uint32_t t = args->primID;
+  // Embree visits every triangle of a leaf whose box meets the sphere; most cannot win, and their
+  // bounds show it (a triangle farther than the best is never closer, so skipping it is exact).
+  const std::array<double, 6>& box = state->bounds[t];
+  double below = 0;
+  for (int k = 0; k < 3; ++k) {
+    const double x = state->p[k];
+    const double gap = x < box[k] ? box[k] - x : x > box[k + 3] ? x - box[k + 3] : 0.0;
+    below += gap * gap;
+  }
+  if (below > state->best * state->best * (1 + 1e-9)) return false;  // slack: ties keep the lowest index
   const morph::Triangle& tri = state->mesh->triangles[t];
   const Eigen::Vector3d q = morph::closest_point_on_triangle(
       state->p, state->mesh->vertices[tri[0]], state->mesh->vertices[tri[1]], state->mesh->vertices[tri[2]]);
@@ -170,8 +185,17 @@ SurfaceQuery::SurfaceQuery(morph::TriangleMesh mesh) : impl_(std::make_unique<Im
     }
     for (std::size_t i = 0; i < m.vertices.size(); ++i)
       for (int k = 0; k < 3; ++k) vertices[3 * i + k] = static_cast<float>(m.vertices[i][k]);
-    for (std::size_t t = 0; t < m.triangles.size(); ++t)
-      for (int k = 0; k < 3; ++k) indices[3 * t + k] = m.triangles[t][k];
+    impl_->bounds.resize(m.triangles.size());
+    for (std::size_t t = 0; t < m.triangles.size(); ++t) {
+      std::array<double, 6>& box = impl_->bounds[t];
+      for (int k = 0; k < 3; ++k) {
+        indices[3 * t + k] = m.triangles[t][k];
+        box[k] = std::min({m.vertices[m.triangles[t][0]][k], m.vertices[m.triangles[t][1]][k],
+                           m.vertices[m.triangles[t][2]][k]});
+        box[k + 3] = std::max({m.vertices[m.triangles[t][0]][k], m.vertices[m.triangles[t][1]][k],
+                               m.vertices[m.triangles[t][2]][k]});
+      }
+    }
     rtcCommitGeometry(geometry);
     rtcAttachGeometry(impl_->scene, geometry);
     rtcReleaseGeometry(geometry);
@@ -198,7 +222,7 @@ ClosestPoint SurfaceQuery::closest_point(const Eigen::Vector3d& p, double max_di
   ClosestPoint result;
   const morph::TriangleMesh& m = impl_->mesh;
   if (m.triangles.empty() || !p.allFinite()) return result;
-  PointQueryState state{&m, p, impl_->margin(p)};
+  PointQueryState state{&m, impl_->bounds.data(), p, impl_->margin(p)};
   double radius = max_distance;
   if (hint_triangle < m.triangles.size()) {
     // Start from the hint: the search then only visits triangles that can beat or tie it.

@@ -71,6 +71,27 @@ BENCHMARK(BM_DeviationVertices1MTo200k)
     ->Unit(benchmark::kMillisecond)
     ->UseRealTime();
 
+// What `morphmill deviation D C --one-sided --samples 0 --signed` does after loading: build the
+// query on the 200k sphere (its pseudo-normals on first use) and measure the 1M sphere's vertices.
+void BM_SignedDeviationWithQueryBuild(benchmark::State& state) {
+  raytest::DeviationOptions options;
+  options.mode = raytest::DeviationMode::Signed;
+  for (auto _ : state) {
+    const raytest::SurfaceQuery query(sphere_200k());
+    const auto result = raytest::measure_one_sided(sphere_1m(), query, options);
+    benchmark::DoNotOptimize(result.stats.max);
+  }
+  state.SetItemsProcessed(static_cast<std::int64_t>(state.iterations() * sphere_1m().vertex_count()));
+}
+BENCHMARK(BM_SignedDeviationWithQueryBuild)->Unit(benchmark::kMillisecond)->UseRealTime();
+
+// Angle-weighted vertex normals of the 1M sphere (the sign's pseudo-normals and ray directions).
+void BM_VertexNormals1M(benchmark::State& state) {
+  for (auto _ : state) benchmark::DoNotOptimize(raytest::angle_weighted_vertex_normals(sphere_1m()));
+  state.SetItemsProcessed(static_cast<std::int64_t>(state.iterations() * sphere_1m().triangle_count()));
+}
+BENCHMARK(BM_VertexNormals1M)->Unit(benchmark::kMillisecond)->UseRealTime();
+
 // One million area-uniform face samples of the 1M sphere to the 200k sphere.
 void BM_DeviationFaceSamples1MTo200k(benchmark::State& state) {
   const raytest::SurfaceQuery& query = query_200k();

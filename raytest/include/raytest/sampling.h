@@ -27,6 +27,9 @@ struct SamplingOptions {
   bool centroids = false;        ///< one sample at every triangle's centroid (small triangles
                                  ///< that area-uniform samples rarely hit are still seen)
   std::uint64_t seed = 1;        ///< seed of the std::mt19937_64 streams
+  /// Angle-weighted normals of the vertex samples; without them their normal is zero (only ray
+  /// casting needs them, and they cost as much as a closest-point query per vertex).
+  bool vertex_normals = true;
 };
 
 /// Samples `mesh` as configured. Order: vertices (by index), edge samples, face samples,
