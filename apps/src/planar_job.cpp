@@ -142,8 +142,15 @@ class PlanarJobParser {
       fail(at,
            "expected one of {\"polyline\": ...}, {\"arc\": ...}, {\"circle\": ...}, {\"point\": ...}, "
            "{\"gcode\": ...}, {\"svg\": ...}, {\"dxf\": ...}");
-    const std::string kind = entry.begin().key();
-    const json& v = entry.begin().value();
+    // The entry's kind is its one key besides the options ("cutting_height" of a G-code entry).
+    std::string kind;
+    for (auto it = entry.begin(); it != entry.end(); ++it)
+      if (it.key() != "cutting_height") {
+        if (!kind.empty()) fail(at, "expected one entry, got '" + kind + "' and '" + it.key() + "'");
+        kind = it.key();
+      }
+    if (kind.empty()) fail(at, "expected an entry such as {\"polyline\": ...}");
+    const json& v = entry[kind];
     const std::string where = at + "." + kind;
     if (kind == "polyline") return add_moves(bulged_chain(v, where, false));
     if (kind == "point") return add_moves({morph::planar::make_segment(point(v, where), point(v, where))});

@@ -107,16 +107,19 @@ void parse_path(const Element& e, const std::string& where, PlanarShapes& shapes
   char command = 0;
   auto finish = [&](bool closed) {
     if (current.empty()) return;
-    if (closed)
-      shapes.closed.push_back(morph::planar::Loop{current});
-    else
+    if (closed) {
+      morph::planar::Loop loop;
+      for (const Curve& c : current)
+        if (c.is_arc() || c.start != c.end) loop.curves.push_back(c);
+      if (!loop.curves.empty()) shapes.closed.push_back(loop);
+    } else
       shapes.open.push_back(current);
     current.clear();
   };
   auto add = [&](const Curve& c) {
     Curve f = flipped(c);
     f.from.line = e.line;
-    if ((c.end - c.start).norm() > 0.0 || c.is_arc()) current.push_back(f);
+    current.push_back(f);  // a zero-length piece of an open path is a plunge
     at = c.end;
   };
   while (!scan.done()) {
@@ -303,24 +306,31 @@ PlanarShapes read_svg_shapes(const std::string& path) {
 
 namespace {
 
+/// Path data in SVG's frame (y flipped, so a counter-clockwise arc has sweep flag 0): the picture
+/// reads back through read_svg_shapes as the same curves.
+std::string move_to(const Vec2& p) {
+  return fmt::format(" M{:.10g},{:.10g}", p.x(), -p.y());
+}
+
+std::string draw(const Curve& c) {
+  if (!c.is_arc()) return fmt::format(" L{:.10g},{:.10g}", c.end.x(), -c.end.y());
+  // SVG cannot draw a full circle in one arc: two halves.
+  std::string d;
+  const int parts = std::abs(c.sweep) > 1.5 * M_PI ? 2 : 1;
+  for (int k = 1; k <= parts; ++k) {
+    const Vec2 p = k == parts ? c.end : morph::planar::point_at(c, static_cast<double>(k) / parts);
+    d += fmt::format(" A{:.10g},{:.10g} 0 {} {} {:.10g},{:.10g}", c.radius, c.radius,
+                     std::abs(c.sweep) / parts > M_PI ? 1 : 0, c.sweep > 0.0 ? 0 : 1, p.x(), -p.y());
+  }
+  return d;
+}
+
 std::string svg_path(const morph::planar::Region& region) {
   std::string d;
   for (const auto& loop : region.loops) {
     if (loop.curves.empty()) continue;
-    d += fmt::format("M{:.9g},{:.9g}", loop.curves.front().start.x(), loop.curves.front().start.y());
-    for (const Curve& c : loop.curves) {
-      if (!c.is_arc()) {
-        d += fmt::format(" L{:.9g},{:.9g}", c.end.x(), c.end.y());
-        continue;
-      }
-      // SVG cannot draw a full circle in one arc: two halves.
-      const int parts = std::abs(c.sweep) > 1.5 * M_PI ? 2 : 1;
-      for (int k = 1; k <= parts; ++k) {
-        const Vec2 p = morph::planar::point_at(c, static_cast<double>(k) / parts);
-        d += fmt::format(" A{:.9g},{:.9g} 0 {} {} {:.9g},{:.9g}", c.radius, c.radius,
-                         std::abs(c.sweep) / parts > M_PI ? 1 : 0, c.sweep > 0.0 ? 1 : 0, p.x(), p.y());
-      }
-    }
+    d += move_to(loop.curves.front().start);
+    for (const Curve& c : loop.curves) d += draw(c);
     d += " Z";
   }
   return d;
@@ -330,17 +340,8 @@ std::string trajectory_path(const morph::planar::Trajectory& moves) {
   std::string d;
   Vec2 at(NAN, NAN);
   for (const Curve& c : moves) {
-    if (!(c.start == at)) d += fmt::format(" M{:.9g},{:.9g}", c.start.x(), c.start.y());
-    if (!c.is_arc()) {
-      d += fmt::format(" L{:.9g},{:.9g}", c.end.x(), c.end.y());
-    } else {
-      const int parts = std::abs(c.sweep) > 1.5 * M_PI ? 2 : 1;
-      for (int k = 1; k <= parts; ++k) {
-        const Vec2 p = morph::planar::point_at(c, static_cast<double>(k) / parts);
-        d += fmt::format(" A{:.9g},{:.9g} 0 {} {} {:.9g},{:.9g}", c.radius, c.radius,
-                         std::abs(c.sweep) / parts > M_PI ? 1 : 0, c.sweep > 0.0 ? 1 : 0, p.x(), p.y());
-      }
-    }
+    if (!(c.start == at)) d += move_to(c.start);
+    d += c.is_arc() || c.start != c.end ? draw(c) : fmt::format(" l0,0");
     at = c.end;
   }
   return d;
@@ -366,9 +367,7 @@ void write_planar_svg(const PlanarDrawing& drawing, const std::string& path) {
       box.min().x() - margin, -box.max().y() - margin, width, height, 800,
       static_cast<int>(800 * height / width));
   if (!drawing.title.empty()) out << "<title>" << drawing.title << "</title>\n";
-  out << "<rect x=\"" << box.min().x() - margin << "\" y=\"" << -box.max().y() - margin << "\" width=\""
-      << width << "\" height=\"" << height << "\" fill=\"white\"/>\n";
-  out << "<g transform=\"scale(1,-1)\" stroke-linejoin=\"round\" stroke-linecap=\"round\">\n";
+  out << "<g stroke-linejoin=\"round\" stroke-linecap=\"round\">\n";
   if (drawing.stock)
     out << fmt::format(
         "<path id=\"stock\" d=\"{}\" fill=\"#eeeeee\" stroke=\"#888888\" stroke-width=\"{:.6g}\" "

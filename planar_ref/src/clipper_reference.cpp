@@ -69,7 +69,28 @@ ClipperLib::Paths dilation_polygons(const morph::planar::Trajectory& moves, doub
   return result;
 }
 
-ReferenceResult to_result(const ClipperLib::Paths& paths, double scale) {
+/// Removes zero-width spikes (a vertex where the boundary folds back on itself), decided exactly on
+/// Clipper's integers: where the tool's side runs exactly along a stock edge, the difference can
+/// keep them, and the regularized result has none.
+void remove_spikes(ClipperLib::Path& path) {
+  for (bool changed = true; changed && path.size() >= 3;) {
+    changed = false;
+    for (std::size_t i = 0; i < path.size() && path.size() >= 3; ++i) {
+      const ClipperLib::IntPoint& a = path[(i + path.size() - 1) % path.size()];
+      const ClipperLib::IntPoint& b = path[i];
+      const ClipperLib::IntPoint& c = path[(i + 1) % path.size()];
+      const __int128 ux = b.X - a.X, uy = b.Y - a.Y, vx = c.X - b.X, vy = c.Y - b.Y;
+      const bool fold = ux * vy - uy * vx == 0 && ux * vx + uy * vy <= 0;
+      if (fold) {
+        path.erase(path.begin() + static_cast<long>(i));
+        changed = true;
+      }
+    }
+  }
+}
+
+ReferenceResult to_result(ClipperLib::Paths paths, double scale) {
+  for (ClipperLib::Path& path : paths) remove_spikes(path);
   ReferenceResult result;
   std::vector<morph::planar::Loop> loops;
   for (const ClipperLib::Path& path : paths) {
@@ -108,6 +129,8 @@ ReferenceResult reference_erosion(const morph::planar::Region& stock, const morp
   const double scale =
       choose_scale(morph::planar::bounds(stock).extend(Vec2::Zero()), options.chord_tolerance);
   ClipperLib::Clipper clipper;
+  // Pieces touching at a point are separate pieces, as in the exact result.
+  clipper.StrictlySimple(true);
   clipper.AddPaths(stock_polygons(stock, options.chord_tolerance, scale), ClipperLib::ptSubject, true);
   clipper.AddPaths(dilation_polygons(moves, radius, options.chord_tolerance, scale), ClipperLib::ptClip,
                    true);
@@ -126,6 +149,7 @@ ReferenceResult reference_dilation(const morph::planar::Trajectory& moves, doubl
   for (const Curve& m : moves) extent.extend(morph::planar::dilation_bounds(m, radius));
   const double scale = choose_scale(extent, options.chord_tolerance);
   ClipperLib::Clipper clipper;
+  clipper.StrictlySimple(true);
   clipper.AddPaths(dilation_polygons(moves, radius, options.chord_tolerance, scale), ClipperLib::ptSubject,
                    true);
   ClipperLib::Paths solution;
