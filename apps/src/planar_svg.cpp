@@ -309,18 +309,18 @@ namespace {
 /// Path data in SVG's frame (y flipped, so a counter-clockwise arc has sweep flag 0): the picture
 /// reads back through read_svg_shapes as the same curves.
 std::string move_to(const Vec2& p) {
-  return fmt::format(" M{:.10g},{:.10g}", p.x(), -p.y());
+  return fmt::format(" M{:.10g},{:.10g}", p.x(), 0.0 - p.y());
 }
 
 std::string draw(const Curve& c) {
-  if (!c.is_arc()) return fmt::format(" L{:.10g},{:.10g}", c.end.x(), -c.end.y());
+  if (!c.is_arc()) return fmt::format(" L{:.10g},{:.10g}", c.end.x(), 0.0 - c.end.y());
   // SVG cannot draw a full circle in one arc: two halves.
   std::string d;
   const int parts = std::abs(c.sweep) > 1.5 * M_PI ? 2 : 1;
   for (int k = 1; k <= parts; ++k) {
     const Vec2 p = k == parts ? c.end : morph::planar::point_at(c, static_cast<double>(k) / parts);
     d += fmt::format(" A{:.10g},{:.10g} 0 {} {} {:.10g},{:.10g}", c.radius, c.radius,
-                     std::abs(c.sweep) / parts > M_PI ? 1 : 0, c.sweep > 0.0 ? 0 : 1, p.x(), -p.y());
+                     std::abs(c.sweep) / parts > M_PI ? 1 : 0, c.sweep > 0.0 ? 0 : 1, p.x(), 0.0 - p.y());
   }
   return d;
 }

@@ -116,7 +116,7 @@ class Classifier {
         radius_(radius),
         eps_on_(eps_on),
         move_boxes_(boxes_of_moves()),
-        move_grid_(move_boxes_, extent, 2.0 * radius + 1e-300),
+        move_grid_(move_boxes_, extent, mean_size(move_boxes_, 2.0 * radius)),
         stock_boxes_(boxes_of_stock()),
         stock_grid_(stock_boxes_, extent, cell_for_stock(extent)) {}
 
@@ -153,6 +153,12 @@ class Classifier {
   }
 
  private:
+  /// Cells about as large as the boxes on average: a long move is listed in a few cells, not thousands.
+  static double mean_size(const std::vector<Box2>& boxes, double at_least) {
+    double sum = 0.0;
+    for (const Box2& b : boxes) sum += b.sizes().maxCoeff();
+    return std::max(at_least, boxes.empty() ? at_least : sum / static_cast<double>(boxes.size()));
+  }
   std::vector<Box2> boxes_of_moves() const {
     std::vector<Box2> boxes(near_.size());
     for (std::size_t i = 0; i < near_.size(); ++i)
