@@ -5,7 +5,7 @@ JOBS ?= $(shell nproc)
 CMAKE_FLAGS ?= -DCMAKE_BUILD_TYPE=Release
 DEMO_OUT ?= out/demo
 
-.PHONY: all deps configure build test demo bench test-asan format clean
+.PHONY: all deps configure build test demo bench test-asan fuzz format clean
 
 all: build
 
@@ -34,8 +34,14 @@ test-asan: deps
 	cmake --build $(ASAN_DIR) -j $(JOBS)
 	cd $(ASAN_DIR) && ctest --output-on-failure -j $(JOBS) -LE slow
 
+# libFuzzer harnesses (fuzz/, clang), each run for FUZZ_SECONDS: make fuzz FUZZ_SECONDS=3600
+FUZZ_SECONDS ?= 60
+fuzz:
+	MORPHMILL_EXTRA_PACKAGES="clang libclang-rt-14-dev" bash scripts/install-deps.sh
+	bash scripts/fuzz.sh $(FUZZ_SECONDS)
+
 format:
 	find morph vdb_ref raytest apps tests -name '*.cpp' -o -name '*.h' | xargs clang-format -i
 
 clean:
-	rm -rf $(BUILD_DIR) $(ASAN_DIR)
+	rm -rf $(BUILD_DIR) $(ASAN_DIR) build-fuzz

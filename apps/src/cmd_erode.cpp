@@ -8,6 +8,7 @@
 #include <tbb/global_control.h>
 #include <tbb/task_group.h>
 
+#include <exception>
 #include <iomanip>
 #include <iostream>
 #include <memory>
@@ -42,12 +43,21 @@ void run_erode(const ErodeCommandOptions& options) {
   const morph::ErodeResult result = morph::erode(job, erode_options);
   MeshWriteOptions write_options;
   write_options.binary = !options.ascii;
-  // The summary's topology is computed while the file is written.
+  // The summary's topology is computed while the file is written. A failed write must not
+  // unwind the task group while the report runs: the group's destructor would cancel it, its
+  // nested parallel loops would stop half-way and it would read half-built arrays. The write's
+  // exception waits for the report to finish, then goes on.
   morph::TopologyReport topology;
   tbb::task_group summary;
   summary.run([&] { topology = morph::topology_report(result.mesh); });
-  write_mesh(result.mesh, options.mesh_path, write_options);
+  std::exception_ptr write_failure;
+  try {
+    write_mesh(result.mesh, options.mesh_path, write_options);
+  } catch (...) {
+    write_failure = std::current_exception();
+  }
   summary.wait();
+  if (write_failure) std::rethrow_exception(write_failure);
   const morph::ErodeStats& s = result.stats;
   std::cout << "erode " << (job.name.empty() ? options.job_path : job.name) << " at tolerance "
             << (options.tolerance > 0.0 ? options.tolerance : job.tolerance) << ": " << s.moves << " moves ("

@@ -1,6 +1,7 @@
 // RS-274/NGC reader for the subset CAM post-processors emit for 3-axis milling. The supported
 // subset, the start-position rule and which problems are warnings or errors are in docs/gcode.md.
 #include <morph/exceptions.h>
+#include <morph/file_io.h>
 #include <morph/gcode.h>
 
 #include <algorithm>
@@ -101,6 +102,21 @@ struct Block {
   double get(char upper) const { return value[letter_index(upper)]; }
 };
 
+/// Lines holding at least one digit: a bound on the moves a program can hold.
+std::size_t lines_with_digits(std::string_view text) {
+  std::size_t lines = 0;
+  bool digit = false;
+  for (const char c : text) {
+    if (c == '\n') {
+      lines += digit;
+      digit = false;
+    } else if (c >= '0' && c <= '9') {
+      digit = true;
+    }
+  }
+  return lines + digit;
+}
+
 class Reader {
  public:
   Reader(const std::string& name, const GcodeOptions& options) : name_(name), options_(options) {
@@ -114,8 +130,9 @@ class Reader {
   }
 
   GcodeResult run(std::string_view text) {
-    // At most one move per line: reserving avoids re-copying a large move vector while it grows.
-    result_.path.moves.reserve(static_cast<std::size_t>(std::count(text.begin(), text.end(), '\n')) + 1);
+    // At most one move per line with a number on it: reserving avoids re-copying a large move
+    // vector while it grows, and blank or comment-only lines reserve nothing.
+    result_.path.moves.reserve(lines_with_digits(text));
     std::size_t begin = 0;
     int line_number = 0;
     bool seen_content = false;  // an opening '%' may only come before any content
@@ -873,17 +890,7 @@ GcodeResult parse_gcode(std::istream& in, const std::string& name, const GcodeOp
 }
 
 GcodeResult read_gcode(const std::string& path, const GcodeOptions& options) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw IoError(path + ": cannot open G-code file (" + std::strerror(errno) + ")");
-  in.seekg(0, std::ios::end);
-  const std::streamoff size = in.tellg();
-  in.seekg(0, std::ios::beg);
-  std::string text;
-  if (size > 0) {
-    text.resize(static_cast<std::size_t>(size));
-    in.read(text.data(), size);
-  }
-  if (in.bad() || (size > 0 && in.gcount() != size)) throw IoError(path + ": read error");
+  const std::string text = read_regular_file(path, "G-code file");
   Reader reader(path, options);
   return reader.run(text);
 }
