@@ -15,6 +15,7 @@
 #include <optional>
 
 #include "commands.h"
+#include "memory_cap.h"
 #include "terminal_progress.h"
 
 namespace morphmill {
@@ -27,6 +28,7 @@ struct ErodeCommandOptions {
   double tolerance = 0.0;
   int threads = 0;
   bool ascii = false;
+  double memory_cap_gib = 0.0;
 };
 
 void run_erode(const ErodeCommandOptions& options) {
@@ -36,11 +38,20 @@ void run_erode(const ErodeCommandOptions& options) {
   std::optional<tbb::global_control> threads;
   if (options.threads > 0) threads.emplace(tbb::global_control::max_allowed_parallelism, options.threads);
   const morph::Job job = load_job(options.job_path);
+  report_job_warnings(job);
   TerminalProgress progress;
   morph::ErodeOptions erode_options;
   erode_options.tolerance = options.tolerance;
   erode_options.progress = &progress;
-  const morph::ErodeResult result = morph::erode(job, erode_options);
+  erode_options.memory_cap_bytes = memory_cap_bytes(options.memory_cap_gib);
+  const morph::ErodeResult result = [&] {
+    try {
+      return morph::erode(job, erode_options);
+    } catch (const morph::LimitError& e) {
+      throw morph::LimitError(options.job_path + ": " + e.what() + " (--memory-cap " +
+                              std::to_string(options.memory_cap_gib) + " GiB)");
+    }
+  }();
   MeshWriteOptions write_options;
   write_options.binary = !options.ascii;
   // The summary's topology is computed while the file is written. A failed write must not
@@ -71,7 +82,10 @@ void run_erode(const ErodeCommandOptions& options) {
   std::cout << ", volume " << std::setprecision(10) << topology.volume << '\n'
             << std::fixed << std::setprecision(2) << "  " << s.seconds_total << " s (setup "
             << s.seconds_setup << ", trim " << s.seconds_trim << ", assemble " << s.seconds_assemble
-            << ") -> " << options.mesh_path << '\n';
+            << ") -> " << options.mesh_path << '\n'
+            << "  memory: estimated " << describe_bytes(s.estimated_bytes) << " up front (" << s.segments
+            << " segments, " << s.patches << " patches, " << std::setprecision(0) << s.grid_cells
+            << " grid cells)\n";
 }
 
 }  // namespace
@@ -92,6 +106,7 @@ void register_erode_command(CLI::App& app) {
                       "Largest distance from the exact surface, job units (default: the job's tolerance)");
   command->add_option("--threads", options->threads, "Worker threads (default: all cores)");
   command->add_flag("--ascii", options->ascii, "Write ASCII instead of binary PLY/STL");
+  add_memory_cap_option(command, options->memory_cap_gib);
   command->callback([options] { run_erode(*options); });
 }
 

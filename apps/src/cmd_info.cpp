@@ -190,11 +190,13 @@ void register_info_commands(CLI::App& app) {
   info->add_option("job", job_options->path, "Job file (JSON, see docs/job-format.md)")->required();
   info->add_flag("--json", job_options->json, "Print the summary as JSON instead of a table");
   info->callback([job_options] {
-    const json description = describe_job(load_job(job_options->path));
+    const morph::Job job = load_job(job_options->path);
+    const json description = describe_job(job);
     if (job_options->json)
       std::cout << description.dump(2) << '\n';
     else
       print_job(description, std::cout);
+    report_job_warnings(job, false);
   });
 
   auto mesh_options = std::make_shared<InfoOptions>();

@@ -1,6 +1,7 @@
 #pragma once
 // Each command group registers its subcommands on the root app; main() dispatches and maps
 // exceptions to exit codes (see exit_codes below).
+#include <morph/job.h>
 #include <CLI/CLI.hpp>
 
 namespace morphmill {
@@ -15,6 +16,12 @@ enum ExitCode : int {
 
 /// Thrown by a command whose computation ran but whose verdict does not hold (exit code 1).
 struct VerdictFailed {};
+
+/// `morphmill --strict`: warnings become exit 2.
+bool& strict_warnings();
+/// Prints the job's warnings on stderr (`print`; info shows them in its report instead) and,
+/// under --strict, throws morph::InputError if there are any.
+void report_job_warnings(const morph::Job& job, bool print = true);
 
 void register_info_commands(CLI::App& app);       // info, mesh-info
 void register_erode_command(CLI::App& app);       // erode

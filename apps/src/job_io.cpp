@@ -4,6 +4,7 @@
 #include <morph/exceptions.h>
 #include <morph/file_io.h>
 #include <morph/gcode.h>
+#include <morph/shells.h>
 #include <morph/topology.h>
 #include <morphmill/job_io.h>
 #include <morphmill/mesh_io.h>
@@ -272,6 +273,17 @@ class JobParser {
       if (!(report.volume > 0))
         fail(path_at, "stock mesh '" + path + "' is wound inward (enclosed volume " + text(report.volume) +
                           " <= 0); its faces must wind counter-clockwise seen from outside");
+      if (const auto enclosed = morph::find_enclosed_shell(stock.mesh)) {
+        const Eigen::Vector3d& p = stock.mesh.vertices[enclosed->vertex];
+        fail(path_at, "stock mesh '" + path + "' has " + std::to_string(report.components) +
+                          " shells, and the shell of triangle " + std::to_string(enclosed->inner_triangle) +
+                          " lies inside or across the shell of triangle " +
+                          std::to_string(enclosed->outer_triangle) + " (its vertex " +
+                          std::to_string(enclosed->vertex) + " at (" + text(p.x()) + ", " + text(p.y()) +
+                          ", " + text(p.z()) +
+                          ") is enclosed); nested or overlapping shells would count their common "
+                          "volume twice: merge them into one closed surface");
+      }
     } else {
       fail(join_path(at, "type"), "unknown stock type '" + type + "' (expected box, cylinder or mesh)");
     }
@@ -580,8 +592,17 @@ nlohmann::json describe_job(const morph::Job& job) {
       tools_used.insert(m.tool);
       path_bounds.extend(m.start);
       path_bounds.extend(m.end);
-      if (m.is_arc())
-        for (double t : morph::chord_parameters(m, job.tolerance)) path_bounds.extend(morph::point_at(m, t));
+      if (m.is_arc()) {
+        // Chords within the job tolerance, but no finer than a millionth of the radius: the box
+        // is then exact to that, and a many-turn arc at a tiny tolerance stays a few million points.
+        const double radius = std::max((m.start - m.center).norm(), (m.end - m.center).norm());
+        const double chord = std::max(job.tolerance, 1e-6 * radius);
+        try {
+          for (double t : morph::chord_parameters(m, chord)) path_bounds.extend(morph::point_at(m, t));
+        } catch (const morph::LimitError& e) {
+          throw morph::LimitError(job.file + ": " + path.source + ": " + e.what());
+        }
+      }
     }
     all_bounds.extend(path_bounds);
     json p{{"index", i},

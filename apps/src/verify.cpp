@@ -1,5 +1,7 @@
 #include "verify.h"
 
+#include "commands.h"
+
 #include <morph/aabb_tree.h>
 #include <morph/erode.h>
 #include <morph/exceptions.h>
@@ -402,6 +404,7 @@ VerifyOutcome run_verify(const VerifyOptions& options) {
   std::vector<StageRecord> load_stage;
   StageClock clock(load_stage);
   const morph::Job job = clock.run("load job", [&] { return load_job(options.job_path); });
+  report_job_warnings(job);
   // Bad input fails before the output directory is made (evaluate_job checks this again).
   const double tolerance = options.tolerance > 0 ? options.tolerance : job.tolerance;
   if (!(tolerance > 0)) throw morph::InputError("--tolerance must be positive");

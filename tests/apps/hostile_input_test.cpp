@@ -10,7 +10,10 @@
 
 #include <filesystem>
 #include <fstream>
+#include <nlohmann/json.hpp>
 #include <string>
+#include <tuple>
+#include <vector>
 
 #include "apps/command_support.h"
 
@@ -185,6 +188,100 @@ TEST_F(HostileInput, AFailedWriteLeavesTheOldResult) {
   ::chmod(path("w").c_str(), 0755);
   EXPECT_EQ(r.exit_code, 2) << r.err;
   EXPECT_EQ(slurp("w/result.ply"), kTetraPly);
+}
+
+/// A closed cube [lo, lo + size]^3 as PLY vertex and face lines, its vertices numbered from `first`.
+std::string cube_lines(double lo, double size, int first, std::string& faces) {
+  std::string vertices;
+  for (int k = 0; k < 8; ++k)
+    vertices += std::to_string(lo + size * (k & 1)) + " " + std::to_string(lo + size * (k >> 1 & 1)) + " " +
+                std::to_string(lo + size * (k >> 2 & 1)) + "\n";
+  const int quads[6][4] = {{0, 2, 3, 1}, {4, 5, 7, 6}, {0, 1, 5, 4},
+                           {2, 6, 7, 3}, {0, 4, 6, 2}, {1, 3, 7, 5}};
+  for (const auto& q : quads)
+    faces += "4 " + std::to_string(first + q[0]) + " " + std::to_string(first + q[1]) + " " +
+             std::to_string(first + q[2]) + " " + std::to_string(first + q[3]) + "\n";
+  return vertices;
+}
+
+std::string two_cubes_ply(double second_lo, double second_size) {
+  std::string faces;
+  const std::string vertices = cube_lines(0, 10, 0, faces) + cube_lines(second_lo, second_size, 8, faces);
+  return "ply\nformat ascii 1.0\nelement vertex 16\nproperty double x\nproperty double y\nproperty double z\n"
+         "element face 12\nproperty list uchar int vertex_indices\nend_header\n" +
+         vertices + faces;
+}
+
+TEST_F(HostileInput, NestedOrOverlappingStockShellsAreRefused) {
+  for (const auto& [name, lo, size] :
+       {std::tuple<const char*, double, double>{"overlap.ply", 5, 10}, {"nested.ply", 2, 6}}) {
+    SCOPED_TRACE(name);
+    write_text(name, two_cubes_ply(lo, size));
+    write_text("job.json", mesh_job(name));
+    expect_refusal(morphmill("info job.json"), name, {"shells", "triangle"});
+  }
+  // Two cubes apart are two pieces of stock, as before.
+  write_text("apart.ply", two_cubes_ply(20, 5));
+  write_text("job.json", mesh_job("apart.ply"));
+  EXPECT_EQ(morphmill("info job.json").exit_code, 0);
+}
+
+TEST_F(HostileInput, ToleranceBelowTheCoordinatesResolutionIsRefused) {
+  write_text(
+      "far.json",
+      R"({"stock":{"type":"box","min":[1e15,0,0],"max":[1.0000000000001e15,60,20]},"tools":{"1":{"type":"ballend","radius":3,"length":40}},"paths":[{"tool":1,"polyline":[[999999999999995,30,17],[1000000000000105,30,17]]}],"tolerance":0.01})");
+  expect_refusal(morphmill("erode far.json -o out.ply"), "far.json", {"resolve", "0.125"});
+}
+
+TEST_F(HostileInput, AThousandTurnArcHasItsBoundsAtATinyTolerance) {
+  // info_arc_bounds_wrong.json: the chord count overflowed int and the box missed the arc.
+  write_text("arc.nc", "G21 G90 G17\nG0 X0 Y0 Z25\nG1 Z15 F300\nG1 X10\nG3 X10 Y0 I-10 J0 P1000\n");
+  write_text(
+      "arc.json",
+      R"({"stock":{"type":"box","min":[-20,-20,0],"max":[20,20,20]},"tools":{"1":{"type":"sphere","radius":2}},"paths":[{"tool":1,"gcode":"arc.nc"}],"tolerance":1e-12})");
+  const Run r = morphmill("info arc.json --json");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const auto j = nlohmann::json::parse(r.out);
+  const std::vector<double> lo = j["bounds"]["min"], hi = j["bounds"]["max"];
+  for (int k = 0; k < 3; ++k) {
+    EXPECT_NEAR(lo[k], std::vector<double>{-10, -10, 15}[k], 1e-4);
+    EXPECT_NEAR(hi[k], std::vector<double>{10, 10, 25}[k], 1e-4);
+  }
+}
+
+TEST_F(HostileInput, EveryCommandSaysTheJobsWarningsAndStrictRefusesThem) {
+  const std::string job = "'" + kData + "/jobs/single_slot.json'";
+  std::ifstream in(kData + "/jobs/single_slot.json");
+  std::string text(std::istreambuf_iterator<char>(in), {});
+  text.insert(text.find('{') + 1, "\"tolerence\": 0.05, ");
+  write_text("misspelt.json", text);
+  const Run erode = morphmill("erode misspelt.json -o out.ply");
+  EXPECT_EQ(erode.exit_code, 0) << erode.err;
+  EXPECT_NE(erode.err.find("tolerence"), std::string::npos) << erode.err;
+  const Run reference = morphmill("reference misspelt.json --voxel 1 -o ref.ply");
+  EXPECT_EQ(reference.exit_code, 0) << reference.err;
+  EXPECT_NE(reference.err.find("tolerence"), std::string::npos) << reference.err;
+  expect_refusal(morphmill("erode misspelt.json -o strict.ply --strict"), "misspelt.json", {"--strict"});
+  expect_refusal(morphmill("--strict info misspelt.json"), "misspelt.json", {"--strict"});
+  EXPECT_EQ(morphmill("erode " + job + " -o clean.ply --strict").exit_code, 0);
+}
+
+TEST_F(HostileInput, DeviationCountsAndDistancesAreRangeChecked) {
+  write_text("a.ply", kTetraPly);
+  write_text("b.ply", kTetraPly);
+  for (const char* option : {"--max-distance -1", "--max-distance 0"})
+    expect_refusal(morphmill(std::string("deviation a.ply b.ply --ray ") + option), "--max-distance");
+  for (const char* option :
+       {"--samples -5", "--samples 200000000", "--samples 4294967295", "--edge-samples -1"})
+    expect_refusal(morphmill(std::string("deviation a.ply b.ply ") + option), "samples");
+}
+
+TEST_F(HostileInput, AnInfiniteMemoryCapIsAFiniteOne) {
+  const Run r = morphmill("reference '" + kData +
+                          "/jobs/through_slots.json' --voxel 0.001 --memory-cap inf -o ref.ply");
+  EXPECT_EQ(r.exit_code, 2) << r.err;
+  EXPECT_EQ(r.err.find("cap of 0 MiB"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("MiB"), std::string::npos) << r.err;
 }
 
 }  // namespace
