@@ -2428,11 +2428,11 @@ double stock_face_distance(const Patch& p, const Vector3d& x) {
 // tests/morph/erode_estimate_test.cpp and docs/generator.md): a fixed part, the stock mesh, the
 // segments with their capsules and bounds, the patches, and the tessellation cells of the patch
 // grids (a cell is two triangles at most, with their share of vertices, edge uses and seams).
-constexpr double kBytesFixed = 40.0 * (1 << 20);
-constexpr double kBytesPerStockTriangle = 1000.0;
+constexpr double kBytesFixed = 35.0 * (1 << 20);
+constexpr double kBytesPerStockTriangle = 400.0;
 constexpr double kBytesPerSegment = 600.0;
-constexpr double kBytesPerPatch = 1500.0;
-constexpr double kBytesPerGridCell = 400.0;
+constexpr double kBytesPerPatch = 400.0;
+constexpr double kBytesPerGridCell = 100.0;
 
 void check_memory_estimate(const ErodeOptions& options, double tolerance, double bytes,
                            const std::string& what) {
@@ -2585,7 +2585,9 @@ ErodeResult erode(const Job& job, const ErodeOptions& options) {
   }
   const std::vector<Patch>& patches = builder.patches;
   stats.patches = patches.size();
-  for (const Patch& p : patches) stats.grid_cells += double(p.nu) * double(p.nv);
+  // A triangle's grid spans the parallelogram on two of its sides: half its cells lie inside.
+  for (const Patch& p : patches)
+    stats.grid_cells += (p.form == Form::Triangle ? 0.5 : 1.0) * double(p.nu) * double(p.nv);
   stats.estimated_bytes = kBytesFixed + stock_bytes + double(ctx.segments.size()) * kBytesPerSegment +
                           double(patches.size()) * kBytesPerPatch + stats.grid_cells * kBytesPerGridCell;
   check_memory_estimate(options, tolerance, stats.estimated_bytes,
