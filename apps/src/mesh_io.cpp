@@ -591,7 +591,8 @@ TriangleMesh read_ply(const std::string& data, const std::string& path) {
           for (double k = 0; k < n; ++k) {
             const double item = body.value(p.type, p.name);
             if (roles[i] == Role::Indices) {
-              if (item < 0 || item >= double(vertex_count))
+              // Written so that NaN (a float index list) fails too; found by the PLY fuzzer.
+              if (!(item >= 0 && item < double(vertex_count) && item == std::floor(item)))
                 throw body.error("face " + std::to_string(r) + " refers to vertex " +
                                  fmt::format("{}", item) + " but there are " + std::to_string(vertex_count) +
                                  " vertices");

@@ -110,6 +110,15 @@ TEST_F(HostileInput, PlyTagsOutsideInt32AreRefused) {
   expect_refusal(morphmill("mesh-info source.ply"), "source.ply", {"source", "not a 32-bit integer"});
 }
 
+TEST_F(HostileInput, PlyNanVertexIndexIsRefused) {
+  // The PLY fuzzer's find: float vertex indices holding NaN passed both range comparisons and
+  // were cast to an integer (UBSan: -nan is outside the range of unsigned int).
+  write_text("nan.ply",
+             "ply\nformat ascii 1.0\nelement vertex 3\nproperty double x\nproperty double y\nproperty double z\n"
+             "element face 1\nproperty list uchar float vertex_indices\nend_header\n0 0 0\n1 0 0\n0 1 0\n3 0 1 nan\n");
+  expect_refusal(morphmill("mesh-info nan.ply"), "nan.ply", {"refers to vertex nan"});
+}
+
 TEST_F(HostileInput, PlyCountsBeyondTheBytesAreRefusedBeforeAllocating) {
   write_text("huge.ply",
              "ply\nformat binary_little_endian 1.0\nelement vertex 1099511627776\nproperty float x\n"
