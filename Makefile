@@ -5,7 +5,7 @@ JOBS ?= $(shell nproc)
 CMAKE_FLAGS ?= -DCMAKE_BUILD_TYPE=Release
 DEMO_OUT ?= out/demo
 
-.PHONY: all deps configure build test test-slurm demo bench test-asan format clean
+.PHONY: all deps configure build test test-slurm demo bench test-asan test-asan-full fuzz format clean
 
 all: build
 
@@ -36,13 +36,27 @@ demo: build
 bench: build
 	bash scripts/bench.sh $(BUILD_DIR)
 
+# AddressSanitizer + UndefinedBehaviorSanitizer. `make test-asan` (CI) builds and runs the morph
+# library's tests: the guarded file reading and writing, the G-code reader and the generator.
+# `make test-asan-full` builds and runs every suite.
+ASAN_TARGETS ?= morph_tests
+ASAN_CTEST ?= -L morph -LE slow
 test-asan: deps
 	cmake -S . -B $(ASAN_DIR) -DCMAKE_BUILD_TYPE=RelWithDebInfo -DMORPHMILL_SANITIZE=ON -DMORPHMILL_BUILD_BENCHMARKS=OFF
-	cmake --build $(ASAN_DIR) -j $(JOBS)
-	cd $(ASAN_DIR) && ctest --output-on-failure -j $(JOBS) -LE slow
+	cmake --build $(ASAN_DIR) -j $(JOBS) --target $(ASAN_TARGETS)
+	cd $(ASAN_DIR) && ctest --output-on-failure -j $(JOBS) $(ASAN_CTEST)
+
+test-asan-full:
+	$(MAKE) test-asan ASAN_TARGETS=all ASAN_CTEST="-LE slow"
+
+# libFuzzer harnesses (fuzz/, clang), each run for FUZZ_SECONDS: make fuzz FUZZ_SECONDS=3600
+FUZZ_SECONDS ?= 60
+fuzz:
+	MORPHMILL_EXTRA_PACKAGES="clang libclang-rt-14-dev" bash scripts/install-deps.sh
+	bash scripts/fuzz.sh $(FUZZ_SECONDS)
 
 format:
 	find morph vdb_ref raytest apps tests -name '*.cpp' -o -name '*.h' | xargs clang-format -i
 
 clean:
-	rm -rf $(BUILD_DIR) $(ASAN_DIR)
+	rm -rf $(BUILD_DIR) $(ASAN_DIR) build-fuzz

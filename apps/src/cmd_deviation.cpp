@@ -33,6 +33,9 @@ class Stopwatch {
   std::chrono::steady_clock::time_point start_ = std::chrono::steady_clock::now();
 };
 
+/// Most samples --samples and --edge-samples take per mesh.
+constexpr std::size_t kMaxDeviationSamples = 20000000;
+
 std::pair<int, int> parse_size(const std::string& text) {
   const std::size_t x = text.find_first_of("xX");
   try {
@@ -284,11 +287,15 @@ void register_deviation_commands(CLI::App& app) {
       "worst provenance groups, heatmap PLY and picture. Distances are in the meshes' units.");
   deviation->add_option("A", deviation_args->a_path, "measured mesh (PLY, STL, OBJ)")->required();
   deviation->add_option("B", deviation_args->b_path, "reference mesh (PLY, STL, OBJ)")->required();
+  // Each sample holds its position, normal and result on both sides: a few hundred bytes, so the
+  // bound keeps a run within a few GiB and a negative or mistyped count from wrapping around.
   deviation->add_option("--samples", deviation_args->face_samples, "area-uniform face samples on each mesh")
-      ->capture_default_str();
+      ->capture_default_str()
+      ->check(CLI::Range(0.0, double(kMaxDeviationSamples)));
   deviation
       ->add_option("--edge-samples", deviation_args->edge_samples, "samples along the edges of each mesh")
-      ->capture_default_str();
+      ->capture_default_str()
+      ->check(CLI::Range(0.0, double(kMaxDeviationSamples)));
   deviation->add_flag("--no-vertices", deviation_args->no_vertices, "do not sample the vertices");
   deviation->add_flag("--one-sided", deviation_args->one_sided, "measure A -> B only");
   auto* signed_flag = deviation->add_flag("--signed", deviation_args->signed_mode,
@@ -297,8 +304,10 @@ void register_deviation_commands(CLI::App& app) {
       ->add_flag("--ray", deviation_args->ray_mode,
                  "ray mode: first hit along the sample normal, both ways, within --max-distance")
       ->excludes(signed_flag);
-  deviation->add_option("--max-distance", deviation_args->max_distance,
-                        "farther samples count as misses (mesh units)");
+  deviation
+      ->add_option("--max-distance", deviation_args->max_distance,
+                   "farther samples count as misses (mesh units, > 0)")
+      ->check(CLI::PositiveNumber);
   deviation->add_option("--tolerance", deviation_args->tolerance, "report the share of |d| <= tolerance")
       ->capture_default_str();
   deviation->add_option("--bins", deviation_args->bins, "histogram bins")->capture_default_str();

@@ -9,12 +9,14 @@
 #include <tbb/global_control.h>
 #include <tbb/task_group.h>
 
+#include <exception>
 #include <iomanip>
 #include <iostream>
 #include <memory>
 #include <optional>
 
 #include "commands.h"
+#include "memory_cap.h"
 #include "terminal_progress.h"
 
 namespace morphmill {
@@ -28,6 +30,7 @@ struct ErodeCommandOptions {
   int threads = 0;
   bool ascii = false;
   bool allow_open = false;
+  double memory_cap_gib = 0.0;
 };
 
 void run_erode(const ErodeCommandOptions& options) {
@@ -37,11 +40,20 @@ void run_erode(const ErodeCommandOptions& options) {
   std::optional<tbb::global_control> threads;
   if (options.threads > 0) threads.emplace(tbb::global_control::max_allowed_parallelism, options.threads);
   const morph::Job job = load_job(options.job_path);
+  report_job_warnings(job);
   TerminalProgress progress;
   morph::ErodeOptions erode_options;
   erode_options.tolerance = options.tolerance;
   erode_options.progress = &progress;
-  const morph::ErodeResult result = morph::erode(job, erode_options);
+  erode_options.memory_cap_bytes = memory_cap_bytes(options.memory_cap_gib);
+  const morph::ErodeResult result = [&] {
+    try {
+      return morph::erode(job, erode_options);
+    } catch (const morph::LimitError& e) {
+      throw morph::LimitError(options.job_path + ": " + e.what() + " (--memory-cap " +
+                              std::to_string(options.memory_cap_gib) + " GiB)");
+    }
+  }();
   // What the surface is decides whether it is written: a surface that is not a closed, oriented
   // 2-manifold free of self-intersections is not the solid that was promised.
   morph::TopologyReport topology;
@@ -73,7 +85,10 @@ void run_erode(const ErodeCommandOptions& options) {
   std::cout << ", volume " << std::setprecision(10) << topology.volume << '\n'
             << std::fixed << std::setprecision(2) << "  " << s.seconds_total << " s (setup "
             << s.seconds_setup << ", trim " << s.seconds_trim << ", assemble " << s.seconds_assemble
-            << ") -> " << (valid || options.allow_open ? options.mesh_path : "not written") << '\n';
+            << ") -> " << (valid || options.allow_open ? options.mesh_path : "not written") << '\n'
+            << "  memory: estimated " << describe_bytes(s.estimated_bytes) << " up front (" << s.segments
+            << " segments, " << s.patches << " patches, " << std::setprecision(0) << s.grid_cells
+            << " grid cells)\n";
   if (!valid) {
     std::cerr << "erode: the surface is not a closed, oriented 2-manifold free of self-intersections; "
               << (options.allow_open ? "written anyway (--allow-open)"
@@ -106,6 +121,7 @@ void register_erode_command(CLI::App& app) {
   command->add_flag("--allow-open", options->allow_open,
                     "Write the surface even when it is not a closed, oriented 2-manifold free of\n"
                     "self-intersections (the exit code is still 1)");
+  add_memory_cap_option(command, options->memory_cap_gib);
   command->callback([options] { run_erode(*options); });
 }
 

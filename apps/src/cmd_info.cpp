@@ -349,11 +349,13 @@ void register_info_commands(CLI::App& app) {
         print_moves(moves, std::cout);
       return;
     }
-    const json description = describe_job(load_job(job_options->path));
+    const morph::Job job = load_job(job_options->path);
+    const json description = describe_job(job);
     if (as_json)
       std::cout << description.dump(2) << '\n';
     else
       print_job(description, std::cout);
+    report_job_warnings(job, false);
   });
 
   auto mesh_options = std::make_shared<InfoOptions>();

@@ -1,6 +1,7 @@
 // morphmill reference: the OpenVDB level-set reference of a job's erosion, at one or more voxel
 // sizes (a convergence study), with its mesh, optional VDB grid and stats.
 #include <morph/exceptions.h>
+#include <morph/file_io.h>
 #include <morphmill/job_io.h>
 #include <morphmill/mesh_io.h>
 #include <vdb_ref/reference.h>
@@ -12,6 +13,7 @@
 #include <nlohmann/json.hpp>
 
 #include "commands.h"
+#include "memory_cap.h"
 #include "terminal_progress.h"
 
 namespace morphmill {
@@ -69,16 +71,14 @@ nlohmann::json stats_json(const morph::Job& job, const vdb_ref::ReferenceResult&
 }
 
 void write_json(const nlohmann::json& json, const std::string& path) {
-  std::ofstream out(path);
-  if (!out) throw morph::IoError(path + ": cannot open for writing");
-  out << json.dump(2) << '\n';
-  if (!out) throw morph::IoError(path + ": write failed");
+  morph::write_file_atomically(path, json.dump(2) + "\n");
 }
 
 void run_reference(const ReferenceCommandOptions& options) {
   const std::vector<double> voxels = vdb_ref::parse_voxel_sizes(options.voxels, "--voxel");
-  if (!(options.memory_cap_gib > 0.0)) throw morph::InputError("--memory-cap: must be > 0 GiB");
+  const std::size_t memory_cap = memory_cap_bytes(options.memory_cap_gib);
   const morph::Job job = load_job(options.job_path);
+  report_job_warnings(job);
   const bool several = voxels.size() > 1;
   auto output = [&](const std::string& path, double voxel) {
     return path.empty() || !several ? path : vdb_ref::path_with_voxel_suffix(path, voxel);
@@ -88,7 +88,7 @@ void run_reference(const ReferenceCommandOptions& options) {
     vdb_ref::ReferenceOptions run;
     run.voxel_size = voxel;
     run.half_width_voxels = options.half_width;
-    run.memory_cap_bytes = static_cast<std::size_t>(options.memory_cap_gib * double(std::size_t(1) << 30));
+    run.memory_cap_bytes = memory_cap;
     run.vdb_output_path = output(options.vdb_path, voxel);
     // Every voxel size is checked (input, memory cap) before the first long computation.
     vdb_ref::estimate_reference_memory(job, run);
@@ -151,10 +151,7 @@ void register_reference_command(CLI::App& app) {
   command->add_option("--half-width", options->half_width, "Narrow-band half width in voxels")
       ->capture_default_str()
       ->check(CLI::Range(1.0, 100.0));
-  command
-      ->add_option("--memory-cap", options->memory_cap_gib,
-                   "Refuse (before computing) grids estimated to need more than this many GiB")
-      ->capture_default_str();
+  add_memory_cap_option(command, options->memory_cap_gib);
   command->add_flag("--ascii", options->ascii, "Write ASCII instead of binary PLY/STL");
   command->callback([options] { run_reference(*options); });
 }

@@ -36,7 +36,8 @@ void register_verify_command(CLI::App& app) {
   verify
       ->add_option("--samples", options->face_samples,
                    "Area-uniform samples per surface, on top of every vertex")
-      ->capture_default_str();
+      ->capture_default_str()
+      ->check(CLI::Range(0.0, 2e7));
   verify->add_option("--seed", options->seed, "Seed of the surface sampling")->capture_default_str();
   verify->callback([options] {
     TerminalProgress progress;

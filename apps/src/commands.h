@@ -1,6 +1,7 @@
 #pragma once
 // Each command group registers its subcommands on the root app; main() dispatches and maps
 // exceptions to exit codes (see exit_codes below).
+#include <morph/job.h>
 #include <CLI/CLI.hpp>
 
 namespace morphmill {
@@ -20,6 +21,12 @@ struct VerdictFailed {};
 /// Thrown by a command that stopped or was refused before every case of its campaign ran, after
 /// saying what is missing (exit code 4).
 struct CampaignIncomplete {};
+
+/// `morphmill --strict`: warnings become exit 2.
+bool& strict_warnings();
+/// Prints the job's warnings on stderr (`print`; info shows them in its report instead) and,
+/// under --strict, throws morph::InputError if there are any.
+void report_job_warnings(const morph::Job& job, bool print = true);
 
 void register_info_commands(CLI::App& app);       // info, mesh-info
 void register_erode_command(CLI::App& app);       // erode

@@ -1,6 +1,7 @@
 #include "html.h"
 
 #include <morph/exceptions.h>
+#include <morph/file_io.h>
 #include <boost/archive/iterators/base64_from_binary.hpp>
 #include <boost/archive/iterators/transform_width.hpp>
 
@@ -10,9 +11,7 @@
 namespace morphmill {
 
 std::string read_file_bytes(const std::filesystem::path& path) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw morph::IoError(path.string() + ": cannot read");
-  return std::string(std::istreambuf_iterator<char>(in), {});
+  return morph::read_regular_file(path.string(), "file");
 }
 
 std::string base64(const std::string& bytes) {

@@ -2,7 +2,9 @@
 // at fault; unknown keys are warnings so that a misspelt optional key is never silently ignored.
 #include <fmt/format.h>
 #include <morph/exceptions.h>
+#include <morph/file_io.h>
 #include <morph/gcode.h>
+#include <morph/shells.h>
 #include <morph/topology.h>
 #include <morphmill/job_io.h>
 #include <morphmill/mesh_io.h>
@@ -61,6 +63,61 @@ std::string describe_value(const json& v) {
   if (text.size() > 40) text = text.substr(0, 37) + "...";
   return std::string(v.type_name()) + " " + text;
 }
+
+/// Job files larger than this are refused before parsing (a job of 10^6 polyline points is ~40 MB).
+constexpr std::uint64_t kMaxJobFileBytes = std::uint64_t(1) << 30;
+
+/// Deepest nesting of arrays and objects a job file may have; a job needs five levels.
+constexpr std::size_t kMaxJsonDepth = 64;
+
+/// Follows nlohmann's parse events to know the JSON path of the value being read, so that an
+/// error inside the parser (a number overflowing a double) is named by its path, and refuses
+/// nesting past kMaxJsonDepth before anything recursive (dump, destruction) sees it.
+class JsonPathTracker {
+ public:
+  void on(json::parse_event_t event, const json& parsed, const std::string& file) {
+    switch (event) {
+      case json::parse_event_t::object_start:
+      case json::parse_event_t::array_start:
+        if (frames_.size() >= kMaxJsonDepth)
+          throw InputError(file + ": " + path() + ": JSON nested deeper than " +
+                           std::to_string(kMaxJsonDepth) + " levels; a job file needs no more than a few");
+        frames_.push_back({event == json::parse_event_t::array_start, 0, {}});
+        break;
+      case json::parse_event_t::key:
+        if (!frames_.empty() && parsed.is_string()) frames_.back().key = parsed.get<std::string>();
+        break;
+      case json::parse_event_t::object_end:
+      case json::parse_event_t::array_end:
+        if (!frames_.empty()) frames_.pop_back();
+        [[fallthrough]];
+      case json::parse_event_t::value:
+        if (!frames_.empty() && frames_.back().array) ++frames_.back().index;
+        break;
+    }
+  }
+
+  /// The path of the value being read, such as `paths[2].polyline[7]` ("(top level)" outside any).
+  std::string path() const {
+    std::string out;
+    for (std::size_t i = 0; i < frames_.size(); ++i) {
+      if (frames_.size() > 12 && i == 6) {
+        out += "...(" + std::to_string(frames_.size() - 11) + " levels)...";
+        i = frames_.size() - 5;
+      }
+      out = frames_[i].array ? index_path(out, frames_[i].index) : join_path(out, frames_[i].key);
+    }
+    return out.empty() ? "(top level)" : out;
+  }
+
+ private:
+  struct Frame {
+    bool array = false;
+    std::size_t index = 0;
+    std::string key;
+  };
+  std::vector<Frame> frames_;
+};
 
 /// Parsing context: the job file for messages and relative paths, and the warnings so far.
 class JobParser {
@@ -238,6 +295,17 @@ class JobParser {
       if (!(report.volume > 0))
         fail(path_at, "stock mesh '" + path + "' is wound inward (enclosed volume " + text(report.volume) +
                           " <= 0); its faces must wind counter-clockwise seen from outside");
+      if (const auto enclosed = morph::find_enclosed_shell(stock.mesh)) {
+        const Eigen::Vector3d& p = stock.mesh.vertices[enclosed->vertex];
+        fail(path_at, "stock mesh '" + path + "' has " + std::to_string(report.components) +
+                          " shells, and the shell of triangle " + std::to_string(enclosed->inner_triangle) +
+                          " lies inside or across the shell of triangle " +
+                          std::to_string(enclosed->outer_triangle) + " (its vertex " +
+                          std::to_string(enclosed->vertex) + " at (" + text(p.x()) + ", " + text(p.y()) +
+                          ", " + text(p.z()) +
+                          ") is enclosed); nested or overlapping shells would count their common "
+                          "volume twice: merge them into one closed surface");
+      }
     } else {
       fail(join_path(at, "type"), "unknown stock type '" + type + "' (expected box, cylinder or mesh)");
     }
@@ -504,13 +572,21 @@ DesignSpec load_design(const std::string& path) {
 }
 
 morph::Job load_job(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw morph::IoError("cannot open job file '" + path + "': " + std::strerror(errno));
-  const std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-  if (in.bad()) throw morph::IoError("cannot read job file '" + path + "'");
+  return parse_job_text(morph::read_regular_file(path, "job file", kMaxJobFileBytes), path);
+}
+
+morph::Job parse_job_text(const std::string& text, const std::string& path) {
+  return parse_job(parse_json_text(text, path), path);
+}
+
+nlohmann::json parse_json_text(const std::string& text, const std::string& path) {
+  JsonPathTracker where;
   json root;
   try {
-    root = json::parse(text);
+    root = json::parse(text, [&](int, json::parse_event_t event, json& parsed) {
+      where.on(event, parsed, path);
+      return true;
+    });
   } catch (const json::parse_error& e) {
     // Report the position as line and column: nlohmann gives the byte just past the problem.
     const std::size_t byte = std::min<std::size_t>(e.byte == 0 ? 0 : e.byte - 1, text.size());
@@ -522,8 +598,14 @@ morph::Job load_job(const std::string& path) {
     if (colon != std::string::npos) what = what.substr(colon);
     throw InputError(path + ":" + std::to_string(line) + ":" + std::to_string(column) + ": invalid JSON (" +
                      what + ")");
+  } catch (const json::exception& e) {
+    // A number too large for a double (1e400) and the like: named with the value's JSON path.
+    std::string what = e.what();
+    const std::size_t bracket = what.find("] ");
+    if (bracket != std::string::npos) what = what.substr(bracket + 2);
+    throw InputError(path + ": " + where.path() + ": invalid JSON (" + what + ")");
   }
-  return parse_job(root, path);
+  return root;
 }
 
 nlohmann::json describe_job(const morph::Job& job) {
@@ -593,8 +675,17 @@ nlohmann::json describe_job(const morph::Job& job) {
       tools_used.insert(m.tool);
       path_bounds.extend(m.start);
       path_bounds.extend(m.end);
-      if (m.is_arc())
-        for (double t : morph::chord_parameters(m, job.tolerance)) path_bounds.extend(morph::point_at(m, t));
+      if (m.is_arc()) {
+        // Chords within the job tolerance, but no finer than a millionth of the radius: the box
+        // is then exact to that, and a many-turn arc at a tiny tolerance stays a few million points.
+        const double radius = std::max((m.start - m.center).norm(), (m.end - m.center).norm());
+        const double chord = std::max(job.tolerance, 1e-6 * radius);
+        try {
+          for (double t : morph::chord_parameters(m, chord)) path_bounds.extend(morph::point_at(m, t));
+        } catch (const morph::LimitError& e) {
+          throw morph::LimitError(job.file + ": " + path.source + ": " + e.what());
+        }
+      }
     }
     all_bounds.extend(path_bounds);
     json p{{"index", i},

@@ -22,6 +22,9 @@ int main(int argc, char** argv) {
       "Run 'morphmill COMMAND --help' for the options of each command."};
   app.set_version_flag("--version", std::string("morphmill ") + MORPHMILL_VERSION);
   app.require_subcommand(1);
+  app.fallthrough();  // so that --strict may follow the command's own arguments
+  app.add_flag("--strict", morphmill::strict_warnings(),
+               "Refuse (exit 2) a job that has any warning (unknown keys, ignored G-code words)");
   morphmill::register_info_commands(app);
   morphmill::register_erode_command(app);
   morphmill::register_reference_command(app);

@@ -1,7 +1,10 @@
-// Mesh files. STL and OBJ go through OpenMesh's readers and writers, bridged straight to
-// morph::TriangleMesh by an importer/exporter pair so that no half-edge structure sits in between
-// (OpenMesh's TriMesh would split non-manifold edges by duplicating vertices and drop faces with
-// a repeated vertex, hiding exactly what `morphmill mesh-info` is meant to report).
+// Mesh files. Every file is read whole through morph::read_regular_file (regular files only,
+// length checked) and written through morph::write_file_atomically (temporary file, checked,
+// renamed). STL and OBJ are read by the checked readers of stl_obj_readers.cpp and written by
+// OpenMesh's writers, bridged straight from morph::TriangleMesh by an exporter so that no
+// half-edge structure sits in between (OpenMesh's TriMesh would split non-manifold edges by
+// duplicating vertices and drop faces with a repeated vertex, hiding exactly what
+// `morphmill mesh-info` is meant to report).
 //
 // PLY is read and written by the small code path below instead of OpenMesh's PLY module, because
 // OpenMesh 9.0 cannot do what MorphMill needs of it (checked against its source and by experiment):
@@ -14,11 +17,11 @@
 // property layout, list properties) and keeps what MorphMill uses; docs/mesh-io.md has the details.
 #include <fmt/format.h>
 #include <morph/exceptions.h>
+#include <morph/file_io.h>
 #include <morphmill/mesh_io.h>
 
 #include <OpenMesh/Core/IO/IOManager.hh>
 #include <OpenMesh/Core/IO/exporter/BaseExporter.hh>
-#include <OpenMesh/Core/IO/importer/BaseImporter.hh>
 #include <OpenMesh/Core/System/omstream.hh>
 #include <algorithm>
 #include <cctype>
@@ -33,6 +36,8 @@
 #include <mutex>
 #include <optional>
 #include <sstream>
+
+#include "stl_obj_readers.h"
 
 namespace morphmill {
 
@@ -61,14 +66,6 @@ MeshFormat format_of(const std::string& path) {
   throw InputError(path + ": unknown mesh format" +
                    (extension.empty() ? std::string(" (no file extension)") : " '" + extension + "'") +
                    "; expected .ply, .stl or .obj");
-}
-
-std::string read_whole_file(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw IoError("cannot open '" + path + "': " + std::strerror(errno));
-  std::string data((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-  if (in.bad()) throw IoError("cannot read '" + path + "'");
-  return data;
 }
 
 // Positions must be finite for every later computation; reject NaN/inf with the vertex index.
@@ -134,95 +131,6 @@ class CapturedOpenMeshLog {
   static std::vector<OpenMesh::mostream*> streams() { return {&::omerr(), &::omlog(), &::omout()}; }
   std::ostringstream text_;
   std::vector<std::vector<std::ostream*>> reconnect_;
-};
-
-// Collects what an OpenMesh reader emits into a TriangleMesh, triangulating polygons as fans.
-class TriangleMeshImporter final : public OpenMesh::IO::BaseImporter {
- public:
-  explicit TriangleMeshImporter(TriangleMesh& mesh) : mesh_(mesh) {}
-
-  std::size_t faces_with_too_few_vertices = 0;
-  std::size_t faces_with_bad_indices = 0;
-
-  OpenMesh::VertexHandle add_vertex(const OpenMesh::Vec3f& p) override {
-    return push_vertex(p[0], p[1], p[2]);
-  }
-  OpenMesh::VertexHandle add_vertex(const OpenMesh::Vec3d& p) override {
-    return push_vertex(p[0], p[1], p[2]);
-  }
-  OpenMesh::VertexHandle add_vertex() override { return push_vertex(0, 0, 0); }
-  OpenMesh::HalfedgeHandle add_edge(OpenMesh::VertexHandle, OpenMesh::VertexHandle) override {
-    return OpenMesh::HalfedgeHandle();
-  }
-  OpenMesh::FaceHandle add_face(const VHandles& indices) override {
-    if (indices.size() < 3) {
-      ++faces_with_too_few_vertices;
-      return OpenMesh::FaceHandle();
-    }
-    for (const OpenMesh::VertexHandle& vh : indices)
-      if (!vh.is_valid() || std::size_t(vh.idx()) >= mesh_.vertices.size()) {
-        ++faces_with_bad_indices;
-        return OpenMesh::FaceHandle();
-      }
-    const OpenMesh::FaceHandle first(int(mesh_.triangles.size()));
-    for (std::size_t k = 1; k + 1 < indices.size(); ++k)
-      mesh_.triangles.push_back({std::uint32_t(indices[0].idx()), std::uint32_t(indices[k].idx()),
-                                 std::uint32_t(indices[k + 1].idx())});
-    return first;
-  }
-  OpenMesh::FaceHandle add_face(OpenMesh::HalfedgeHandle) override { return OpenMesh::FaceHandle(); }
-  void add_face_texcoords(OpenMesh::FaceHandle, OpenMesh::VertexHandle,
-                          const std::vector<OpenMesh::Vec2f>&) override {}
-  void add_face_texcoords(OpenMesh::FaceHandle, OpenMesh::VertexHandle,
-                          const std::vector<OpenMesh::Vec3f>&) override {}
-  void set_face_texindex(OpenMesh::FaceHandle, int) override {}
-  void set_point(OpenMesh::VertexHandle vh, const OpenMesh::Vec3f& p) override {
-    if (vh.is_valid() && std::size_t(vh.idx()) < mesh_.vertices.size())
-      mesh_.vertices[vh.idx()] = {p[0], p[1], p[2]};
-  }
-  void set_halfedge(OpenMesh::VertexHandle, OpenMesh::HalfedgeHandle) override {}
-  void set_normal(OpenMesh::VertexHandle, const OpenMesh::Vec3f&) override {}
-  void set_normal(OpenMesh::VertexHandle, const OpenMesh::Vec3d&) override {}
-  void set_color(OpenMesh::VertexHandle, const OpenMesh::Vec3uc&) override {}
-  void set_color(OpenMesh::VertexHandle, const OpenMesh::Vec4uc&) override {}
-  void set_color(OpenMesh::VertexHandle, const OpenMesh::Vec3f&) override {}
-  void set_color(OpenMesh::VertexHandle, const OpenMesh::Vec4f&) override {}
-  void set_texcoord(OpenMesh::VertexHandle, const OpenMesh::Vec2f&) override {}
-  void set_status(OpenMesh::VertexHandle, const OpenMesh::Attributes::StatusInfo&) override {}
-  void set_next(OpenMesh::HalfedgeHandle, OpenMesh::HalfedgeHandle) override {}
-  void set_face(OpenMesh::HalfedgeHandle, OpenMesh::FaceHandle) override {}
-  void request_face_texcoords2D() override {}
-  void set_texcoord(OpenMesh::HalfedgeHandle, const OpenMesh::Vec2f&) override {}
-  void set_texcoord(OpenMesh::VertexHandle, const OpenMesh::Vec3f&) override {}
-  void set_texcoord(OpenMesh::HalfedgeHandle, const OpenMesh::Vec3f&) override {}
-  void set_status(OpenMesh::HalfedgeHandle, const OpenMesh::Attributes::StatusInfo&) override {}
-  void set_color(OpenMesh::EdgeHandle, const OpenMesh::Vec3uc&) override {}
-  void set_color(OpenMesh::EdgeHandle, const OpenMesh::Vec4uc&) override {}
-  void set_color(OpenMesh::EdgeHandle, const OpenMesh::Vec3f&) override {}
-  void set_color(OpenMesh::EdgeHandle, const OpenMesh::Vec4f&) override {}
-  void set_status(OpenMesh::EdgeHandle, const OpenMesh::Attributes::StatusInfo&) override {}
-  void set_normal(OpenMesh::FaceHandle, const OpenMesh::Vec3f&) override {}
-  void set_normal(OpenMesh::FaceHandle, const OpenMesh::Vec3d&) override {}
-  void set_color(OpenMesh::FaceHandle, const OpenMesh::Vec3uc&) override {}
-  void set_color(OpenMesh::FaceHandle, const OpenMesh::Vec4uc&) override {}
-  void set_color(OpenMesh::FaceHandle, const OpenMesh::Vec3f&) override {}
-  void set_color(OpenMesh::FaceHandle, const OpenMesh::Vec4f&) override {}
-  void set_status(OpenMesh::FaceHandle, const OpenMesh::Attributes::StatusInfo&) override {}
-  void add_texture_information(int, std::string) override {}
-  void reserve(unsigned int vertices, unsigned int, unsigned int faces) override {
-    mesh_.vertices.reserve(vertices);
-    mesh_.triangles.reserve(faces);
-  }
-  std::size_t n_vertices() const override { return mesh_.vertices.size(); }
-  std::size_t n_faces() const override { return mesh_.triangles.size(); }
-  std::size_t n_edges() const override { return 0; }
-
- private:
-  OpenMesh::VertexHandle push_vertex(double x, double y, double z) {
-    mesh_.vertices.emplace_back(x, y, z);
-    return OpenMesh::VertexHandle(int(mesh_.vertices.size() - 1));
-  }
-  TriangleMesh& mesh_;
 };
 
 // Presents a TriangleMesh to OpenMesh's writers (positions, triangles, face normals).
@@ -294,56 +202,24 @@ class TriangleMeshExporter final : public OpenMesh::IO::BaseExporter {
   const TriangleMesh& mesh_;
 };
 
-TriangleMesh read_with_openmesh(const std::string& path, MeshFormat format) {
-  {
-    std::ifstream probe(path, std::ios::binary);
-    if (!probe) throw IoError("cannot open '" + path + "': " + std::strerror(errno));
-  }
-  TriangleMesh mesh;
-  TriangleMeshImporter importer(mesh);
-  OpenMesh::IO::Options options;
-  bool ok = false;
-  std::string openmesh_errors;
-  {
-    std::lock_guard<std::mutex> lock(openmesh_mutex());
-    CapturedOpenMeshLog log;
-    ok = OpenMesh::IO::IOManager().read(path, importer, options);
-    openmesh_errors = log.errors();
-  }
-  const char* kind = format == MeshFormat::Stl ? "STL" : "OBJ";
-  if (!ok)
-    throw InputError(path + ": not a readable " + std::string(kind) + " file" +
-                     (openmesh_errors.empty() ? "" : " (" + openmesh_errors + ")"));
-  if (importer.faces_with_too_few_vertices > 0)
-    throw InputError(path + ": " + std::to_string(importer.faces_with_too_few_vertices) +
-                     " face(s) with fewer than 3 vertices");
-  if (importer.faces_with_bad_indices > 0)
-    throw InputError(path + ": " + std::to_string(importer.faces_with_bad_indices) +
-                     " face(s) refer to vertices that do not exist");
-  if (mesh.triangles.empty())
-    throw InputError(path + ": no triangles found (empty file, or not an " + std::string(kind) + " mesh)" +
-                     (openmesh_errors.empty() ? "" : " (" + openmesh_errors + ")"));
-  check_finite(mesh, path);
-  return mesh;
-}
-
 void write_with_openmesh(const TriangleMesh& mesh, const std::string& path, MeshFormat format, bool binary) {
   TriangleMeshExporter exporter(mesh);
   OpenMesh::IO::Options options;
   if (format == MeshFormat::Stl && binary) options += OpenMesh::IO::Options::Binary;
   bool ok = false;
   std::string openmesh_errors;
+  std::ostringstream bytes(std::ios::binary);
   {
     std::lock_guard<std::mutex> lock(openmesh_mutex());
     CapturedOpenMeshLog log;
     // OpenMesh's STL and OBJ writers hold positions in float: 9 significant digits round-trip them.
-    ok = OpenMesh::IO::IOManager().write(path, exporter, options, std::numeric_limits<float>::max_digits10);
+    ok = OpenMesh::IO::IOManager().write(bytes, format == MeshFormat::Stl ? "stl" : "obj", exporter, options,
+                                         std::numeric_limits<float>::max_digits10);
     openmesh_errors = log.errors();
   }
-  if (!ok)
+  if (!ok || !bytes)
     throw IoError("cannot write '" + path + "'" + (openmesh_errors.empty() ? "" : ": " + openmesh_errors));
-  std::ifstream check(path);
-  if (!check) throw IoError("cannot write '" + path + "': " + std::strerror(errno));
+  morph::write_file_atomically(path, bytes.str());
 }
 
 // ------------------------------------------------------------------------------------------------
@@ -607,11 +483,31 @@ class PlyBodyReader {
   std::size_t cursor_ = 0;
 };
 
+/// Refuses element counts that the file's bytes cannot hold, before anything is allocated for
+/// them: every record takes at least one byte, so the records of all elements together cannot
+/// outnumber the bytes after the header. (A claim within that bound but still too long for the
+/// data is reported by the body reader at the line or byte where the data ends; what it
+/// allocates meanwhile is bounded by a small multiple of the file's size.)
+void check_counts_fit(const PlyHeader& header, std::size_t file_bytes, const std::string& path) {
+  const std::size_t available = file_bytes - std::min(file_bytes, header.body_offset);
+  std::size_t records = 0;
+  for (const PlyElement& e : header.elements) {
+    if (e.count == 0) continue;
+    if (e.properties.empty())
+      throw InputError(path + ": PLY element '" + e.name + "' declares " + std::to_string(e.count) +
+                       " records but no properties");
+    records = e.count > available ? available + 1 : records + e.count;
+    if (records > available)
+      throw InputError(path + ": unexpected end of file: the PLY header declares " + std::to_string(e.count) +
+                       " '" + e.name + "' records, but only " + std::to_string(available) +
+                       " bytes follow the header (every record takes at least one byte)");
+  }
+}
+
 // What each vertex/face property becomes.
 enum class Role { Skip, X, Y, Z, Red, Green, Blue, Scalar, Indices, Kind, Source, Line };
 
-TriangleMesh read_ply(const std::string& path) {
-  const std::string data = read_whole_file(path);
+TriangleMesh read_ply(const std::string& data, const std::string& path) {
   const PlyHeader header = parse_ply_header(data, path);
   const PlyElement* vertex_element = nullptr;
   const PlyElement* face_element = nullptr;
@@ -622,6 +518,8 @@ TriangleMesh read_ply(const std::string& path) {
   if (!vertex_element) throw InputError(path + ": PLY file has no 'vertex' element");
   if (!face_element)
     throw InputError(path + ": PLY file has no 'face' element (a point cloud is not a mesh)");
+
+  check_counts_fit(header, data.size(), path);
 
   TriangleMesh mesh;
   PlyBodyReader body(data, header, path);
@@ -679,6 +577,12 @@ TriangleMesh read_ply(const std::string& path) {
     for (std::size_t r = 0; r < element.count; ++r) {
       body.begin_record();
       morph::FaceTag tag;
+      auto checked_int32 = [&](double v, const char* property) {
+        if (!(v >= -2147483648.0 && v <= 2147483647.0 && v == std::floor(v)))
+          throw body.error("face " + std::to_string(r) + ": " + property + " " + fmt::format("{}", v) +
+                           " is not a 32-bit integer");
+        return std::int32_t(v);
+      };
       polygon.clear();
       for (std::size_t i = 0; i < element.properties.size(); ++i) {
         const PlyProperty& p = element.properties[i];
@@ -687,7 +591,8 @@ TriangleMesh read_ply(const std::string& path) {
           for (double k = 0; k < n; ++k) {
             const double item = body.value(p.type, p.name);
             if (roles[i] == Role::Indices) {
-              if (item < 0 || item >= double(vertex_count))
+              // Written so that NaN (a float index list) fails too; found by the PLY fuzzer.
+              if (!(item >= 0 && item < double(vertex_count) && item == std::floor(item)))
                 throw body.error("face " + std::to_string(r) + " refers to vertex " +
                                  fmt::format("{}", item) + " but there are " + std::to_string(vertex_count) +
                                  " vertices");
@@ -733,10 +638,10 @@ TriangleMesh read_ply(const std::string& path) {
             tag.kind = morph::PatchKind(int(v));
             break;
           case Role::Source:
-            tag.source = std::int32_t(v);
+            tag.source = checked_int32(v, "source");
             break;
           case Role::Line:
-            tag.line = std::int32_t(v);
+            tag.line = checked_int32(v, "line");
             break;
           default:
             break;
@@ -834,19 +739,23 @@ void write_ply(const TriangleMesh& mesh, const std::string& path, bool binary) {
       out.push_back('\n');
     }
   }
-  std::ofstream file(path, std::ios::binary | std::ios::trunc);
-  if (!file) throw IoError("cannot open '" + path + "' for writing: " + std::strerror(errno));
-  file.write(out.data(), std::streamsize(out.size()));
-  file.close();
-  if (!file) throw IoError("cannot write '" + path + "': " + std::strerror(errno));
+  morph::write_file_atomically(path, out);
 }
 
 }  // namespace
 
 morph::TriangleMesh read_mesh(const std::string& path) {
-  const MeshFormat format = format_of(path);
-  if (format == MeshFormat::Ply) return read_ply(path);
-  return read_with_openmesh(path, format);
+  format_of(path);  // before reading: a wrong name costs nothing
+  return read_mesh_bytes(morph::read_regular_file(path, "mesh file"), path);
+}
+
+morph::TriangleMesh read_mesh_bytes(const std::string& data, const std::string& name) {
+  const MeshFormat format = format_of(name);
+  TriangleMesh mesh = format == MeshFormat::Ply   ? read_ply(data, name)
+                      : format == MeshFormat::Stl ? read_stl_bytes(data, name)
+                                                  : read_obj_bytes(data, name);
+  check_finite(mesh, name);
+  return mesh;
 }
 
 void write_mesh(const morph::TriangleMesh& mesh, const std::string& path, const MeshWriteOptions& options) {

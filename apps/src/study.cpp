@@ -669,13 +669,7 @@ StudySpec load_study(const std::string& path) {
   } catch (const morph::IoError&) {
     throw morph::IoError(path + ": cannot read the study file");
   }
-  nlohmann::json json;
-  try {
-    json = nlohmann::json::parse(text);
-  } catch (const nlohmann::json::parse_error& e) {
-    throw morph::InputError(path + ": not JSON: " + e.what());
-  }
-  return parse_study(json, path);
+  return parse_study(parse_json_text(text, path), path);
 }
 
 PowerFit fit_power_law(const std::vector<double>& x, const std::vector<double>& y) {

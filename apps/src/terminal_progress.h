@@ -1,5 +1,6 @@
 #pragma once
-// Progress on a terminal for long stages; silent when stderr is not a terminal (logs, CI, pipes).
+// Progress on a terminal for long stages; when stderr is not a terminal (logs, CI, pipes), one
+// plain line every ten seconds of a stage.
 #include <morph/progress.h>
 
 #include <atomic>
@@ -24,6 +25,7 @@ class TerminalProgress : public morph::Progress {
   void draw(bool final_line);
 
   bool enabled_;
+  bool log_lines_ = false;
   std::mutex mutex_;
   std::string stage_;
   std::size_t total_ = 0;

@@ -1,5 +1,7 @@
 #include "verify.h"
 
+#include "commands.h"
+
 #include <morph/aabb_tree.h>
 #include <morph/erode.h>
 #include <morph/exceptions.h>
@@ -346,6 +348,7 @@ VerifyOutcome run_verify(const VerifyOptions& options) {
   std::vector<StageRecord> load_stage;
   StageClock clock(load_stage);
   const morph::Job job = clock.run("load job", [&] { return load_job(options.job_path); });
+  report_job_warnings(job);
   const DesignSpec design_spec = load_design(options.job_path);
   const morph::TriangleMesh design_mesh =
       design_spec.path.empty() ? morph::TriangleMesh{} : read_mesh(design_spec.path);

@@ -14,8 +14,11 @@
 #include <chrono>
 #include <cmath>
 #include <cstring>
+#include <iomanip>
 #include <limits>
 #include <optional>
+#include <sstream>
+#include <string>
 #include <tuple>
 #include <unordered_map>
 
@@ -2421,6 +2424,30 @@ double stock_face_distance(const Patch& p, const Vector3d& x) {
   return (x - p.o).dot(p.plane_normal);
 }
 
+// The up-front memory estimate, fitted to the peak resident memory of the bundled jobs (see
+// tests/morph/erode_estimate_test.cpp and docs/generator.md): a fixed part, the stock mesh, the
+// segments with their capsules and bounds, the patches, and the tessellation cells of the patch
+// grids (a cell is two triangles at most, with their share of vertices, edge uses and seams).
+constexpr double kBytesFixed = 35.0 * (1 << 20);
+constexpr double kBytesPerStockTriangle = 400.0;
+constexpr double kBytesPerSegment = 600.0;
+constexpr double kBytesPerPatch = 400.0;
+constexpr double kBytesPerGridCell = 100.0;
+
+void check_memory_estimate(const ErodeOptions& options, double tolerance, double bytes,
+                           const std::string& what) {
+  if (options.memory_cap_bytes == 0 || bytes <= double(options.memory_cap_bytes)) return;
+  std::ostringstream message;
+  message << "erode: at tolerance " << tolerance << " the job needs about " << std::fixed
+          << std::setprecision(0) << bytes / double(1 << 20) << " MiB (" << what
+          << "), over the memory cap of " << double(options.memory_cap_bytes) / double(1 << 20)
+          << " MiB: raise the tolerance (memory grows about as 1 / tolerance) or the cap";
+  throw LimitError(message.str());
+}
+
+/// A tolerance must span this many spacings of the doubles at the job's largest coordinate.
+constexpr double kResolutionFactor = 1e6;
+
 void check_job(const Job& job, double tolerance) {
   if (!(tolerance > 0.0) || !std::isfinite(tolerance))
     throw InputError(job.file + ": tolerance must be positive, got " + std::to_string(tolerance));
@@ -2433,6 +2460,26 @@ void check_job(const Job& job, double tolerance) {
       throw InputError(job.file + ": tool " + std::to_string(number) + " needs a positive radius");
     if (tool.type == ToolType::BallEnd && !(tool.length >= 0.0))
       throw InputError(job.file + ": tool " + std::to_string(number) + " needs a non-negative length");
+  }
+  // The generator compares distances and solves for roots in coordinates as large as the job's:
+  // a tolerance within kResolutionFactor spacings of the doubles there cannot be met (at x = 1e15
+  // doubles are 0.125 apart, and a 0.01 tolerance gave open meshes of negative volume).
+  double largest = 0.0;
+  const Eigen::AlignedBox3d stock_box = bounds(job.stock);
+  if (!stock_box.isEmpty())
+    largest = std::max(stock_box.min().cwiseAbs().maxCoeff(), stock_box.max().cwiseAbs().maxCoeff());
+  for (const Path& path : job.paths)
+    for (const Move& move : path.moves)
+      largest = std::max({largest, move.start.cwiseAbs().maxCoeff(), move.end.cwiseAbs().maxCoeff()});
+  const double spacing = largest * std::numeric_limits<double>::epsilon();
+  if (!(tolerance >= kResolutionFactor * spacing)) {
+    std::ostringstream message;
+    message << std::setprecision(3) << job.file << ": tolerance " << tolerance
+            << " is below what the coordinates can resolve: at " << largest << " doubles are " << spacing
+            << " apart, and the generator needs a tolerance of at least " << kResolutionFactor * spacing
+            << " (" << kResolutionFactor * spacing / tolerance
+            << " times the one asked for) there; move the job nearer the origin or raise the tolerance";
+    throw InputError(message.str());
   }
 }
 
@@ -2464,6 +2511,17 @@ ErodeResult erode(const Job& job, const ErodeOptions& options) {
   // A trimming curve is assumed to bend no tighter than the tool radius r; its chord over a cell
   // diagonal sqrt(2) h has sagitta 2 h^2 / (8 r) = h^2 / (4 r) <= 0.35 tol.
   Budget budget{0.35 * tolerance, std::sqrt(4.0 * min_radius * 0.35 * tolerance)};
+
+  // What the job will cost, before anything large is built: arcs split into segments first.
+  double segment_estimate = 0.0;
+  for (const Path& path : job.paths)
+    for (const Move& move : path.moves) segment_estimate += chord_count(move, arc_chord);
+  const double stock_bytes = job.stock.type == StockType::Mesh
+                                 ? kBytesPerStockTriangle * double(job.stock.mesh.triangles.size())
+                                 : 0.0;
+  check_memory_estimate(
+      options, tolerance, kBytesFixed + stock_bytes + segment_estimate * kBytesPerSegment,
+      std::to_string(std::llround(segment_estimate)) + " segments after splitting arcs into chords");
 
   // Segments, chained.
   const std::vector<const Move*> moves = job.moves();
@@ -2527,6 +2585,14 @@ ErodeResult erode(const Job& job, const ErodeOptions& options) {
   }
   const std::vector<Patch>& patches = builder.patches;
   stats.patches = patches.size();
+  // A triangle's grid spans the parallelogram on two of its sides: half its cells lie inside.
+  for (const Patch& p : patches)
+    stats.grid_cells += (p.form == Form::Triangle ? 0.5 : 1.0) * double(p.nu) * double(p.nv);
+  stats.estimated_bytes = kBytesFixed + stock_bytes + double(ctx.segments.size()) * kBytesPerSegment +
+                          double(patches.size()) * kBytesPerPatch + stats.grid_cells * kBytesPerGridCell;
+  check_memory_estimate(options, tolerance, stats.estimated_bytes,
+                        std::to_string(patches.size()) + " patches with " +
+                            std::to_string(std::llround(stats.grid_cells)) + " tessellation cells");
   stats.seconds_setup = seconds_since(t_start);
 
   // Trim every patch independently.

@@ -2,6 +2,7 @@
 // line loop: reading lines, the program end, O-word control flow, and the order in which one
 // block's words take effect. What is supported and where MorphMill differs: docs/gcode.md.
 #include <morph/exceptions.h>
+#include <morph/file_io.h>
 #include <morph/gcode.h>
 
 #include <algorithm>
@@ -78,12 +79,27 @@ Interpreter::Interpreter(const std::string& name, const GcodeOptions& options)
   update_tip_shift();
 }
 
+/// Lines holding at least one digit: a bound on the moves a program can hold.
+std::size_t lines_with_digits(std::string_view text) {
+  std::size_t lines = 0;
+  bool digit = false;
+  for (const char c : text) {
+    if (c == '\n') {
+      lines += digit;
+      digit = false;
+    } else if (c >= '0' && c <= '9') {
+      digit = true;
+    }
+  }
+  return lines + digit;
+}
+
 GcodeResult Interpreter::run(std::string_view text) {
   text_ = text;
   const ProgramIndex index(text);
   index_ = &index;
-  const std::size_t lines = static_cast<std::size_t>(std::count(text.begin(), text.end(), '\n')) + 1;
-  result_.path.moves.reserve(std::min(lines, options_.max_moves));
+  // A move needs a line with a number on it: blank and comment-only lines reserve nothing.
+  result_.path.moves.reserve(std::min(lines_with_digits(text), options_.max_moves));
   bool seen_content = false;  // an opening '%' may only come before any content
   while (pos_offset_ < text.size()) {
     const std::size_t begin = pos_offset_;
@@ -512,17 +528,7 @@ GcodeResult parse_gcode(std::istream& in, const std::string& name, const GcodeOp
 }
 
 GcodeResult read_gcode(const std::string& path, const GcodeOptions& options) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw IoError(path + ": cannot open G-code file (" + std::strerror(errno) + ")");
-  in.seekg(0, std::ios::end);
-  const std::streamoff size = in.tellg();
-  in.seekg(0, std::ios::beg);
-  std::string text;
-  if (size > 0) {
-    text.resize(static_cast<std::size_t>(size));
-    in.read(text.data(), size);
-  }
-  if (in.bad() || (size > 0 && in.gcount() != size)) throw IoError(path + ": read error");
+  const std::string text = read_regular_file(path, "G-code file");
   gcode::Interpreter interpreter(path, options);
   return interpreter.run(text);
 }

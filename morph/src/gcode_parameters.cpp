@@ -2,11 +2,13 @@
 #include "gcode_parameters.h"
 
 #include <morph/exceptions.h>
+#include <morph/file_io.h>
 
 #include <cerrno>
 #include <charconv>
 #include <cstring>
 #include <fstream>
+#include <sstream>
 
 namespace morph::gcode {
 
@@ -70,8 +72,7 @@ void Parameters::pop_call() {
 }
 
 std::map<int, double> read_var_file(const std::string& path) {
-  std::ifstream in(path);
-  if (!in) throw IoError(path + ": cannot open parameter file (" + std::strerror(errno) + ")");
+  std::istringstream in(read_regular_file(path, "parameter file"));
   std::map<int, double> values;
   std::string line;
   int line_number = 0;

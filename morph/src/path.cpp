@@ -1,9 +1,13 @@
+#include <morph/exceptions.h>
 #include <morph/path.h>
 
 #include <Eigen/Geometry>
 
 #include <algorithm>
 #include <cmath>
+#include <iomanip>
+#include <limits>
+#include <sstream>
 
 namespace morph {
 
@@ -83,21 +87,33 @@ double length(const Move& m) {
   return sum / (3.0 * n);
 }
 
-std::vector<double> chord_parameters(const Move& m, double chord_tolerance) {
-  if (!m.is_arc()) return {0.0, 1.0};
+double chord_count(const Move& m, double chord_tolerance) {
+  if (!m.is_arc()) return 1.0;
   const ArcFrame f = arc_frame(m);
   const double r = std::max(f.r0, f.r1);
-  int n = 1;
+  double n = 1.0;
   if (r > chord_tolerance && chord_tolerance > 0.0) {
     // Sagitta r(1 - cos(step/2)) <= tolerance.
     const double step = 2.0 * std::acos(1.0 - chord_tolerance / r);
-    n = static_cast<int>(std::ceil(std::abs(m.sweep) / step));
+    n = std::ceil(std::abs(m.sweep) / step);
   } else {
-    n = static_cast<int>(std::ceil(std::abs(m.sweep) / (M_PI / 2.0)));
+    n = std::ceil(std::abs(m.sweep) / (M_PI / 2.0));
   }
-  n = std::max(n, 1);
-  std::vector<double> ts(static_cast<std::size_t>(n) + 1);
-  for (int i = 0; i <= n; ++i) ts[i] = static_cast<double>(i) / n;
+  return std::isfinite(n) ? std::max(n, 1.0) : std::numeric_limits<double>::infinity();
+}
+
+std::vector<double> chord_parameters(const Move& m, double chord_tolerance) {
+  const double count = chord_count(m, chord_tolerance);
+  if (!(count <= double(kMaxChordsPerArc))) {
+    std::ostringstream message;
+    message << std::setprecision(3) << "line " << m.line << ": an arc of " << std::abs(m.sweep) / (2 * M_PI)
+            << " turns would need " << count << " chords at chord tolerance " << chord_tolerance
+            << ", over the limit of " << kMaxChordsPerArc << " per arc; raise the tolerance or split the arc";
+    throw LimitError(message.str());
+  }
+  const std::size_t n = static_cast<std::size_t>(count);
+  std::vector<double> ts(n + 1);
+  for (std::size_t i = 0; i <= n; ++i) ts[i] = static_cast<double>(i) / static_cast<double>(n);
   return ts;
 }
 

@@ -13,7 +13,12 @@ namespace morphmill {
 /// Throws morph::InputError ("slots.json: paths[2].polyline[5]: expected 3 numbers") or
 /// morph::IoError.
 morph::Job load_job(const std::string& path);
-/// Same from JSON text already in memory; `file` is used in messages and to resolve paths.
+/// Same from JSON text already in memory (nesting past 64 levels and numbers a double cannot
+/// hold are InputErrors naming `file` and the JSON path).
+morph::Job parse_job_text(const std::string& text, const std::string& file);
+/// Parses JSON text with the same guards and messages (file:line:column for syntax errors).
+nlohmann::json parse_json_text(const std::string& text, const std::string& file);
+/// Same from parsed JSON; `file` is used in messages and to resolve paths.
 morph::Job parse_job(const nlohmann::json& json, const std::string& file);
 
 /// The design model a job names (key "design", docs/job-format.md): the part its program was

@@ -1,7 +1,8 @@
 #pragma once
 /// \file mesh_io.h
-/// Mesh files through OpenMesh: binary/ASCII PLY (face tags, vertex scalars and colours kept),
-/// STL (binary and ASCII), OBJ. The format follows the file extension.
+/// Mesh files: binary/ASCII PLY (face tags, vertex scalars and colours kept), STL (binary and
+/// ASCII), OBJ. The format follows the file extension. Reading accepts regular files only;
+/// writing replaces the file atomically (see morph/file_io.h).
 #include <morph/mesh.h>
 
 #include <string>
@@ -14,6 +15,10 @@ namespace morphmill {
 /// STL files are merged. Throws morph::IoError (cannot open) or morph::InputError (naming the
 /// file and what is wrong).
 morph::TriangleMesh read_mesh(const std::string& path);
+
+/// The same from bytes already in memory; `name` chooses the format by its extension and names
+/// the source in messages.
+morph::TriangleMesh read_mesh_bytes(const std::string& data, const std::string& name);
 
 struct MeshWriteOptions {
   bool binary = true;  ///< PLY and STL: binary (default) or ASCII

@@ -29,25 +29,31 @@ struct ErodeOptions {
   ExecutionPolicy policy = ExecutionPolicy::Parallel;
   /// Optional progress / interruption (stages "erode: patches", "erode: assemble").
   Progress* progress = nullptr;
+  /// Refuse (LimitError, before the long stages) work estimated to need more memory than this,
+  /// bytes; 0: no cap. The estimate comes from the job alone: segments after splitting arcs,
+  /// then the patches' tessellation grids (ErodeStats::estimated_bytes).
+  std::size_t memory_cap_bytes = 0;
 };
 
 struct ErodeStats {
-  std::size_t moves = 0;                 ///< moves of the job
-  std::size_t moves_touching_stock = 0;  ///< moves whose swept bounds meet the stock bounds
-  std::size_t segments = 0;              ///< straight pieces after splitting arcs by chord tolerance
-  std::size_t patches = 0;               ///< parametric patches considered
-  std::size_t patches_kept = 0;          ///< patches that left at least one triangle
-  std::size_t triangles = 0;             ///< output triangles
-  std::size_t vertices = 0;              ///< output vertices
-  std::size_t seam_splits = 0;           ///< boundary edges split at the other side's vertices
-  std::size_t corner_holes = 0;          ///< holes closed where three patches meet
+  std::size_t moves = 0;                    ///< moves of the job
+  std::size_t moves_touching_stock = 0;     ///< moves whose swept bounds meet the stock bounds
+  std::size_t segments = 0;                 ///< straight pieces after splitting arcs by chord tolerance
+  std::size_t patches = 0;                  ///< parametric patches considered
+  std::size_t patches_kept = 0;             ///< patches that left at least one triangle
+  std::size_t triangles = 0;                ///< output triangles
+  std::size_t vertices = 0;                 ///< output vertices
+  std::size_t seam_splits = 0;              ///< boundary edges split at the other side's vertices
+  std::size_t corner_holes = 0;             ///< holes closed where three patches meet
   std::size_t defects_repaired = 0;         ///< small open / non-manifold spots replaced by a fan
   std::size_t flat_components_removed = 0;  ///< closed zero-volume slivers left by tangent contacts
-  std::size_t open_edges = 0;            ///< boundary edges left (0 for a closed surface)
-  double seconds_setup = 0.0;            ///< segments, patches, spatial index
-  double seconds_trim = 0.0;             ///< evaluating and contouring the patches
-  double seconds_assemble = 0.0;         ///< concatenation and welding
+  std::size_t open_edges = 0;               ///< boundary edges left (0 for a closed surface)
+  double seconds_setup = 0.0;               ///< segments, patches, spatial index
+  double seconds_trim = 0.0;                ///< evaluating and contouring the patches
+  double seconds_assemble = 0.0;            ///< concatenation and welding
   double seconds_total = 0.0;
+  double grid_cells = 0.0;       ///< cells of the patches' tessellation grids before trimming
+  double estimated_bytes = 0.0;  ///< the up-front estimate of the peak memory
 };
 
 struct ErodeResult {

@@ -46,8 +46,14 @@ Eigen::Vector3d derivative_at(const Move& move, double t);
 /// Arc length of the move (exact for lines and circular arcs; helices by closed form when the
 /// radius is constant, otherwise by fine quadrature).
 double length(const Move& move);
+/// Most chords chord_parameters gives one arc (2^24: 128 MiB of parameters).
+inline constexpr std::size_t kMaxChordsPerArc = std::size_t(1) << 24;
+/// How many chords keep an arc within `chord_tolerance` (1 for a line), as a double so that no
+/// count overflows: a P1000000 circle at 1e-12 needs about 7e12.
+double chord_count(const Move& move, double chord_tolerance);
 /// Parameters 0 = t0 < t1 < ... < tn = 1 such that the chords between consecutive points stay
-/// within `chord_tolerance` of the move (one segment for a line).
+/// within `chord_tolerance` of the move (one segment for a line). Throws LimitError (naming the
+/// move's line) past kMaxChordsPerArc.
 std::vector<double> chord_parameters(const Move& move, double chord_tolerance);
 
 /// An ordered sequence of moves done with one tool set-up, from one polyline or one G-code file.

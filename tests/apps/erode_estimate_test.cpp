@@ -1,0 +1,110 @@
+// erode's up-front memory estimate against the measured peak (the child's ru_maxrss) of the
+// morphmill binary on the bundled jobs: within a factor of 2 either way. And the refusals the
+// estimate makes: --memory-cap below it, and the hostile reproducers that used to run out of
+// memory (tolerance 1e-6, a P1000000 circle).
+#include <gtest/gtest.h>
+#include <sys/resource.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <fstream>
+#include <regex>
+#include <string>
+
+#include "apps/command_support.h"
+
+namespace {
+
+const std::string kData = MORPHMILL_TEST_DATA;
+
+struct Measured {
+  int exit_code = -1;
+  double peak_bytes = 0.0;
+  std::string out, err;
+};
+
+/// Runs morphmill with `arguments` (a shell word list), stdout/stderr to files in `dir`, and
+/// returns the child's peak resident memory.
+Measured run_measured(const std::string& arguments, const std::filesystem::path& dir) {
+  const std::string out = (dir / "out.txt").string(), err = (dir / "err.txt").string();
+  const pid_t pid = ::fork();
+  if (pid == 0) {
+    const std::string command = "cd '" + dir.string() + "' && exec '" + MORPHMILL_BINARY + "' " + arguments +
+                                " > '" + out + "' 2> '" + err + "' < /dev/null";
+    ::execl("/bin/sh", "sh", "-c", command.c_str(), static_cast<char*>(nullptr));
+    ::_exit(127);
+  }
+  Measured m;
+  int status = 0;
+  struct rusage usage {};
+  if (pid < 0 || ::wait4(pid, &status, 0, &usage) != pid) return m;
+  m.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+  m.peak_bytes = double(usage.ru_maxrss) * 1024.0;
+  std::ifstream o(out), e(err);
+  m.out.assign(std::istreambuf_iterator<char>(o), {});
+  m.err.assign(std::istreambuf_iterator<char>(e), {});
+  return m;
+}
+
+double estimated_mib(const std::string& summary) {
+  std::smatch match;
+  if (!std::regex_search(summary, match, std::regex(R"(memory: estimated ([0-9.]+) (MiB|GiB))"))) return -1.0;
+  return std::stod(match[1]) * (match[2] == "GiB" ? 1024.0 : 1.0);
+}
+
+class ErodeEstimate : public ::testing::TestWithParam<const char*> {};
+
+TEST_P(ErodeEstimate, IsWithinAFactorOfTwoOfTheMeasuredPeak) {
+  const auto dir = morphmill_test::scratch_dir("erode_estimate", GetParam());
+  const Measured m = run_measured(
+      "erode '" + kData + "/jobs/" + GetParam() + ".json' -o '" + (dir / "out.ply").string() + "'", dir);
+  ASSERT_EQ(m.exit_code, 0) << m.err;
+  const double estimate = estimated_mib(m.out) * double(1 << 20);
+  ASSERT_GT(estimate, 0.0) << m.out;
+  EXPECT_LE(estimate, 2.0 * m.peak_bytes)
+      << "estimate " << estimate / (1 << 20) << " MiB, peak " << m.peak_bytes / (1 << 20) << " MiB";
+  EXPECT_GE(estimate, 0.5 * m.peak_bytes)
+      << "estimate " << estimate / (1 << 20) << " MiB, peak " << m.peak_bytes / (1 << 20) << " MiB";
+  std::filesystem::remove_all(dir);
+}
+
+INSTANTIATE_TEST_SUITE_P(BundledJobs, ErodeEstimate,
+                         ::testing::Values("single_slot", "mesh_stock", "helix_pocket", "leave_reenter",
+                                           "slots", "through_slots"));
+
+class ErodeRefusal : public morphmill_test::ScratchDirTest {};
+
+TEST_F(ErodeRefusal, ACapBelowTheEstimateRefusesBeforeComputing) {
+  const auto r = run_measured(
+      "erode '" + kData + "/jobs/slots.json' -o '" + path("out.ply") + "' --memory-cap 0.01", dir_);
+  EXPECT_EQ(r.exit_code, 2) << r.err;
+  EXPECT_NE(r.err.find("slots.json"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("over the memory cap"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("raise the tolerance"), std::string::npos) << r.err;
+  EXPECT_FALSE(std::filesystem::exists(path("out.ply")));
+  EXPECT_LT(r.peak_bytes, 200.0 * (1 << 20));
+}
+
+TEST_F(ErodeRefusal, ATinyToleranceIsRefusedByTheEstimate) {
+  // erode_tol_1e-6.json of the hostile reproducers: the kernel's OOM killer stopped it at 21.7 GB.
+  const auto r = run_measured(
+      "erode '" + kData + "/jobs/slots.json' --tolerance 1e-6 -o '" + path("out.ply") + "' --memory-cap 8",
+      dir_);
+  EXPECT_EQ(r.exit_code, 2) << r.err;
+  EXPECT_NE(r.err.find("slots.json"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("MiB"), std::string::npos) << r.err;
+  EXPECT_LT(r.peak_bytes, 500.0 * (1 << 20));
+}
+
+TEST_F(ErodeRefusal, AMillionTurnCircleIsRefused) {
+  // erode_arc_p1e6.json: one G3 P1000000 full circle (std::bad_alloc after 57 s before).
+  write_text("circle.nc", "G21 G90 G17\nG0 X10 Y0 Z20\nG3 X10 Y0 I-10 J0 P1000000 F300\n");
+  write_text(
+      "circle.json",
+      R"({"stock":{"type":"box","min":[-20,-20,0],"max":[20,20,20]},"tools":{"1":{"type":"ballend","radius":3,"length":40}},"paths":[{"tool":1,"gcode":"circle.nc"}]})");
+  const auto r = run_measured("erode circle.json -o out.ply --memory-cap 8", dir_);
+  EXPECT_EQ(r.exit_code, 2) << r.err;
+  EXPECT_NE(r.err.find("circle"), std::string::npos) << r.err;
+}
+
+}  // namespace
