@@ -794,6 +794,14 @@ TEST(GcodeMachineSetup, WorkOffsetsAndVarFile) {
   EXPECT_THROW(parse("G21\n", options), morph::IoError);
 }
 
+TEST(GcodeErrors, DeepExpressionsAreRefusedNotACrash) {
+  const std::string deep =
+      "G21 F100 G0 X0 Y0 Z0\nG1 X" + std::string(100000, '[') + "1" + std::string(100000, ']') + "\n";
+  EXPECT_NE(error_of(deep).find("test.ngc:2: expression nested more than 256 deep"), std::string::npos);
+  const std::string minus = "G21 F100 G0 X0 Y0 Z0\nG1 X" + std::string(100000, '-') + "#1\n";
+  EXPECT_NE(error_of(minus).find("nested more than 256 deep"), std::string::npos);
+}
+
 TEST(GcodeErrors, CutterCompensationIsRefusedNamingTheLine) {
   for (const std::string code : {"G41", "G42", "G41.1 D2", "G42.1 D2"}) {
     const std::string message = error_of("G21 F100 G0 X0 Y0 Z0\nG1 X1\n" + code + "\nG1 X5\n");
