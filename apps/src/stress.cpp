@@ -588,20 +588,24 @@ std::vector<CaseResult> prepare_shard_dir(const StressOptions& options, const nl
       !fs::exists(dir / "summary.json"))
     throw morph::InputError("--out " + options.out_dir +
                             " is not empty and not the output of `morphmill stress`: give a new directory");
-  fs::create_directories(dir, error);
-  if (error)
-    throw morph::IoError(options.out_dir + ": cannot create the output directory: " + error.message());
-  remove_or_throw(dir / "summary.json");
-  remove_or_throw(dir / "summary.md");
-  std::vector<CaseResult> kept;
+  // A refused resume leaves everything as it was: checked before anything is removed.
   const fs::path recorded_file = dir / "campaign.json";
-  if (options.resume && fs::exists(recorded_file)) {
+  const bool resuming = options.resume && fs::exists(recorded_file);
+  if (resuming) {
     const nlohmann::json recorded = read_json(recorded_file);
     const std::string difference =
         campaign_difference(identity, "this run", recorded, recorded_file.string());
     if (!difference.empty())
       throw morph::InputError("--resume: not the campaign in " + options.out_dir + ": " + difference +
                               " (run without --resume to start afresh there)");
+  }
+  fs::create_directories(dir, error);
+  if (error)
+    throw morph::IoError(options.out_dir + ": cannot create the output directory: " + error.message());
+  remove_or_throw(dir / "summary.json");
+  remove_or_throw(dir / "summary.md");
+  std::vector<CaseResult> kept;
+  if (resuming) {
     for (auto& r : finished_results(dir))
       if (r.index < options.cases && r.index % options.shard_count == options.shard_index)
         kept.push_back(std::move(r));

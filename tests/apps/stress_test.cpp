@@ -410,6 +410,7 @@ TEST(StressRun, ANewRunRemovesTheOldVerdictFirstAndResumeChecksTheCampaign) {
   } catch (const morph::InputError& e) {
     EXPECT_NE(std::string(e.what()).find("--samples is 99"), std::string::npos) << e.what();
   }
+  EXPECT_TRUE(fs::exists(dir / "summary.json")) << "a refused resume removed the verdict";
 }
 
 // The CI-sized campaign through the binary: every invariant on 50 cases (about 30 s on 2 cores).
