@@ -264,6 +264,73 @@ double auto_voxel_size(const morph::Job& job) {
   return std::max(smallest_radius / 6.0, floor_for_memory);
 }
 
+std::string first_move_the_generator_cannot_build(const morph::Job& job) {
+  for (const morph::Path& path : job.paths)
+    for (const morph::Move& move : path.moves) {
+      const morph::Tool& tool = job.tool_of(move);
+      if (!tool.generator_builds())
+        return "the move at line " + std::to_string(move.line) + " of " + path.source + " uses tool " +
+               std::to_string(move.tool) + " (" + morph::describe(tool) +
+               "), which the generator cannot build yet";
+    }
+  return "";
+}
+
+namespace {
+
+// The reference alone, against the exact surface: what verify can still check when the generator
+// is not run. Judged where the surface is resolvable at the voxel size, as the agreement is.
+Evaluation evaluate_reference_only(const morph::Job& job, const vdb_ref::ReferenceOptions& reference_options,
+                                   const EvaluateOptions& options, StageClock& clock, Evaluation& evaluation) {
+  VerifyOutcome& out = evaluation.outcome;
+  vdb_ref::ReferenceResult reference =
+      clock.run("reference (OpenVDB)", [&] { return vdb_ref::compute_reference(job, reference_options); });
+  out.reference_triangles = reference.mesh.triangle_count();
+  out.reference_active_voxels = reference.stats.active_voxels;
+  out.reference_topology = morph::topology_report(reference.mesh);
+  for (const auto& piece : reference.pieces) out.reference_pieces.push_back({piece.volume, piece.area, piece.bounds});
+  const morph::ErosionField field(job);
+  clock.run("deviation (Embree)", [&] {
+    raytest::DeviationOptions deviation;
+    deviation.sampling.face_samples = options.face_samples;
+    deviation.sampling.seed = options.seed;
+    deviation.stats.tolerance = out.tolerance;
+    const raytest::DistanceField exact = [&](const Eigen::Vector3d& p) { return field.value(p); };
+    out.reference_to_exact = raytest::measure_against_field(reference.mesh, exact, deviation);
+  });
+  out.reference_bound = std::sqrt(3.0) * out.voxel_size;
+  std::vector<Eigen::AlignedBox3d> boxes(reference.mesh.triangle_count());
+  for (std::size_t t = 0; t < boxes.size(); ++t)
+    for (std::uint32_t v : reference.mesh.triangles[t]) boxes[t].extend(reference.mesh.vertices[v]);
+  const morph::AabbTree triangles(std::move(boxes));
+  const std::vector<bool> resolvable =
+      resolvable_samples(out.reference_to_exact.samples, reference.mesh, triangles, 2.0 * out.voxel_size);
+  WorstPlace worst;
+  worst.against = "exact surface (largest resolvable, decides the reference's check)";
+  for (std::size_t i = 0; i < resolvable.size(); ++i) {
+    const double value = out.reference_to_exact.values[i];
+    if (std::isnan(value)) continue;
+    if (!resolvable[i]) {
+      ++out.unresolvable_samples;
+      continue;
+    }
+    ++out.reference_resolvable_samples;
+    if (std::abs(value) > out.reference_resolvable_max) {
+      out.reference_resolvable_max = std::abs(value);
+      worst.position = out.reference_to_exact.samples[i].position;
+      worst.deviation = value;
+    }
+  }
+  if (out.reference_resolvable_samples > 0) out.worst.push_back(worst);
+  out.reference_converges =
+      out.reference_resolvable_samples > 0 && out.reference_resolvable_max <= out.reference_bound;
+  evaluation.reference_mesh = std::move(reference.mesh);
+  evaluation.reference_stats = reference.stats;
+  return std::move(evaluation);
+}
+
+}  // namespace
+
 Evaluation evaluate_job(const morph::Job& job, const EvaluateOptions& options) {
   Evaluation evaluation;
   VerifyOutcome& out = evaluation.outcome;
@@ -279,6 +346,11 @@ Evaluation evaluate_job(const morph::Job& job, const EvaluateOptions& options) {
   reference_options.vdb_output_path = options.vdb_output_path;
   reference_options.memory_cap_bytes = options.reference_memory_cap_bytes;
   vdb_ref::estimate_reference_memory(job, reference_options);  // bad input fails before long work
+
+  out.reference_only_requested = options.reference_only;
+  out.generator_skipped = options.reference_only ? std::string("--reference-only was given")
+                                                 : first_move_the_generator_cannot_build(job);
+  if (!out.generator_skipped.empty()) return evaluate_reference_only(job, reference_options, options, clock, evaluation);
 
   morph::ErodeOptions erode_options;
   erode_options.tolerance = out.tolerance;
@@ -419,18 +491,37 @@ VerifyOutcome run_verify(const VerifyOptions& options) {
   evaluate.seed = options.seed;
   evaluate.progress = options.progress;
   evaluate.vdb_output_path = (dir / "reference.vdb").string();
+  evaluate.reference_only = options.reference_only;
   Evaluation evaluation = evaluate_job(job, evaluate);
   VerifyOutcome out = std::move(evaluation.outcome);
   out.stages.insert(out.stages.begin(), load_stage.begin(), load_stage.end());
   const morph::TriangleMesh& morph_mesh = evaluation.morph_mesh;
   const morph::TriangleMesh& reference_mesh = evaluation.reference_mesh;
-  write_mesh(morph_mesh, (dir / "morph.ply").string());
+  const bool generator_ran = out.generator_skipped.empty();
+  if (generator_ran) {
+    write_mesh(morph_mesh, (dir / "morph.ply").string());
+    out.files.push_back("morph.ply");
+  }
   write_mesh(reference_mesh, (dir / "reference.ply").string());
-  out.files.insert(out.files.end(), {"morph.ply", "reference.ply", "reference.vdb"});
+  out.files.insert(out.files.end(), {"reference.ply", "reference.vdb"});
 
   const morph::ErosionField field(out.job);
   StageClock picture_clock(out.stages);
-  picture_clock.run("pictures", [&] {
+  if (!generator_ran) {
+    picture_clock.run("pictures", [&] {
+      std::vector<double> reference_exact(reference_mesh.vertex_count());
+      morph::for_each_index(morph::ExecutionPolicy::Parallel, 0, reference_exact.size(), [&](std::size_t i) {
+        reference_exact[i] = field.value(reference_mesh.vertices[i]);
+      });
+      write_heatmap(reference_mesh, "deviation_exact", reference_exact, dir / "reference_vs_exact.ply",
+                    dir / "reference_vs_exact.png", unit, options.image_width, options.image_height);
+      raytest::RenderOptions plain;
+      plain.width = options.image_width;
+      plain.height = options.image_height;
+      raytest::write_png(raytest::render_mesh(reference_mesh, plain), (dir / "reference.png").string());
+      out.files.insert(out.files.end(), {"reference_vs_exact.ply", "reference.png", "reference_vs_exact.png"});
+    });
+  } else picture_clock.run("pictures", [&] {
     const int w = options.image_width, h = options.image_height;
     const morph::TriangleMesh morph_display =
         morph_mesh.triangle_count() <= 1000000 ? split_at_edge_midpoints(morph_mesh) : morph_mesh;
@@ -467,12 +558,17 @@ VerifyOutcome run_verify(const VerifyOptions& options) {
     if (!json) throw morph::IoError((dir / "deviation.json").string() + ": cannot write");
   }
   out.files.push_back("deviation.json");
-  write_reports(out, options.out_dir,
-                {{"Generator (morph)", "morph.png"},
-                 {"Reference (OpenVDB)", "reference.png"},
-                 {"Generator against the exact surface", "morph_vs_exact.png"},
-                 {"Generator against the reference", "morph_vs_reference.png"},
-                 {"Reference against the exact surface", "reference_vs_exact.png"}});
+  if (generator_ran)
+    write_reports(out, options.out_dir,
+                  {{"Generator (morph)", "morph.png"},
+                   {"Reference (OpenVDB)", "reference.png"},
+                   {"Generator against the exact surface", "morph_vs_exact.png"},
+                   {"Generator against the reference", "morph_vs_reference.png"},
+                   {"Reference against the exact surface", "reference_vs_exact.png"}});
+  else
+    write_reports(out, options.out_dir,
+                  {{"Reference (OpenVDB)", "reference.png"},
+                   {"Reference against the exact surface", "reference_vs_exact.png"}});
   out.files.insert(out.files.end(), {"report.md", "report.html"});
   return out;
 }
