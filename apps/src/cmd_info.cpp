@@ -1,6 +1,7 @@
 // morphmill info JOB: the job as understood; morphmill mesh-info MESH: the topology report.
 #include <fmt/format.h>
 #include <morph/exceptions.h>
+#include <morph/gcode.h>
 #include <morph/topology.h>
 #include <morphmill/job_io.h>
 #include <morphmill/mesh_io.h>
@@ -171,7 +172,95 @@ void print_mesh_report(const json& r, std::ostream& out) {
 struct InfoOptions {
   std::string path;
   bool json = false;
+  bool moves = false;
+  std::string format = "text";
+  // G-code read directly (not through a job):
+  std::string units = "mm";
+  std::string var_file;
+  std::vector<double> start;
+  bool block_delete = true;
 };
+
+bool is_job_file(const std::string& path) {
+  return path.size() >= 5 && path.compare(path.size() - 5, 5, ".json") == 0;
+}
+
+json vector_json(const Eigen::Vector3d& v) {
+  return json::array({v.x(), v.y(), v.z()});
+}
+
+/// The moves as understood: tool tip in machine coordinates (job units), kind, arc centre, axis
+/// and sweep, tool, source line, feed. Deterministic, for diffing against another interpreter.
+json moves_json(const std::vector<morph::Path>& paths, const std::string& file, morph::Units units,
+                const std::vector<morph::Warning>& warnings, const std::vector<morph::Warning>& messages) {
+  json out;
+  out["file"] = file;
+  out["units"] = morph::to_string(units);
+  json list = json::array();
+  for (std::size_t p = 0; p < paths.size(); ++p) {
+    for (const morph::Move& m : paths[p].moves) {
+      json move;
+      move["path"] = p;
+      move["line"] = m.line;
+      move["kind"] = morph::to_string(m.kind);
+      move["tool"] = m.tool;
+      move["start"] = vector_json(m.start);
+      move["end"] = vector_json(m.end);
+      if (m.is_arc()) {
+        move["center"] = vector_json(m.center);
+        move["axis"] = vector_json(m.axis);
+        move["sweep"] = m.sweep;
+      }
+      move["feed"] = m.feed;
+      list.push_back(std::move(move));
+    }
+  }
+  out["moves"] = std::move(list);
+  auto notes = [](const std::vector<morph::Warning>& ws) {
+    json a = json::array();
+    for (const morph::Warning& w : ws)
+      a.push_back({{"file", w.file}, {"line", w.line}, {"message", w.message}});
+    return a;
+  };
+  out["warnings"] = notes(warnings);
+  out["messages"] = notes(messages);
+  return out;
+}
+
+void print_moves(const json& d, std::ostream& out) {
+  out << "Moves of " << d["file"].get<std::string>() << " (tool tip, machine coordinates, "
+      << d["units"].get<std::string>() << ")\n";
+  for (const json& m : d["moves"]) {
+    out << fmt::format("  line {:>6}  T{:<3} {:<6} {} -> {}", m["line"].get<int>(), m["tool"].get<int>(),
+                       m["kind"].get<std::string>(), triple(m["start"]), triple(m["end"]));
+    if (m.contains("center"))
+      out << fmt::format("  centre {} axis {} sweep {} rad", triple(m["center"]), triple(m["axis"]),
+                         number(m["sweep"].get<double>()));
+    out << '\n';
+  }
+  for (const json& w : d["warnings"])
+    out << fmt::format("warning: {}:{}: {}\n", w["file"].get<std::string>(), w["line"].get<int>(),
+                       w["message"].get<std::string>());
+  for (const json& w : d["messages"])
+    out << fmt::format("message: {}:{}: {}\n", w["file"].get<std::string>(), w["line"].get<int>(),
+                       w["message"].get<std::string>());
+}
+
+json read_moves(const InfoOptions& o) {
+  if (is_job_file(o.path)) {
+    const morph::Job job = load_job(o.path);
+    return moves_json(job.paths, o.path, job.units, job.warnings, {});
+  }
+  morph::GcodeOptions options;
+  options.job_units = o.units == "inch" ? morph::Units::Inch : morph::Units::Millimetre;
+  options.var_file = o.var_file;
+  options.block_delete = o.block_delete;
+  if (!o.start.empty()) options.start = Eigen::Vector3d(o.start[0], o.start[1], o.start[2]);
+  morph::GcodeResult result = morph::read_gcode(o.path, options);
+  std::vector<morph::Path> paths(1);
+  paths[0] = std::move(result.path);
+  return moves_json(paths, o.path, options.job_units, result.warnings, result.messages);
+}
 
 }  // namespace
 
@@ -184,12 +273,47 @@ void register_info_commands(CLI::App& app) {
       "warning (unknown JSON keys, G-code words that were ignored). Reads the G-code and stock mesh\n"
       "the job names. Exit code 0 if the job is valid, 2 if it is not (the message names the file\n"
       "and the JSON path or G-code line).");
-  info->footer("Example: morphmill info data/jobs/slots.json --json\nJob format: docs/job-format.md");
-  info->add_option("job", job_options->path, "Job file (JSON, see docs/job-format.md)")->required();
-  info->add_flag("--json", job_options->json, "Print the summary as JSON instead of a table");
+  info->footer(
+      "Examples:\n"
+      "  morphmill info data/jobs/slots.json --json\n"
+      "  morphmill info --moves data/gcode/conformance/cycles.ngc --format json --start 0,0,0\n"
+      "Job format: docs/job-format.md; G-code: docs/gcode.md");
+  info->add_option("job", job_options->path,
+                   "Job file (JSON, see docs/job-format.md), or with --moves a G-code file")
+      ->required();
+  info->add_flag("--json", job_options->json,
+                 "Print the summary as JSON instead of a table (same as --format json)");
+  info->add_option("--format", job_options->format, "Output format")->check(CLI::IsMember({"text", "json"}));
+  info->add_flag(
+      "--moves", job_options->moves,
+      "Print every move as understood: tool tip in machine coordinates (job units), kind, arc centre,\n"
+      "axis and sweep, tool, source line, feed. Takes a job (.json) or a G-code file (any other\n"
+      "extension), so that MorphMill's reading can be diffed against another interpreter's");
+  info->add_option("--units", job_options->units, "G-code file only: the units of the moves")
+      ->check(CLI::IsMember({"mm", "inch"}));
+  info->add_option("--var-file", job_options->var_file,
+                   "G-code file only: a LinuxCNC parameter file (work offsets, G28/G30 positions)")
+      ->check(CLI::ExistingFile);
+  info->add_option(
+          "--start", job_options->start,
+          "G-code file only: where the tool tip is before the first line, X,Y,Z (else moves start once\n"
+          "X, Y and Z are known)")
+      ->delimiter(',')
+      ->expected(3);
+  info->add_flag("!--no-block-delete", job_options->block_delete,
+                 "G-code file only: run lines starting with '/' (block delete switch off)");
   info->callback([job_options] {
+    const bool as_json = job_options->json || job_options->format == "json";
+    if (job_options->moves) {
+      const json moves = read_moves(*job_options);
+      if (as_json)
+        std::cout << moves.dump(2) << '\n';
+      else
+        print_moves(moves, std::cout);
+      return;
+    }
     const json description = describe_job(load_job(job_options->path));
-    if (job_options->json)
+    if (as_json)
       std::cout << description.dump(2) << '\n';
     else
       print_job(description, std::cout);

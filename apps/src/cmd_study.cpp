@@ -1,6 +1,7 @@
 #include <iostream>
 
 #include "commands.h"
+#include "stop_signals.h"
 #include "study.h"
 #include "terminal_progress.h"
 
@@ -14,16 +15,34 @@ void register_study_command(CLI::App& app) {
       "step-over of generated zigzag jobs), and write a convergence table (study.csv, study.json), plots\n"
       "(error vs voxel size with the fitted order, time and memory vs accuracy), heatmaps of every\n"
       "setting and a self-contained report.html. Study file format: docs/study.md.\n"
+      "SIGINT/SIGTERM stop after the setting in flight, write the table of what ran and exit 4;\n"
+      "--resume then evaluates only the settings left.\n"
       "Example: morphmill study data/studies/convergence.json --out out/convergence");
   command->add_option("study", options->study_path, "Study file (JSON)")
       ->required()
       ->check(CLI::ExistingFile);
   command->add_option("--out,-o", options->out_dir, "Output directory")->required();
+  command->add_flag(
+      "--resume", options->resume,
+      "Keep the settings a stopped run already evaluated in --out (settings/), evaluate the others");
   command->callback([options] {
     TerminalProgress progress;
     study::StudyOptions run = *options;
     run.progress = &progress;
-    const study::StudyResult result = study::run_study(run);
+    run.stop_signal = &stop_signal();
+    study::StudyResult result;
+    {
+      StopOnSignals stop_on_signals;
+      result = study::run_study(run);
+    }
+    if (!result.complete()) {
+      std::cout << "study " << result.spec.name << ": " << result.stopped << " after " << result.evaluated
+                << " of " << result.settings
+                << " setting(s): INCOMPLETE\n  table of what ran: " << run.out_dir
+                << "/study.csv, study.json\n  continue with: morphmill study " << run.study_path << " --out "
+                << run.out_dir << " --resume\n";
+      throw CampaignIncomplete();
+    }
     std::cout << "study " << result.spec.name << ": " << result.rows.size() << " setting(s)\n";
     for (const auto& c : result.convergence)
       std::cout << "  " << c.job << ": " << c.measure << " error order " << c.fit.order << " (R^2 "

@@ -11,10 +11,15 @@ enum ExitCode : int {
   kExitVerdictFails = 1,  ///< verify/stress: the computation ran but the verdict does not hold
   kExitBadInput = 2,      ///< the input is wrong (job, G-code, mesh, options)
   kExitInternal = 3,      ///< an unexpected internal error
+  kExitIncomplete = 4,    ///< stress/stress-merge: not every case ran (stopped, or shards missing)
 };
 
 /// Thrown by a command whose computation ran but whose verdict does not hold (exit code 1).
 struct VerdictFailed {};
+
+/// Thrown by a command that stopped or was refused before every case of its campaign ran, after
+/// saying what is missing (exit code 4).
+struct CampaignIncomplete {};
 
 void register_info_commands(CLI::App& app);       // info, mesh-info
 void register_erode_command(CLI::App& app);       // erode

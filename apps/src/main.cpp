@@ -36,6 +36,8 @@ int main(int argc, char** argv) {
     return code == 0 ? morphmill::kExitOk : morphmill::kExitBadInput;
   } catch (const morphmill::VerdictFailed&) {
     return morphmill::kExitVerdictFails;
+  } catch (const morphmill::CampaignIncomplete&) {
+    return morphmill::kExitIncomplete;
   } catch (const morph::InputError& e) {
     std::cerr << "morphmill: error: " << e.what() << '\n';
     return morphmill::kExitBadInput;

@@ -5,9 +5,12 @@
 #include <morph/stock.h>
 #include <morphmill/job_io.h>
 #include <sys/resource.h>
+#include <tbb/blocked_range.h>
 #include <tbb/global_control.h>
 #include <tbb/parallel_for.h>
+#include <tbb/partitioner.h>
 
+#include <unistd.h>
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -19,6 +22,8 @@
 #include <sstream>
 #include <thread>
 
+#include "build_info.h"
+#include "stop_signals.h"
 #include "stress_cases.h"
 #include "verify.h"
 
@@ -61,10 +66,69 @@ std::string read_text(const fs::path& path) {
   return std::string(std::istreambuf_iterator<char>(in), {});
 }
 
+/// Writes to a temporary file beside the target, flushed and checked, then renames it over the
+/// target: a reader (or a kill) sees the old file or the new one, never a part.
 void write_text(const fs::path& path, const std::string& text) {
-  std::ofstream out(path);
-  out << text;
-  if (!out) throw morph::IoError(path.string() + ": cannot write");
+  const fs::path temporary = path.string() + ".tmp-" + std::to_string(::getpid());
+  {
+    std::ofstream out(temporary, std::ios::binary | std::ios::trunc);
+    out << text;
+    out.flush();
+    if (!out) {
+      std::error_code ignored;
+      fs::remove(temporary, ignored);
+      throw morph::IoError(path.string() + ": cannot write");
+    }
+  }
+  std::error_code error;
+  fs::rename(temporary, path, error);
+  if (error) {
+    fs::remove(temporary, error);
+    throw morph::IoError(path.string() + ": cannot write: " + error.message());
+  }
+}
+
+nlohmann::json read_json(const fs::path& path) {
+  try {
+    return nlohmann::json::parse(read_text(path));
+  } catch (const nlohmann::json::exception& e) {
+    throw morph::InputError(path.string() + ": " + e.what());
+  }
+}
+
+/// "1, 5, 9" for up to `shown` indices, then "... (N more)".
+std::string index_list(const std::vector<std::size_t>& indices, std::size_t shown = 40) {
+  std::string text;
+  for (std::size_t i = 0; i < indices.size() && i < shown; ++i)
+    text += (i ? ", " : "") + std::to_string(indices[i]);
+  if (indices.size() > shown) text += fmt::format(", ... ({} more)", indices.size() - shown);
+  return text;
+}
+
+/// Case indices from the case_NNNNNN*.json names in dir (none if dir does not exist).
+std::vector<std::size_t> indices_in(const fs::path& dir) {
+  std::set<std::size_t> found;
+  std::error_code error;
+  if (!fs::is_directory(dir, error)) return {};
+  for (const auto& entry : fs::directory_iterator(dir, error)) {
+    const std::string name = entry.path().filename().string();
+    if (name.size() != 16 || name.rfind("case_", 0) != 0 || entry.path().extension() != ".json") continue;
+    try {
+      found.insert(std::stoul(name.substr(5, 6)));
+    } catch (const std::exception&) {
+    }
+  }
+  return {found.begin(), found.end()};
+}
+
+/// The finished cases' results kept in dir/cases/ (each written atomically when its case ended).
+std::vector<CaseResult> finished_results(const fs::path& dir) {
+  std::vector<CaseResult> results;
+  for (std::size_t index : indices_in(dir / "cases")) {
+    const fs::path file = dir / "cases" / (case_name(index) + ".json");
+    results.push_back(case_from_json(read_json(file), file.string()));
+  }
+  return results;
 }
 
 /// The kinds of deviation the summary reports the worst of, with the bound each is held to.
@@ -285,6 +349,39 @@ CaseResult case_from_json(const nlohmann::json& j, const std::string& where) {
   }
 }
 
+nlohmann::json campaign_identity(const StressOptions& options) {
+  return {{"program", "morphmill"},
+          {"version", program_version()},
+          {"source_commit", source_commit()},
+          {"case_generator", kCaseGeneratorVersion},
+          {"--cases", options.cases},
+          {"--seed", options.seed},
+          {"--samples", options.face_samples},
+          {"--reference-memory-cap", options.reference_memory_cap_mib},
+          {"--max-rss", options.max_peak_rss_mib},
+          {"shards", options.shard_count}};
+}
+
+std::string campaign_difference(const nlohmann::json& a, const std::string& a_name, const nlohmann::json& b,
+                                const std::string& b_name) {
+  std::set<std::string> keys;
+  for (const auto& [key, value] : a.items()) keys.insert(key);
+  for (const auto& [key, value] : b.items()) keys.insert(key);
+  for (const auto& key : keys) {
+    const nlohmann::json left = a.contains(key) ? a[key] : nlohmann::json("(absent)");
+    const nlohmann::json right = b.contains(key) ? b[key] : nlohmann::json("(absent)");
+    if (left != right)
+      return fmt::format("{} is {} in {} but {} in {}", key, left.dump(), a_name, right.dump(), b_name);
+  }
+  return "";
+}
+
+std::string Summary::partial_line() const {
+  if (missing.empty()) return "";
+  return fmt::format("partial: {} of {} cases, missing {}", results.size(), results.size() + missing.size(),
+                     index_list(missing));
+}
+
 std::size_t Summary::failed_cases() const {
   return static_cast<std::size_t>(
       std::count_if(results.begin(), results.end(), [](const CaseResult& r) { return !r.failures.empty(); }));
@@ -292,6 +389,12 @@ std::size_t Summary::failed_cases() const {
 
 nlohmann::json summary_to_json(const Summary& s) {
   nlohmann::json j;
+  j["campaign"] = s.campaign;
+  j["merged"] = s.merged;
+  j["complete"] = s.complete();
+  j["partial"] = s.partial_line();
+  j["missing_cases"] = s.missing;
+  j["incomplete"] = s.incomplete;
   j["seed"] = s.seed;
   j["cases"] = s.cases;
   j["shards"] = nlohmann::json::array();
@@ -335,6 +438,13 @@ nlohmann::json summary_to_json(const Summary& s) {
 Summary summary_from_json(const nlohmann::json& j, const std::string& where) {
   try {
     Summary s;
+    if (!j.contains("campaign"))
+      throw morph::InputError(where +
+                              ": no campaign identity (written by an older morphmill): run the shard again");
+    s.campaign = j.at("campaign");
+    s.merged = j.at("merged").get<bool>();
+    s.missing = j.at("missing_cases").get<std::vector<std::size_t>>();
+    s.incomplete = j.at("incomplete").get<std::vector<std::string>>();
     s.seed = j.at("seed").get<std::uint64_t>();
     s.cases = j.at("cases").get<std::size_t>();
     for (const auto& shard : j.at("shards"))
@@ -354,15 +464,24 @@ std::string summary_markdown(const Summary& s) {
   std::ostringstream md;
   const std::size_t failed = s.failed_cases();
   md << "# MorphMill stress campaign: seed " << s.seed << "\n\n";
+  if (!s.complete()) {
+    md << "**" << s.partial_line() << "**\n\n";
+    for (const auto& line : s.incomplete) md << "- " << line << "\n";
+    md << "\n";
+  }
   md << "**" << (failed == 0 ? "No failures" : fmt::format("{} failing case(s)", failed)) << "** in "
-     << s.results.size() << " case(s) run of " << s.cases << ".\n\n";
+     << s.results.size() << " case(s) run of " << s.cases << (s.complete() ? "" : " (incomplete)") << ".\n\n";
   md << "| item | value |\n|---|---|\n";
   md << "| shards | ";
   for (std::size_t i = 0; i < s.shards.size(); ++i)
     md << (i ? ", " : "") << s.shards[i].first << "/" << s.shards[i].second;
   md << " |\n| wall time (s, summed over shards) | " << fmt::format("{:.1f}", s.wall_seconds) << " |\n";
   md << "| peak resident memory (MiB) | " << fmt::format("{:.0f}", s.peak_rss_mib) << " |\n";
-  md << "| threads | " << s.threads << " |\n\n";
+  md << "| threads | " << s.threads << " |\n";
+  for (const char* key :
+       {"version", "source_commit", "case_generator", "--samples", "--reference-memory-cap", "--max-rss"})
+    if (s.campaign.contains(key)) md << "| " << key << " | " << s.campaign[key].dump() << " |\n";
+  md << "\n";
 
   md << "## Failures by invariant\n\n| invariant | failing cases |\n|---|---|\n";
   std::map<std::string, std::size_t> counts;
@@ -420,8 +539,9 @@ void write_summary(const Summary& summary, const std::string& dir) {
   std::error_code error;
   fs::create_directories(dir, error);
   if (error) throw morph::IoError(dir + ": cannot create the output directory: " + error.message());
-  write_text(fs::path(dir) / "summary.json", summary_to_json(summary).dump(2) + "\n");
+  // summary.json is the verdict a merge reads: written last.
   write_text(fs::path(dir) / "summary.md", summary_markdown(summary));
+  write_text(fs::path(dir) / "summary.json", summary_to_json(summary).dump(2) + "\n");
 }
 
 std::pair<std::size_t, std::size_t> parse_shard(const std::string& text) {
@@ -449,22 +569,72 @@ std::vector<std::size_t> shard_cases(std::size_t cases, std::size_t shard_index,
   return indices;
 }
 
+namespace {
+
+void remove_or_throw(const fs::path& path) {
+  std::error_code error;
+  fs::remove_all(path, error);
+  if (error) throw morph::IoError(path.string() + ": cannot remove: " + error.message());
+}
+
+/// Makes out_dir ready for a run: the old verdict goes first (a kill from here on leaves no verdict
+/// rather than a stale one), then, unless resuming the same campaign, the old cases. Returns the
+/// finished results kept for a resume.
+std::vector<CaseResult> prepare_shard_dir(const StressOptions& options, const nlohmann::json& identity) {
+  const fs::path dir(options.out_dir);
+  std::error_code error;
+  fs::create_directories(dir, error);
+  if (error)
+    throw morph::IoError(options.out_dir + ": cannot create the output directory: " + error.message());
+  remove_or_throw(dir / "summary.json");
+  remove_or_throw(dir / "summary.md");
+  std::vector<CaseResult> kept;
+  const fs::path recorded_file = dir / "campaign.json";
+  if (options.resume && fs::exists(recorded_file)) {
+    const nlohmann::json recorded = read_json(recorded_file);
+    const std::string difference =
+        campaign_difference(identity, "this run", recorded, recorded_file.string());
+    if (!difference.empty())
+      throw morph::InputError("--resume: not the campaign in " + options.out_dir + ": " + difference +
+                              " (run without --resume to start afresh there)");
+    for (auto& r : finished_results(dir))
+      if (r.index < options.cases && r.index % options.shard_count == options.shard_index)
+        kept.push_back(std::move(r));
+  } else {
+    remove_or_throw(dir / "cases");
+    remove_or_throw(dir / "failures");
+  }
+  remove_or_throw(dir / "running");  // the cases in flight when a run was killed run again
+  fs::create_directories(dir / "running", error);
+  fs::create_directories(dir / "cases", error);
+  if (error)
+    throw morph::IoError(options.out_dir + ": cannot create the output directory: " + error.message());
+  write_text(recorded_file, identity.dump(2) + "\n");
+  return kept;
+}
+
+}  // namespace
+
 Summary run_stress(const StressOptions& options) {
   if (options.cases == 0) throw morph::InputError("--cases must be at least 1");
   if (options.shard_count == 0 || options.shard_index >= options.shard_count)
     throw morph::InputError(
         fmt::format("--shard: need 0 <= i < n, got {}/{}", options.shard_index, options.shard_count));
   if (options.threads < 0) throw morph::InputError("--threads must not be negative");
-  std::error_code error;
-  fs::create_directories(fs::path(options.out_dir) / "running", error);
-  if (error)
-    throw morph::IoError(options.out_dir + ": cannot create the output directory: " + error.message());
-  // A rerun into the same directory must not mix old failure files with the new summary.
-  fs::remove_all(fs::path(options.out_dir) / "failures", error);
+  nlohmann::json identity = campaign_identity(options);
+  identity["shard"] = fmt::format("{}/{}", options.shard_index, options.shard_count);
+  std::vector<CaseResult> kept = prepare_shard_dir(options, identity);
 
   const std::vector<std::size_t> indices =
       shard_cases(options.cases, options.shard_index, options.shard_count);
+  std::set<std::size_t> done;
+  for (const auto& r : kept) done.insert(r.index);
+  std::vector<std::size_t> to_run;
+  for (std::size_t k : indices)
+    if (!done.count(k)) to_run.push_back(k);
+
   Summary summary;
+  summary.campaign = campaign_identity(options);
   summary.seed = options.seed;
   summary.cases = options.cases;
   summary.shards = {{options.shard_index, options.shard_count}};
@@ -472,71 +642,218 @@ Summary run_stress(const StressOptions& options) {
                           ? options.threads
                           : static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
   summary.threads = threads;
-  summary.results.resize(indices.size());
+  std::vector<std::optional<CaseResult>> ran(to_run.size());
+  const fs::path cases_dir = fs::path(options.out_dir) / "cases";
+  const auto stopped = [&] { return options.stop_signal && options.stop_signal->load() != 0; };
   const auto start = std::chrono::steady_clock::now();
-  if (options.progress) options.progress->begin("stress: cases", indices.size());
+  if (options.progress) options.progress->begin("stress: cases", to_run.size());
   {
-    // Cases in parallel; each case's own stages share the same workers (TBB nests).
+    // Cases in parallel; each case's own stages share the same workers (TBB nests). Cancellation is
+    // explicit: a stop lets no further case start and lets the cases in flight finish, so no task
+    // group is ever unwound while nested tasks read a case's arrays.
     tbb::global_control limit(tbb::global_control::max_allowed_parallelism,
                               static_cast<std::size_t>(threads));
-    tbb::parallel_for(std::size_t(0), indices.size(), [&](std::size_t i) {
-      summary.results[i] = run_case(options.seed, indices[i], options);
-      if (options.progress) options.progress->advance(1);
-    });
+    tbb::parallel_for(
+        tbb::blocked_range<std::size_t>(0, to_run.size(), 1),
+        [&](const tbb::blocked_range<std::size_t>& range) {
+          for (std::size_t i = range.begin(); i != range.end(); ++i) {
+            if (stopped()) return;
+            CaseResult result = run_case(options.seed, to_run[i], options);
+            // The case's result file marks it finished (for --resume and a merge of a killed shard).
+            write_text(cases_dir / (case_name(result.index) + ".json"), case_to_json(result).dump(2) + "\n");
+            ran[i] = std::move(result);
+            if (options.progress) options.progress->advance(1);
+          }
+        },
+        tbb::simple_partitioner());
   }
   if (options.progress) options.progress->end();
   summary.wall_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   summary.peak_rss_mib = process_peak_rss_mib();
+  summary.results = std::move(kept);
+  for (auto& r : ran)
+    if (r) summary.results.push_back(std::move(*r));
+  std::sort(summary.results.begin(), summary.results.end(),
+            [](const CaseResult& a, const CaseResult& b) { return a.index < b.index; });
+  done.clear();
+  for (const auto& r : summary.results) done.insert(r.index);
+  for (std::size_t k : indices)
+    if (!done.count(k)) summary.missing.push_back(k);
+  if (!summary.missing.empty())
+    summary.incomplete.push_back(
+        fmt::format("shard {}/{} stopped ({}) after {} of {} cases; `morphmill stress --resume {}` runs the "
+                    "others",
+                    options.shard_index, options.shard_count,
+                    stopped() ? std::string("interrupted by ") + signal_name(options.stop_signal->load())
+                              : "not finished",
+                    summary.results.size(), indices.size(), options.out_dir));
+  std::error_code error;
   fs::remove(fs::path(options.out_dir) / "running", error);  // empty unless something crashed
   write_summary(summary, options.out_dir);
   return summary;
 }
 
-Summary merge_stress(const std::vector<std::string>& shard_dirs, const std::string& out_dir) {
+namespace {
+
+/// One shard directory as the merge sees it.
+struct ShardRun {
+  std::string dir;
+  nlohmann::json identity;  ///< campaign.json without "shard"
+  std::size_t index = 0, count = 0;
+  std::vector<CaseResult> results;
+  std::vector<std::string> incomplete;  ///< why some of its cases are missing
+};
+
+ShardRun read_shard(const std::string& dir) {
+  ShardRun shard;
+  shard.dir = dir;
+  const fs::path campaign_file = fs::path(dir) / "campaign.json";
+  if (!fs::exists(campaign_file))
+    throw morph::InputError(dir +
+                            ": no campaign.json: not the output of `morphmill stress` (or of one "
+                            "older than campaign identities: run it again)");
+  shard.identity = read_json(campaign_file);
+  try {
+    std::tie(shard.index, shard.count) = parse_shard(shard.identity.at("shard").get<std::string>());
+  } catch (const nlohmann::json::exception& e) {
+    throw morph::InputError(campaign_file.string() + ": no shard: " + e.what());
+  }
+  shard.identity.erase("shard");
+  const fs::path verdict = fs::path(dir) / "summary.json";
+  if (fs::exists(verdict)) {
+    Summary summary = summary_from_json(read_json(verdict), verdict.string());
+    const std::string difference =
+        campaign_difference(shard.identity, campaign_file.string(), summary.campaign, verdict.string());
+    if (!difference.empty())
+      throw morph::InputError(dir + ": the verdict is of another campaign: " + difference);
+    shard.results = std::move(summary.results);
+    shard.incomplete = std::move(summary.incomplete);
+    return shard;
+  }
+  // No verdict: the shard is still running, or was killed or cancelled while running. Its
+  // finished cases are in cases/, the ones in flight in running/.
+  shard.results = finished_results(dir);
+  const auto in_flight = indices_in(fs::path(dir) / "running");
+  shard.incomplete.push_back(fmt::format(
+      "shard {}/{} ({}) has no verdict: still running, or killed or cancelled while running; {} case(s) "
+      "finished{}",
+      shard.index, shard.count, dir, shard.results.size(),
+      in_flight.empty() ? std::string() : "; in flight when it stopped: " + index_list(in_flight)));
+  return shard;
+}
+
+/// True if dir may be replaced by a merge: absent, empty, or a previous merge's output.
+bool replaceable_merge_output(const fs::path& dir) {
+  std::error_code error;
+  if (!fs::exists(dir, error)) return true;
+  if (!fs::is_directory(dir, error)) return false;
+  if (fs::is_empty(dir, error)) return true;
+  if (fs::exists(dir / "campaign.json")) return false;  // a shard
+  try {
+    return read_json(dir / "summary.json").value("merged", false);
+  } catch (const std::exception&) {
+    return fs::exists(dir / "MERGING");  // a merge that did not finish
+  }
+}
+
+}  // namespace
+
+Summary merge_stress(const std::vector<std::string>& shard_dirs, const std::string& out_dir, bool partial) {
   if (shard_dirs.empty()) throw morph::InputError("stress-merge: no shard directories given");
+  const fs::path out(out_dir);
+  for (const auto& dir : shard_dirs) {
+    std::error_code error;
+    if (fs::exists(out) && fs::equivalent(fs::path(dir), out, error))
+      throw morph::InputError("--out " + out_dir + " is one of the shard directories");
+  }
+  if (!replaceable_merge_output(out))
+    throw morph::InputError("--out " + out_dir +
+                            " is not empty and not a previous merge: refusing to replace it (give a new "
+                            "directory)");
+  std::vector<ShardRun> shards;
+  for (const auto& dir : shard_dirs) shards.push_back(read_shard(dir));
+
   Summary merged;
+  merged.merged = true;
+  merged.campaign = shards.front().identity;
+  std::map<std::size_t, std::string> shard_dir_of;
   std::set<std::size_t> seen;
-  for (std::size_t d = 0; d < shard_dirs.size(); ++d) {
-    const fs::path file = fs::path(shard_dirs[d]) / "summary.json";
-    nlohmann::json json;
-    try {
-      json = nlohmann::json::parse(read_text(file));
-    } catch (const nlohmann::json::exception& e) {
-      throw morph::InputError(file.string() + ": " + e.what());
-    }
-    const Summary shard = summary_from_json(json, file.string());
-    if (d == 0) {
-      merged.seed = shard.seed;
-      merged.cases = shard.cases;
-    } else if (shard.seed != merged.seed || shard.cases != merged.cases) {
-      throw morph::InputError(
-          fmt::format("{}: campaign seed {} with {} cases, but {} has seed {} with {} cases", file.string(),
-                      shard.seed, shard.cases, shard_dirs[0], merged.seed, merged.cases));
-    }
+  for (const auto& shard : shards) {
+    const std::string difference =
+        campaign_difference(shard.identity, shard.dir, merged.campaign, shards.front().dir);
+    if (!difference.empty())
+      throw morph::InputError("stress-merge: shards of different campaigns: " + difference);
+    if (!shard_dir_of.emplace(shard.index, shard.dir).second)
+      throw morph::InputError(fmt::format("stress-merge: {} and {} are both shard {}/{}",
+                                          shard_dir_of[shard.index], shard.dir, shard.index, shard.count));
     for (const auto& r : shard.results)
       if (!seen.insert(r.index).second)
-        throw morph::InputError(file.string() + ": " + case_name(r.index) + " is also in an earlier shard");
-    merged.shards.insert(merged.shards.end(), shard.shards.begin(), shard.shards.end());
+        throw morph::InputError(shard.dir + ": " + case_name(r.index) + " is also in an earlier shard");
+    merged.shards.emplace_back(shard.index, shard.count);
     merged.results.insert(merged.results.end(), shard.results.begin(), shard.results.end());
-    merged.wall_seconds += shard.wall_seconds;
-    merged.peak_rss_mib = std::max(merged.peak_rss_mib, shard.peak_rss_mib);
-    merged.threads = std::max(merged.threads, shard.threads);
+    merged.incomplete.insert(merged.incomplete.end(), shard.incomplete.begin(), shard.incomplete.end());
   }
+  // Wall time, memory and threads come from the verdicts; a shard without one adds none.
+  for (const auto& dir : shard_dirs) {
+    const fs::path verdict = fs::path(dir) / "summary.json";
+    if (!fs::exists(verdict)) continue;
+    const nlohmann::json j = read_json(verdict);
+    merged.wall_seconds += j.value("wall_seconds", 0.0);
+    merged.peak_rss_mib = std::max(merged.peak_rss_mib, j.value("peak_rss_mib", 0.0));
+    merged.threads = std::max(merged.threads, j.value("threads", 0));
+  }
+  merged.seed = merged.campaign.at("--seed").get<std::uint64_t>();
+  merged.cases = merged.campaign.at("--cases").get<std::size_t>();
+  const std::size_t count = merged.campaign.at("shards").get<std::size_t>();
+  std::sort(merged.shards.begin(), merged.shards.end());
   std::sort(merged.results.begin(), merged.results.end(),
             [](const CaseResult& a, const CaseResult& b) { return a.index < b.index; });
+  for (std::size_t i = 0; i < count; ++i)
+    if (!shard_dir_of.count(i))
+      merged.incomplete.push_back(
+          fmt::format("shard {}/{} missing: no directory of it given (never started, "
+                      "or cancelled before it started); its cases: {}",
+                      i, count, index_list(shard_cases(merged.cases, i, count), 12)));
+  for (std::size_t k = 0; k < merged.cases; ++k)
+    if (!seen.count(k)) merged.missing.push_back(k);
+
+  // Any previous merge goes first: a refused merge must not leave an old verdict standing.
+  remove_or_throw(out);
+  if (!merged.complete() && !partial) {
+    std::string message =
+        fmt::format("stress-merge: incomplete campaign: {} of {} cases finished, missing {}",
+                    merged.results.size(), merged.cases, index_list(merged.missing));
+    for (const auto& line : merged.incomplete) message += "\n  " + line;
+    message += "\n  (--partial merges what finished into a summary that says what is missing)";
+    throw IncompleteCampaign(message);
+  }
   std::error_code error;
-  fs::create_directories(fs::path(out_dir) / "failures", error);
+  fs::create_directories(out / "failures", error);
   if (error) throw morph::IoError(out_dir + ": cannot create the output directory: " + error.message());
+  write_text(out / "MERGING", "a stress-merge is writing here; without summary.json it did not finish\n");
+  std::set<std::size_t> failing;
+  for (const auto& r : merged.results)
+    if (!r.failures.empty()) failing.insert(r.index);
   for (const auto& dir : shard_dirs) {
     const fs::path failures = fs::path(dir) / "failures";
     if (!fs::is_directory(failures)) continue;
     for (const auto& entry : fs::directory_iterator(failures)) {
-      fs::copy_file(entry.path(), fs::path(out_dir) / "failures" / entry.path().filename(),
-                    fs::copy_options::overwrite_existing, error);
+      const std::string name = entry.path().filename().string();
+      // Only the files of cases the merge reports failing: a stale or half-written one stays out.
+      std::size_t index = 0;
+      try {
+        index = std::stoul(name.substr(5, 6));
+      } catch (const std::exception&) {
+        continue;
+      }
+      if (name.rfind("case_", 0) != 0 || !failing.count(index) || name.find(".tmp-") != std::string::npos)
+        continue;
+      fs::copy_file(entry.path(), out / "failures" / name, fs::copy_options::overwrite_existing, error);
       if (error) throw morph::IoError(entry.path().string() + ": cannot copy: " + error.message());
     }
   }
   write_summary(merged, out_dir);
+  fs::remove(out / "MERGING", error);
   return merged;
 }
 

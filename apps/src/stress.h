@@ -4,9 +4,11 @@
 // that reproduces it, and summarises. Shards of one campaign can run apart and be merged.
 #include <morph/progress.h>
 
+#include <atomic>
 #include <cstdint>
 #include <nlohmann/json.hpp>
 #include <optional>
+#include <stdexcept>
 #include <string>
 #include <vector>
 
@@ -22,8 +24,31 @@ struct StressOptions {
   std::size_t face_samples = 2000;         ///< area-uniform deviation samples per surface (plus every vertex)
   double reference_memory_cap_mib = 1024;  ///< per case: the reference refuses to need more
   double max_peak_rss_mib = 4096;          ///< the process's peak resident memory must stay below
-  morph::Progress* progress = nullptr;     ///< stage "stress: cases"
+  /// Continue the campaign already in out_dir (keep its finished cases, run the others) instead of
+  /// starting afresh; its recorded options must equal these. Starts afresh if out_dir has none.
+  bool resume = false;
+  /// Explicit cancellation: once this holds a non-zero signal number, no further case starts; the
+  /// cases in flight finish, and the summary says the run was stopped and what is missing.
+  const std::atomic<int>* stop_signal = nullptr;
+  morph::Progress* progress = nullptr;  ///< stage "stress: cases"
 };
+
+/// A campaign that did not run every case: a stopped run, or a merge missing shards or cases.
+/// The message names the shards and cases missing (exit code 4, docs/stress.md).
+struct IncompleteCampaign : std::runtime_error {
+  using std::runtime_error::runtime_error;
+};
+
+/// The identity of a campaign: everything that changes its results (the options --cases, --seed,
+/// --samples, --reference-memory-cap, --max-rss; the program's version and source commit; the case
+/// generator's version) and the shard count. Keys are named as the user knows them ("--samples").
+/// Shards of one campaign have equal identities; `campaign.json` of a shard adds its "--shard".
+nlohmann::json campaign_identity(const StressOptions& options);
+
+/// The first key whose values differ, described as "--samples is 2000 in A but 500 in B"; "" if
+/// the identities are equal.
+std::string campaign_difference(const nlohmann::json& a, const std::string& a_name, const nlohmann::json& b,
+                                const std::string& b_name);
 
 /// The invariants checked on every case, in report order.
 const std::vector<std::string>& invariant_names();
@@ -57,6 +82,7 @@ CaseResult run_case(std::uint64_t seed, std::size_t index, const StressOptions& 
 /// Summary of a campaign (or of merged shards): counts, failures by invariant and by family, the
 /// worst deviation of each kind, and every case's result sorted by index.
 struct Summary {
+  nlohmann::json campaign;  ///< campaign_identity() of the runs combined
   std::uint64_t seed = 0;
   std::size_t cases = 0;                                    ///< of the whole campaign
   std::vector<std::pair<std::size_t, std::size_t>> shards;  ///< (index, count) of the runs combined
@@ -64,8 +90,16 @@ struct Summary {
   double peak_rss_mib = 0;                                  ///< largest over the runs combined
   int threads = 0;
   std::vector<CaseResult> results;
+  /// Cases this summary should have covered (its shards' cases) that did not finish, increasing.
+  std::vector<std::size_t> missing;
+  /// Why cases are missing, one line each: "interrupted by SIGTERM", "shard 3/4 missing", ...
+  std::vector<std::string> incomplete;
+  bool merged = false;  ///< written by stress-merge
 
   std::size_t failed_cases() const;
+  bool complete() const { return missing.empty(); }
+  /// "partial: 30 of 40 cases, missing 3, 7, ..." ("" when complete).
+  std::string partial_line() const;
 };
 
 nlohmann::json summary_to_json(const Summary& summary);
@@ -73,16 +107,24 @@ Summary summary_from_json(const nlohmann::json& json, const std::string& where);
 /// summary.md: the tables a person reads.
 std::string summary_markdown(const Summary& summary);
 
-/// Runs the campaign's shard and writes into options.out_dir: summary.json, summary.md and
-/// failures/case_NNNNNN.json (+ its stock mesh) for every failing case. Throws morph::InputError
-/// for bad options (shard out of range, no cases), morph::IoError if the output cannot be written.
+/// Runs the campaign's shard in options.out_dir. First removes the old verdict (summary.json,
+/// summary.md) and, unless resuming, the old cases; writes campaign.json (the identity and the
+/// shard), then each finished case's result as cases/case_NNNNNN.json the moment it finishes
+/// (failing cases also as failures/case_NNNNNN.json + stock mesh), and the verdict last:
+/// summary.md, then summary.json. Every file is written to a temporary name and renamed.
+/// Throws morph::InputError for bad options (shard out of range, no cases, a resume with other
+/// options than the campaign's), morph::IoError if the output cannot be written.
 Summary run_stress(const StressOptions& options);
 
-/// Combines the summaries (and failure jobs) of shard directories of one campaign into out_dir.
-/// Throws morph::InputError if they belong to different campaigns or overlap.
-Summary merge_stress(const std::vector<std::string>& shard_dirs, const std::string& out_dir);
+/// Combines the shard directories of one campaign into out_dir, which must be empty, absent or a
+/// previous merge (replaced whole). Throws morph::InputError for shards of different campaigns
+/// (naming the option that differs) or overlapping shards, and IncompleteCampaign when shards or
+/// cases are missing (naming them, and the cases in flight of a shard killed while running)
+/// unless `partial`, which merges what finished into a summary that says what is missing.
+Summary merge_stress(const std::vector<std::string>& shard_dirs, const std::string& out_dir,
+                     bool partial = false);
 
-/// Writes summary.json and summary.md into dir.
+/// Writes summary.md, then summary.json, into dir (each atomically).
 void write_summary(const Summary& summary, const std::string& dir);
 
 /// The case indices of shard `shard_index` of `shard_count`: k in [0, cases) with k % shard_count ==

@@ -44,6 +44,10 @@ struct StressCase {
   double voxel_size = 0.0;  ///< reference voxel for this case, job units
 };
 
+/// The version of the case generator: raise it with every change to make_case() that changes a
+/// job, so shards drawn by different generators are never merged as one campaign.
+constexpr int kCaseGeneratorVersion = 1;
+
 /// The families in the order the case index cycles through them.
 const std::vector<std::string>& case_families();
 

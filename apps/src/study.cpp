@@ -8,6 +8,7 @@
 #include <raytest/heatmap.h>
 #include <raytest/render.h>
 
+#include <unistd.h>
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
@@ -18,6 +19,7 @@
 #include <tuple>
 
 #include "html.h"
+#include "stop_signals.h"
 #include "verify.h"
 
 namespace morphmill::study {
@@ -26,10 +28,25 @@ namespace fs = std::filesystem;
 
 namespace {
 
+/// Temporary file beside the target, checked, renamed over it: the old file or the new, whole.
 void write_text(const fs::path& path, const std::string& text) {
-  std::ofstream out(path, std::ios::binary);
-  out << text;
-  if (!out) throw morph::IoError(path.string() + ": cannot write");
+  const fs::path temporary = path.string() + ".tmp-" + std::to_string(::getpid());
+  {
+    std::ofstream out(temporary, std::ios::binary | std::ios::trunc);
+    out << text;
+    out.flush();
+    if (!out) {
+      std::error_code ignored;
+      fs::remove(temporary, ignored);
+      throw morph::IoError(path.string() + ": cannot write");
+    }
+  }
+  std::error_code error;
+  fs::rename(temporary, path, error);
+  if (error) {
+    fs::remove(temporary, error);
+    throw morph::IoError(path.string() + ": cannot write: " + error.message());
+  }
 }
 
 // --- study file parsing ------------------------------------------------------------------------
@@ -261,6 +278,66 @@ nlohmann::json row_to_json(const StudyRow& r) {
           {"verdict", r.verdict},
           {"pictures", r.pictures},
           {"error", r.error}};
+}
+
+/// The evaluated part of a row (what row_to_json wrote); job, parameter and value are the caller's.
+StudyRow row_from_json(const nlohmann::json& j) {
+  StudyRow r;
+  r.tolerance = j.at("tolerance").get<double>();
+  r.voxel_size = j.at("voxel_size").get<double>();
+  r.tool_radius = j.at("tool_radius").get<double>();
+  if (j.at("step_over").is_number()) r.step_over = j["step_over"].get<double>();
+  const auto& g = j.at("generator");
+  r.generator_seconds = g.at("seconds").get<double>();
+  r.generator_peak_mib = g.at("peak_mib").get<double>();
+  r.generator_triangles = g.at("triangles").get<std::size_t>();
+  r.generator_pieces = g.at("pieces").get<std::size_t>();
+  r.generator_max_error = g.at("max_error").get<double>();
+  r.generator_mean_error = g.at("mean_error").get<double>();
+  r.generator_rms_error = g.at("rms_error").get<double>();
+  const auto& f = j.at("reference");
+  r.reference_seconds = f.at("seconds").get<double>();
+  r.reference_peak_mib = f.at("peak_mib").get<double>();
+  r.reference_grid_mib = f.at("grid_mib").get<double>();
+  r.reference_active_voxels = f.at("active_voxels").get<std::size_t>();
+  r.reference_pieces = f.at("pieces").get<std::size_t>();
+  r.reference_max_error = f.at("max_error").get<double>();
+  r.reference_mean_error = f.at("mean_error").get<double>();
+  r.reference_rms_error = f.at("rms_error").get<double>();
+  r.agreement = j.at("agreement").get<double>();
+  r.verdict = j.at("verdict").get<bool>();
+  r.pictures = j.at("pictures").get<std::vector<std::string>>();
+  r.error = j.at("error").get<std::string>();
+  return r;
+}
+
+/// Everything that decides a setting's row, as text: an evaluated setting is kept under it.
+std::string setting_identity(const std::string& job_name, const SettingKey& key, const StudySpec& spec) {
+  return fmt::format(
+      "job {} tolerance {:.17g} voxel {:.17g} radius_scale {:.17g} step_over {:.17g} samples {} "
+      "seed {} heatmaps {} image {}x{}",
+      job_name, key.tolerance, key.voxel, key.radius_scale, key.step_over, spec.face_samples, spec.seed,
+      spec.heatmaps, spec.image_width, spec.image_height);
+}
+
+/// settings/setting_<FNV-1a of the identity>.json
+fs::path setting_file(const fs::path& dir, const std::string& identity) {
+  std::uint64_t hash = 1469598103934665603ull;
+  for (unsigned char c : identity) hash = (hash ^ c) * 1099511628211ull;
+  return dir / "settings" / fmt::format("setting_{:016x}.json", hash);
+}
+
+std::optional<StudyRow> kept_row(const fs::path& file, const std::string& identity) {
+  std::error_code error;
+  if (!fs::exists(file, error)) return std::nullopt;
+  try {
+    std::ifstream in(file);
+    const nlohmann::json j = nlohmann::json::parse(in);
+    if (j.at("identity").get<std::string>() != identity) return std::nullopt;
+    return row_from_json(j.at("row"));
+  } catch (const nlohmann::json::exception&) {
+    return std::nullopt;  // unreadable: evaluate it again
+  }
 }
 
 std::vector<const StudyRow*> rows_of(const StudyResult& result, const std::string& job, Parameter parameter) {
@@ -672,6 +749,10 @@ nlohmann::json result_to_json(const StudyResult& result) {
   nlohmann::json j;
   j["name"] = result.spec.name;
   j["description"] = result.spec.description;
+  j["complete"] = result.complete();
+  j["stopped"] = result.stopped;
+  j["settings"] = result.settings;
+  j["settings_evaluated"] = result.evaluated;
   j["convergence"] = nlohmann::json::array();
   for (const auto& c : result.convergence)
     j["convergence"].push_back({{"job", c.job},
@@ -703,6 +784,12 @@ StudyResult run_study(const StudyOptions& options) {
   fs::create_directories(dir / "heatmaps", error);
   if (error)
     throw morph::IoError(options.out_dir + ": cannot create the output directory: " + error.message());
+  // The old verdict goes first, so a run stopped or killed from here on never leaves it standing.
+  fs::remove(dir / "study.json", error);
+  if (!options.resume) fs::remove_all(dir / "settings", error);
+  fs::create_directories(dir / "settings", error);
+  if (error)
+    throw morph::IoError(options.out_dir + ": cannot prepare the output directory: " + error.message());
 
   // The settings: one parameter at a time, the others at their baseline.
   struct Setting {
@@ -745,10 +832,22 @@ StudyResult run_study(const StudyOptions& options) {
 
   if (options.progress) options.progress->begin("study: settings", settings.size());
   std::map<SettingKey, StudyRow> done;  // a setting reached by two sweeps is evaluated once
+  std::set<SettingKey> distinct;
+  for (const auto& setting : settings) distinct.insert(setting.key);
+  result.settings = distinct.size();
   for (const auto& setting : settings) {
     const StudyJob& source = jobs[setting.job];
     auto found = done.find(setting.key);
+    const std::string identity = setting_identity(source.job.name, setting.key, spec);
+    const fs::path kept_file = setting_file(dir, identity);
     if (found == done.end()) {
+      if (auto kept = kept_row(kept_file, identity)) found = done.emplace(setting.key, *kept).first;
+    }
+    if (found == done.end()) {
+      if (options.stop_signal && options.stop_signal->load() != 0) {
+        result.stopped = std::string("interrupted by ") + signal_name(options.stop_signal->load());
+        break;
+      }
       StudyRow row;
       morph::Job job = source.job;
       if (setting.key.radius_scale != 1.0) job = scaled_tools(job, setting.key.radius_scale);
@@ -768,6 +867,7 @@ StudyResult run_study(const StudyOptions& options) {
       } catch (const std::exception& e) {
         row.error = e.what();  // e.g. a voxel size too fine for the memory cap: keep the other settings
       }
+      write_text(kept_file, nlohmann::json{{"identity", identity}, {"row", row_to_json(row)}}.dump(2) + "\n");
       found = done.emplace(setting.key, row).first;
     }
     StudyRow row = found->second;
@@ -778,6 +878,7 @@ StudyResult run_study(const StudyOptions& options) {
     if (options.progress) options.progress->advance(1);
   }
   if (options.progress) options.progress->end();
+  result.evaluated = done.size();
 
   for (const auto& job : job_names(result)) {
     const auto voxel_rows = rows_of(result, job, Parameter::VoxelSize);
@@ -809,6 +910,12 @@ StudyResult run_study(const StudyOptions& options) {
 
   write_text(dir / "study.csv", rows_to_csv(result.rows));
   result.files.push_back("study.csv");
+  if (!result.complete()) {
+    // Stopped: the table of what ran; plots and the report wait for the whole study (--resume).
+    result.files.push_back("study.json");
+    write_text(dir / "study.json", result_to_json(result).dump(2) + "\n");
+    return result;
+  }
   const auto plots = make_plots(result, dir);
   for (const auto& [title, file] : plots) result.files.push_back(file);
   for (const auto& row : result.rows)

@@ -6,6 +6,7 @@
 #include <morph/job.h>
 #include <morph/progress.h>
 
+#include <atomic>
 #include <cstdint>
 #include <nlohmann/json.hpp>
 #include <optional>
@@ -92,6 +93,13 @@ PowerFit fit_power_law(const std::vector<double>& x, const std::vector<double>& 
 struct StudyOptions {
   std::string study_path;
   std::string out_dir;
+  /// Keep the settings already evaluated in out_dir/settings/ (by an earlier run of the same
+  /// study that was stopped) and evaluate only the others.
+  bool resume = false;
+  /// Explicit cancellation: once this holds a non-zero signal number, no further setting starts;
+  /// the table of the settings evaluated so far is written (study.csv, study.json) and the result
+  /// says it is incomplete.
+  const std::atomic<int>* stop_signal = nullptr;
   morph::Progress* progress = nullptr;
 };
 
@@ -105,9 +113,15 @@ struct StudyResult {
   };
   std::vector<Convergence> convergence;
   std::vector<std::string> files;
+  std::size_t settings = 0;   ///< distinct settings of the study
+  std::size_t evaluated = 0;  ///< of which evaluated (or kept from an earlier run)
+  std::string stopped;        ///< "interrupted by SIGTERM" when stopped early, else ""
+  bool complete() const { return stopped.empty(); }
 };
 
-/// Runs the study and writes study.csv, study.json, the plots, heatmaps/ and report.html.
+/// Runs the study and writes study.csv, study.json, the plots, heatmaps/ and report.html; each
+/// evaluated setting is kept in settings/ as it finishes. Removes the old study.json first. When
+/// stopped, writes study.csv and study.json (complete: false) of the settings evaluated only.
 StudyResult run_study(const StudyOptions& options);
 
 /// The table as CSV (header + one line per row) and as JSON.

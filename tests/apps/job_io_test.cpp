@@ -250,7 +250,7 @@ TEST_F(JobIo, PolylineKeys) {
 }
 
 TEST_F(JobIo, GcodeKeysUnitsAndStart) {
-  write_text("mm.nc", "G21 G90\nG1 X25.4 Y0 Z0 F254\nG1 X50.8 E5\n");
+  write_text("mm.nc", "G21 G90\nG1 X25.4 Y0 Z0 F254\nG1 X50.8 M123\n");
   json j = minimal();
   j["units"] = "inch";
   j["paths"] = json::parse(R"([{"tool": 1, "gcode": "mm.nc", "start": [0, 0, 1]}])");
@@ -475,10 +475,10 @@ TEST_F(JobIo, GcodePathErrors) {
   expect_error(j, "paths[0].gcode: expected a string, got number 12");
   j["paths"][0]["gcode"] = "";
   expect_error(j, "paths[0].gcode: empty G-code file name");
-  write_text("bad.nc", "G21 G90\nG1 X0 Y0 Z0\nG1 X\n");
+  write_text("bad.nc", "G21 G90 F100\nG1 X0 Y0 Z0\nG1 X\n");
   j["paths"][0]["gcode"] = "bad.nc";
   expect_error(j, "paths[0].gcode: " + path("bad.nc") + ":3: ");  // the G-code file and line
-  write_text("t5.nc", "G21 G90\nG1 X0 Y0 Z0\nT5 M6\nG1 X1\n");
+  write_text("t5.nc", "G21 G90 F100\nG1 X0 Y0 Z0\nT5 M6\nG1 X1\n");
   j["paths"][0]["gcode"] = "t5.nc";
   expect_error(
       j, "paths[0].gcode: 't5.nc' selects tool 5 (T5 M6), which is not defined in 'tools' (defined: 1)");
@@ -506,7 +506,7 @@ TEST_F(JobIo, FileErrors) {
     EXPECT_NE(std::string(e.what()).find("invalid JSON"), std::string::npos) << e.what();
   }
   // Paths in a loaded job resolve next to the job file, wherever the process runs.
-  write_text("p.nc", "G21 G90\nG1 X0 Y0 Z0\nG1 X1\n");
+  write_text("p.nc", "G21 G90 F100\nG1 X0 Y0 Z0\nG1 X1\n");
   json j = minimal();
   j["paths"] = json::parse(R"([{"tool": 1, "gcode": "p.nc"}])");
   const std::string file = write_text("rel.json", j.dump());

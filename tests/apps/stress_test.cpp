@@ -10,6 +10,8 @@
 #include "apps/command_support.h"
 
 #include <array>
+#include <atomic>
+#include <csignal>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
@@ -149,32 +151,92 @@ TEST(StressShards, ShardsPartitionTheCases) {
   EXPECT_THROW(parse_shard("1/2x"), morph::InputError);
 }
 
+namespace {
+
+StressOptions campaign_options(std::size_t cases, std::size_t shard_index, std::size_t shard_count) {
+  StressOptions options;
+  options.cases = cases;
+  options.seed = 9;
+  options.shard_index = shard_index;
+  options.shard_count = shard_count;
+  return options;
+}
+
+/// A shard directory as `stress` leaves it: campaign.json, cases/ and, if `verdict`, the summary.
+void write_shard(const fs::path& dir, const StressOptions& options, const std::vector<CaseResult>& results,
+                 bool verdict = true) {
+  fs::create_directories(dir / "cases");
+  nlohmann::json identity = campaign_identity(options);
+  identity["shard"] = std::to_string(options.shard_index) + "/" + std::to_string(options.shard_count);
+  std::ofstream(dir / "campaign.json") << identity.dump(2);
+  for (const auto& r : results)
+    std::ofstream(dir / "cases" / (case_name(r.index) + ".json")) << case_to_json(r);
+  if (!verdict) return;
+  Summary summary;
+  summary.campaign = campaign_identity(options);
+  summary.seed = options.seed;
+  summary.cases = options.cases;
+  summary.shards = {{options.shard_index, options.shard_count}};
+  summary.wall_seconds = 5;
+  summary.peak_rss_mib = 100;
+  summary.results = results;
+  write_summary(summary, dir.string());
+}
+
+std::string message_of_merge(const std::vector<std::string>& dirs, const fs::path& out) {
+  try {
+    merge_stress(dirs, out.string());
+  } catch (const std::exception& e) {
+    return e.what();
+  }
+  return "(merged)";
+}
+
+/// Sets the stop signal once `after` cases have finished (explicit cancellation, as SIGINT does).
+struct StopAfter : morph::Progress {
+  std::atomic<int>* stop;
+  std::size_t after;
+  std::atomic<std::size_t> finished{0};
+  StopAfter(std::atomic<int>* s, std::size_t a) : stop(s), after(a) {}
+  void advance(std::size_t done) override {
+    if ((finished += done) >= after) stop->store(SIGINT);
+  }
+};
+
+/// A summary's results without what depends on the run (times, process memory).
+nlohmann::json comparable(const Summary& summary) {
+  nlohmann::json results = nlohmann::json::array();
+  for (const auto& r : summary.results) {
+    nlohmann::json j = case_to_json(r);
+    j.erase("seconds");
+    j.erase("peak_rss_mib");
+    results.push_back(j);
+  }
+  return results;
+}
+
+}  // namespace
+
 TEST(StressShards, MergeAddsUp) {
-  Summary first, second;
-  first.seed = second.seed = 9;
-  first.cases = second.cases = 6;
-  first.shards = {{0, 2}};
-  second.shards = {{1, 2}};
-  first.wall_seconds = 10;
-  second.wall_seconds = 5;
-  first.peak_rss_mib = 100;
-  second.peak_rss_mib = 300;
-  first.results = {fake_result(0, {}, 0.004), fake_result(2, {"closed_manifold"}, 0.02),
-                   fake_result(4, {}, 0.001)};
-  second.results = {fake_result(1, {"sides_agree", "pieces_known"}, 0.003), fake_result(3, {}, 0.005),
-                    fake_result(5, {"closed_manifold"}, 0.002)};
   const fs::path a = scratch("merge_a"), b = scratch("merge_b"), out = scratch("merge_out");
-  write_summary(first, a.string());
-  write_summary(second, b.string());
+  write_shard(
+      a, campaign_options(6, 0, 2),
+      {fake_result(0, {}, 0.004), fake_result(2, {"closed_manifold"}, 0.02), fake_result(4, {}, 0.001)});
+  write_shard(b, campaign_options(6, 1, 2),
+              {fake_result(1, {"sides_agree", "pieces_known"}, 0.003), fake_result(3, {}, 0.005),
+               fake_result(5, {"closed_manifold"}, 0.002)});
   fs::create_directories(a / "failures");
   std::ofstream(a / "failures" / "case_000002.json") << "{}";
+  std::ofstream(a / "failures" / "case_000004.json") << "{}";  // stale: case 4 passes
   const Summary merged = merge_stress({a.string(), b.string()}, out.string());
   ASSERT_EQ(merged.results.size(), 6u);
   for (std::size_t i = 0; i < 6; ++i) EXPECT_EQ(merged.results[i].index, i);
+  EXPECT_TRUE(merged.complete());
   EXPECT_EQ(merged.failed_cases(), 3u);
-  EXPECT_DOUBLE_EQ(merged.wall_seconds, 15);
-  EXPECT_DOUBLE_EQ(merged.peak_rss_mib, 300);
+  EXPECT_DOUBLE_EQ(merged.wall_seconds, 10);
   const auto json = nlohmann::json::parse(slurp(out / "summary.json"));
+  EXPECT_EQ(json["complete"], true);
+  EXPECT_EQ(json["partial"], "");
   EXPECT_EQ(json["failures_by_invariant"]["closed_manifold"], 2);
   EXPECT_EQ(json["failures_by_invariant"]["sides_agree"], 1);
   EXPECT_EQ(json["failures_by_invariant"]["pieces_known"], 1);
@@ -184,18 +246,162 @@ TEST(StressShards, MergeAddsUp) {
   EXPECT_EQ(json["worst_deviation"]["generator_to_exact"]["case"], 2);
   EXPECT_DOUBLE_EQ(json["worst_deviation"]["generator_to_exact"]["ratio_to_bound"].get<double>(), 2.0);
   EXPECT_TRUE(fs::exists(out / "failures" / "case_000002.json"));
+  EXPECT_FALSE(fs::exists(out / "failures" / "case_000004.json"));
   EXPECT_TRUE(fs::exists(out / "summary.md"));
   // The round trip keeps every field the summary is made of.
   const Summary again = summary_from_json(json, "summary.json");
   EXPECT_EQ(summary_to_json(again).dump(), json.dump());
 
-  // Overlapping shards, or shards of another campaign, are refused.
+  // Overlapping shards are refused.
   EXPECT_THROW(merge_stress({a.string(), a.string()}, scratch("merge_bad").string()), morph::InputError);
-  Summary other = second;
-  other.seed = 10;
-  const fs::path c = scratch("merge_c");
-  write_summary(other, c.string());
-  EXPECT_THROW(merge_stress({a.string(), c.string()}, scratch("merge_bad2").string()), morph::InputError);
+
+  // Merging again into the same --out replaces it whole: no failure file of the old merge stays
+  // beside a summary without failures.
+  const fs::path c = scratch("merge_c"), d = scratch("merge_d");
+  write_shard(c, campaign_options(6, 0, 2),
+              {fake_result(0, {}, 0), fake_result(2, {}, 0), fake_result(4, {}, 0)});
+  write_shard(d, campaign_options(6, 1, 2),
+              {fake_result(1, {}, 0), fake_result(3, {}, 0), fake_result(5, {}, 0)});
+  EXPECT_EQ(merge_stress({c.string(), d.string()}, out.string()).failed_cases(), 0u);
+  EXPECT_FALSE(fs::exists(out / "failures" / "case_000002.json"));
+  // A non-empty --out that is not a merge is refused, and left alone.
+  const fs::path precious = scratch("precious");
+  std::ofstream(precious / "thesis.tex") << "keep me";
+  EXPECT_THROW(merge_stress({c.string(), d.string()}, precious.string()), morph::InputError);
+  EXPECT_TRUE(fs::exists(precious / "thesis.tex"));
+}
+
+TEST(StressShards, MergeRefusesAnotherCampaignNamingWhatDiffers) {
+  const fs::path a = scratch("other_a"), b = scratch("other_b");
+  write_shard(a, campaign_options(4, 0, 2), {fake_result(0, {}, 0), fake_result(2, {}, 0)});
+  StressOptions other = campaign_options(4, 1, 2);
+  other.face_samples = 500;
+  write_shard(b, other, {fake_result(1, {}, 0), fake_result(3, {}, 0)});
+  std::string message = message_of_merge({a.string(), b.string()}, scratch("other_out"));
+  EXPECT_NE(message.find("--samples is 500"), std::string::npos) << message;
+  other = campaign_options(4, 1, 2);
+  other.max_peak_rss_mib = 100;
+  write_shard(b, other, {fake_result(1, {}, 0), fake_result(3, {}, 0)});
+  message = message_of_merge({a.string(), b.string()}, scratch("other_out"));
+  EXPECT_NE(message.find("--max-rss"), std::string::npos) << message;
+  // Another build: the identity's source commit differs.
+  write_shard(b, campaign_options(4, 1, 2), {fake_result(1, {}, 0), fake_result(3, {}, 0)});
+  nlohmann::json identity = nlohmann::json::parse(slurp(b / "campaign.json"));
+  identity["source_commit"] = "0123456789abcdef";
+  std::ofstream(b / "campaign.json") << identity.dump();
+  message = message_of_merge({a.string(), b.string()}, scratch("other_out"));
+  EXPECT_NE(message.find("source_commit"), std::string::npos) << message;
+  // campaign_difference names nothing for equal identities.
+  EXPECT_EQ(campaign_difference(campaign_identity(other), "a", campaign_identity(other), "b"), "");
+}
+
+TEST(StressShards, MergeRefusesAnIncompleteCampaignUnlessPartial) {
+  const fs::path a = scratch("partial_a"), out = scratch("partial_out");
+  write_shard(a, campaign_options(6, 0, 2),
+              {fake_result(0, {}, 0), fake_result(2, {}, 0), fake_result(4, {}, 0)});
+  try {
+    merge_stress({a.string()}, out.string());
+    ADD_FAILURE() << "a merge of 3 cases of 6 was accepted";
+  } catch (const IncompleteCampaign& e) {
+    const std::string message = e.what();
+    EXPECT_NE(message.find("3 of 6 cases finished, missing 1, 3, 5"), std::string::npos) << message;
+    EXPECT_NE(message.find("shard 1/2 missing"), std::string::npos) << message;
+  }
+  EXPECT_FALSE(fs::exists(out / "summary.json"));
+  const Summary partial = merge_stress({a.string()}, out.string(), true);
+  EXPECT_FALSE(partial.complete());
+  EXPECT_EQ(partial.partial_line(), "partial: 3 of 6 cases, missing 1, 3, 5");
+  EXPECT_NE(slurp(out / "summary.md").find("partial: 3 of 6 cases, missing 1, 3, 5"), std::string::npos);
+  const auto json = nlohmann::json::parse(slurp(out / "summary.json"));
+  EXPECT_EQ(json["partial"], "partial: 3 of 6 cases, missing 1, 3, 5");
+  EXPECT_EQ(json["complete"], false);
+  EXPECT_EQ(json["missing_cases"], nlohmann::json::array({1, 3, 5}));
+  // A refused merge removes the previous merge rather than leave its verdict standing.
+  EXPECT_THROW(merge_stress({a.string()}, out.string()), IncompleteCampaign);
+  EXPECT_FALSE(fs::exists(out));
+}
+
+TEST(StressShards, MergeNamesTheCasesInFlightOfAShardKilledWhileRunning) {
+  const fs::path a = scratch("killed_a"), b = scratch("killed_b");
+  write_shard(a, campaign_options(6, 0, 2),
+              {fake_result(0, {}, 0), fake_result(2, {}, 0), fake_result(4, {}, 0)});
+  // Shard 1 was killed: one case finished, case 3 was in flight, no verdict.
+  write_shard(b, campaign_options(6, 1, 2), {fake_result(1, {}, 0)}, false);
+  fs::create_directories(b / "running");
+  std::ofstream(b / "running" / "case_000003.json") << "{}";
+  const std::string message = message_of_merge({a.string(), b.string()}, scratch("killed_out"));
+  EXPECT_NE(message.find("4 of 6 cases finished, missing 3, 5"), std::string::npos) << message;
+  EXPECT_NE(message.find("shard 1/2 (" + b.string() + ") has no verdict"), std::string::npos) << message;
+  EXPECT_NE(message.find("in flight when it stopped: 3"), std::string::npos) << message;
+  // A stale verdict from an earlier run does not hide it: a run removes the verdict first (below).
+}
+
+// Cancellation is explicit: once the stop is set no case starts, the cases in flight finish, the
+// summary says what is missing; --resume runs only those and gives the uninterrupted campaign.
+TEST(StressRun, StopsCleanlyAndResumesToTheSameCampaign) {
+  const fs::path dir = scratch("resume"), fresh = scratch("resume_fresh");
+  StressOptions options = campaign_options(4, 0, 1);
+  options.threads = 1;
+  options.face_samples = 200;
+  options.out_dir = dir.string();
+  std::atomic<int> stop{0};
+  StopAfter stop_after(&stop, 1);
+  options.stop_signal = &stop;
+  options.progress = &stop_after;
+  const Summary stopped = run_stress(options);
+  EXPECT_EQ(stopped.results.size(), 1u);
+  EXPECT_FALSE(stopped.complete());
+  EXPECT_EQ(stopped.missing, (std::vector<std::size_t>{1, 2, 3}));
+  const auto json = nlohmann::json::parse(slurp(dir / "summary.json"));
+  EXPECT_EQ(json["partial"], "partial: 1 of 4 cases, missing 1, 2, 3");
+  EXPECT_NE(json["incomplete"].dump().find("interrupted by SIGINT"), std::string::npos) << json["incomplete"];
+  EXPECT_FALSE(fs::exists(dir / "running"));
+  EXPECT_TRUE(fs::exists(dir / "cases" / "case_000000.json"));
+  const std::string kept = slurp(dir / "cases" / "case_000000.json");
+
+  options.stop_signal = nullptr;
+  options.progress = nullptr;
+  options.resume = true;
+  const Summary resumed = run_stress(options);
+  EXPECT_TRUE(resumed.complete());
+  ASSERT_EQ(resumed.results.size(), 4u);
+  EXPECT_EQ(slurp(dir / "cases" / "case_000000.json"), kept) << "case 0 ran again";
+
+  options.resume = false;
+  options.out_dir = fresh.string();
+  const Summary uninterrupted = run_stress(options);
+  EXPECT_EQ(comparable(resumed), comparable(uninterrupted));
+}
+
+TEST(StressRun, ANewRunRemovesTheOldVerdictFirstAndResumeChecksTheCampaign) {
+  const fs::path dir = scratch("verdict");
+  write_shard(dir, campaign_options(4, 0, 1),
+              {fake_result(0, {}, 0), fake_result(1, {}, 0), fake_result(2, {}, 0), fake_result(3, {}, 0)});
+  fs::create_directories(dir / "failures");
+  std::ofstream(dir / "failures" / "case_000001.json") << "{}";
+  // Stopped before any case: what is left must say so, not the old "no failures, 4 of 4".
+  StressOptions options = campaign_options(4, 0, 1);
+  options.out_dir = dir.string();
+  std::atomic<int> stop{SIGTERM};
+  options.stop_signal = &stop;
+  const Summary summary = run_stress(options);
+  EXPECT_TRUE(summary.results.empty());
+  const auto json = nlohmann::json::parse(slurp(dir / "summary.json"));
+  EXPECT_EQ(json["complete"], false);
+  EXPECT_EQ(json["cases_run"], 0);
+  EXPECT_NE(json["incomplete"].dump().find("interrupted by SIGTERM"), std::string::npos);
+  EXPECT_FALSE(fs::exists(dir / "failures" / "case_000001.json"));
+  EXPECT_TRUE(fs::is_empty(dir / "cases"));
+
+  // --resume of the campaign in dir with another option is refused, naming it.
+  options.resume = true;
+  options.face_samples = 99;
+  try {
+    run_stress(options);
+    ADD_FAILURE() << "resumed another campaign";
+  } catch (const morph::InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("--samples is 99"), std::string::npos) << e.what();
+  }
 }
 
 // The CI-sized campaign through the binary: every invariant on 50 cases (about 30 s on 2 cores).
@@ -210,6 +416,67 @@ TEST(StressCampaign, FiftyCasesPassEveryInvariant) {
   EXPECT_EQ(json["cases_run"], 50);
   EXPECT_EQ(json["failed_cases"], 0) << summary;
   for (const auto& [name, count] : json["failures_by_invariant"].items()) EXPECT_EQ(count, 0) << name;
+}
+
+// Issue 26's reproduction: one shard of two merged alone is refused, naming the shard and cases.
+TEST(StressCampaign, MergeOfOneShardOfTwoIsRefusedNamingWhatIsMissing) {
+  const fs::path a = scratch("half"), out = scratch("half_out");
+  const std::string binary = MORPHMILL_BINARY;
+  ASSERT_EQ(
+      run(binary + " stress --cases 8 --seed 7 --samples 200 --shard 0/2 --out " + a.string()).exit_code, 0);
+  CommandResult merge = run(binary + " stress-merge " + a.string() + " --out " + out.string());
+  EXPECT_EQ(merge.exit_code, 4) << merge.output;
+  EXPECT_NE(merge.output.find("4 of 8 cases finished, missing 1, 3, 5, 7"), std::string::npos)
+      << merge.output;
+  EXPECT_NE(merge.output.find("shard 1/2 missing"), std::string::npos) << merge.output;
+  merge = run(binary + " stress-merge " + a.string() + " --partial --out " + out.string());
+  EXPECT_EQ(merge.exit_code, 4) << merge.output;
+  EXPECT_NE(slurp(out / "summary.md").find("partial: 4 of 8 cases, missing 1, 3, 5, 7"), std::string::npos);
+}
+
+namespace {
+
+/// A shell command: `command` in the background; once DIR/cases holds a finished case, `kill
+/// -SIGNAL`; prints "exit=N", the command's exit code.
+std::string signal_after_first_case(const std::string& command, const fs::path& dir,
+                                    const std::string& signal) {
+  return "sh -c '" + command + " >/dev/null 2>&1 & pid=$!; i=0; while [ -z \"$(ls " + dir.string() +
+         "/cases 2>/dev/null)\" ] && [ $i -lt 600 ]; do sleep 0.1; i=$((i+1)); done; kill -" + signal +
+         " $pid; wait $pid; echo exit=$?'";
+}
+
+}  // namespace
+
+// Issue 19's reproduction: SIGTERM (and SIGINT) stop a campaign cleanly, keeping the finished cases
+// and writing a summary that says it was interrupted (exit 4, not 0); --resume DIR finishes it.
+TEST(StressCampaign, SignalStopsCleanlyAndResumeFinishes) {
+  const std::string binary = MORPHMILL_BINARY;
+  for (const std::string signal : {"TERM", "INT"}) {
+    const fs::path dir = scratch("signal_" + signal);
+    const CommandResult stopped = run(signal_after_first_case(
+        binary + " stress --cases 100 --seed 99 --threads 1 --samples 200 --out " + dir.string(), dir,
+        signal));
+    EXPECT_NE(stopped.output.find("exit=4"), std::string::npos) << signal << ": " << stopped.output;
+    ASSERT_TRUE(fs::exists(dir / "summary.json")) << signal;
+    const auto json = nlohmann::json::parse(slurp(dir / "summary.json"));
+    EXPECT_EQ(json["complete"], false);
+    EXPECT_GE(json["cases_run"].get<int>(), 1);
+    EXPECT_LT(json["cases_run"].get<int>(), 100);
+    EXPECT_NE(json["incomplete"].dump().find("interrupted by SIG" + signal), std::string::npos)
+        << json["incomplete"];
+    EXPECT_NE(slurp(dir / "summary.md").find("partial: "), std::string::npos);
+  }
+  // Resume a small campaign stopped the same way: only the options in campaign.json are needed.
+  const fs::path dir = scratch("signal_resume");
+  const CommandResult stopped = run(signal_after_first_case(
+      binary + " stress --cases 5 --seed 99 --threads 1 --samples 200 --out " + dir.string(), dir, "TERM"));
+  EXPECT_NE(stopped.output.find("exit=4"), std::string::npos) << stopped.output;
+  const CommandResult resumed = run(binary + " stress --resume " + dir.string());
+  EXPECT_EQ(resumed.exit_code, 0) << resumed.output;
+  const auto json = nlohmann::json::parse(slurp(dir / "summary.json"));
+  EXPECT_EQ(json["complete"], true);
+  EXPECT_EQ(json["cases_run"], 5);
+  EXPECT_EQ(json["campaign"]["--samples"], 200);
 }
 
 TEST(StressCampaign, BadInputExitsWithTwo) {

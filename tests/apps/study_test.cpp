@@ -6,7 +6,9 @@
 #include "apps/command_support.h"
 
 #include <array>
+#include <atomic>
 #include <cmath>
+#include <csignal>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
@@ -194,4 +196,59 @@ TEST(StudyRun, SmallStudyWritesTableAndPictures) {
   const std::string html = slurp(out / "report.html");
   EXPECT_NE(html.find("data:image/png;base64,"), std::string::npos);
   EXPECT_EQ(html.find("src=\"error_vs_voxel.png\""), std::string::npos);  // embedded, not linked
+}
+
+namespace {
+
+/// Requests a stop (as SIGINT does) once `after` settings have been counted.
+struct StopAfterSettings : morph::Progress {
+  std::atomic<int>* stop;
+  std::size_t after, counted = 0;
+  StopAfterSettings(std::atomic<int>* s, std::size_t a) : stop(s), after(a) {}
+  void advance(std::size_t done) override {
+    if ((counted += done) >= after) stop->store(SIGINT);
+  }
+};
+
+}  // namespace
+
+// A stop lets no further setting start, writes the table of what ran (complete: false) and no
+// report; --resume keeps the evaluated setting and evaluates the rest.
+TEST(StudyRun, StopsCleanlyAndResumes) {
+  const fs::path dir = scratch("stop");
+  const nlohmann::json study = {{"name", "stop"},
+                                {"jobs", {std::string(MORPHMILL_TEST_DATA) + "/jobs/single_slot.json"}},
+                                {"sweep", {{"voxel_size", {0.5, 0.4}}}},
+                                {"samples", 500},
+                                {"heatmaps", false}};
+  std::ofstream(dir / "stop.json") << study.dump(2);
+  morphmill::study::StudyOptions options;
+  options.study_path = (dir / "stop.json").string();
+  options.out_dir = (dir / "out").string();
+  std::atomic<int> stop{0};
+  StopAfterSettings stop_after(&stop, 1);
+  options.stop_signal = &stop;
+  options.progress = &stop_after;
+  const auto stopped = morphmill::study::run_study(options);
+  EXPECT_FALSE(stopped.complete());
+  EXPECT_EQ(stopped.stopped, "interrupted by SIGINT");
+  EXPECT_EQ(stopped.settings, 2u);
+  EXPECT_EQ(stopped.evaluated, 1u);
+  ASSERT_EQ(stopped.rows.size(), 1u);
+  const auto json = nlohmann::json::parse(slurp(dir / "out" / "study.json"));
+  EXPECT_EQ(json["complete"], false);
+  EXPECT_EQ(json["rows"].size(), 1u);
+  EXPECT_FALSE(fs::exists(dir / "out" / "report.html"));
+
+  options.stop_signal = nullptr;
+  options.progress = nullptr;
+  options.resume = true;
+  const auto resumed = morphmill::study::run_study(options);
+  EXPECT_TRUE(resumed.complete());
+  ASSERT_EQ(resumed.rows.size(), 2u);
+  // The first setting was kept, not evaluated again: the same measured time to the last digit.
+  EXPECT_EQ(resumed.rows[0].generator_seconds, stopped.rows[0].generator_seconds);
+  EXPECT_EQ(resumed.rows[0].reference_max_error, stopped.rows[0].reference_max_error);
+  EXPECT_TRUE(fs::exists(dir / "out" / "report.html"));
+  EXPECT_EQ(nlohmann::json::parse(slurp(dir / "out" / "study.json"))["complete"], true);
 }

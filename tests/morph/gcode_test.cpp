@@ -68,7 +68,7 @@ const Vector3d kX = Vector3d::UnitX(), kY = Vector3d::UnitY(), kZ = Vector3d::Un
 // ---- arcs against closed form --------------------------------------------------------------------
 
 TEST(GcodeArcs, XyQuarterCounterClockwiseAndClockwise) {
-  const GcodeResult r = parse("G21 G17 G90\nG0 X10 Y0 Z2\nG3 X0 Y10 I-10 J0 F100\nG2 X10 Y0 I0 J-10\n");
+  const GcodeResult r = parse("G21 F100 G17 G90\nG0 X10 Y0 Z2\nG3 X0 Y10 I-10 J0 F100\nG2 X10 Y0 I0 J-10\n");
   ASSERT_EQ(r.path.moves.size(), 2u);
   const Move& ccw = r.path.moves[0];
   EXPECT_EQ(ccw.line, 3);
@@ -83,14 +83,14 @@ TEST(GcodeArcs, XyQuarterCounterClockwiseAndClockwise) {
 }
 
 TEST(GcodeArcs, ClockwiseTheLongWayIsThreeQuarters) {
-  const GcodeResult r = parse("G21\nG0 X10 Y0 Z0\nG2 X0 Y10 I-10 J0\n");
+  const GcodeResult r = parse("G21 F100\nG0 X10 Y0 Z0\nG2 X0 Y10 I-10 J0\n");
   ASSERT_EQ(r.path.moves.size(), 1u);
   expect_on_circle(r.path.moves[0], Vector3d::Zero(), kZ, 10.0, -3 * M_PI / 2, 0.0);
   EXPECT_NEAR((morph::point_at(r.path.moves[0], 1.0 / 3.0) - Vector3d(0, -10, 0)).norm(), 0.0, 1e-12);
 }
 
 TEST(GcodeArcs, HalfAndFullCircles) {
-  const GcodeResult r = parse("G21\nG0 X10 Y0 Z0\nG2 X-10 Y0 I-10\nG3 I10\nG2 X-10 Y0 I10 J0\n");
+  const GcodeResult r = parse("G21 F100\nG0 X10 Y0 Z0\nG2 X-10 Y0 I-10\nG3 I10\nG2 X-10 Y0 I10 J0\n");
   ASSERT_EQ(r.path.moves.size(), 3u);
   // Clockwise half from +X passes through -Y.
   expect_on_circle(r.path.moves[0], Vector3d::Zero(), kZ, 10.0, -M_PI, 0.0);
@@ -106,7 +106,7 @@ TEST(GcodeArcs, HalfAndFullCircles) {
 TEST(GcodeArcs, ZxPlaneFollowsLinuxCncConvention) {
   // G18: first axis Z, second X; G3 turns from Z towards X, i.e. positively about +Y
   // (counter-clockwise seen from +Y), as LinuxCNC's ARC_FEED (normal +Y) does.
-  const GcodeResult r = parse("G21 G18\nG0 X10 Y0 Z0\nG3 X0 Z-10 I-10 K0\nG2 X10 Z0 I0 K10\n");
+  const GcodeResult r = parse("G21 F100 G18\nG0 X10 Y0 Z0\nG3 X0 Z-10 I-10 K0\nG2 X10 Z0 I0 K10\n");
   ASSERT_EQ(r.path.moves.size(), 2u);
   expect_on_circle(r.path.moves[0], Vector3d::Zero(), kY, 10.0, M_PI / 2, 0.0);
   EXPECT_NEAR((morph::point_at(r.path.moves[0], 0.5) - Vector3d(10 / M_SQRT2, 0, -10 / M_SQRT2)).norm(), 0.0,
@@ -117,7 +117,7 @@ TEST(GcodeArcs, ZxPlaneFollowsLinuxCncConvention) {
 }
 
 TEST(GcodeArcs, YzPlaneTurnsAboutPlusX) {
-  const GcodeResult r = parse("G21 G19\nG0 X3 Y10 Z0\nG3 Y0 Z10 J-10 K0\nG2 Y0 Z-10 J0 K-10\n");
+  const GcodeResult r = parse("G21 F100 G19\nG0 X3 Y10 Z0\nG3 Y0 Z10 J-10 K0\nG2 Y0 Z-10 J0 K-10\n");
   ASSERT_EQ(r.path.moves.size(), 2u);
   expect_on_circle(r.path.moves[0], Vector3d(3, 0, 0), kX, 10.0, M_PI / 2, 0.0);
   EXPECT_NEAR((morph::point_at(r.path.moves[0], 0.5) - Vector3d(3, 10 / M_SQRT2, 10 / M_SQRT2)).norm(), 0.0,
@@ -129,7 +129,7 @@ TEST(GcodeArcs, YzPlaneTurnsAboutPlusX) {
 
 TEST(GcodeArcs, RadiusFormatBothSignsBothDirections) {
   const GcodeResult r = parse(
-      "G21\nG0 X10 Y0 Z0\n"
+      "G21 F100\nG0 X10 Y0 Z0\n"
       "G3 X0 Y10 R10\n"     // short counter-clockwise: centre at the origin
       "G3 X10 Y0 R-10\n"    // long counter-clockwise back: centre at the origin again
       "G2 X0 Y10 R10\n"     // short clockwise: centre (10, 10)
@@ -145,7 +145,8 @@ TEST(GcodeArcs, RadiusFormatBothSignsBothDirections) {
 }
 
 TEST(GcodeArcs, RadiusFormatInOtherPlanes) {
-  const GcodeResult r = parse("G21 G18\nG0 X10 Y0 Z0\nG3 X0 Z-10 R10\nG19 G0 X0 Y10 Z0\nG2 Y0 Z10 R-10\n");
+  const GcodeResult r =
+      parse("G21 F100 G18\nG0 X10 Y0 Z0\nG3 X0 Z-10 R10\nG19 G0 X0 Y10 Z0\nG2 Y0 Z10 R-10\n");
   ASSERT_EQ(r.path.moves.size(), 3u);
   expect_on_circle(r.path.moves[0], Vector3d::Zero(), kY, 10.0, M_PI / 2, 0.0);
   // G19 clockwise (negative about +X) from +Y to +Z the long way: round the origin, 270 degrees.
@@ -153,7 +154,7 @@ TEST(GcodeArcs, RadiusFormatInOtherPlanes) {
 }
 
 TEST(GcodeArcs, HelixRiseAlongThePlaneNormal) {
-  const GcodeResult r = parse("G21\nG0 X5 Y0 Z0\nG3 X5 Y0 Z-3 I-5 J0 P3\nG18 G2 X-5 Y4 I-5\n");
+  const GcodeResult r = parse("G21 F100\nG0 X5 Y0 Z0\nG3 X5 Y0 Z-3 I-5 J0 P3\nG18 G2 X-5 Y4 I-5\n");
   ASSERT_EQ(r.path.moves.size(), 2u);
   const Move& helix = r.path.moves[0];
   expect_on_circle(helix, Vector3d::Zero(), kZ, 5.0, 6 * M_PI, -3.0);
@@ -167,7 +168,7 @@ TEST(GcodeArcs, HelixRiseAlongThePlaneNormal) {
 
 TEST(GcodeArcs, EndOffTheCircleWithinToleranceKeepsTheProgrammedEnd) {
   // 0.02 mm mismatch on a 100 mm radius: inside LinuxCNC's 0.028 mm and 0.1 %.
-  const GcodeResult r = parse("G21\nG0 X100 Y0 Z0\nG3 X0 Y100.02 I-100 J0\n");
+  const GcodeResult r = parse("G21 F100\nG0 X100 Y0 Z0\nG3 X0 Y100.02 I-100 J0\n");
   ASSERT_EQ(r.path.moves.size(), 1u);
   EXPECT_EQ(r.path.moves[0].end, Vector3d(0, 100.02, 0));
   EXPECT_EQ(morph::point_at(r.path.moves[0], 1.0), Vector3d(0, 100.02, 0));
@@ -207,7 +208,7 @@ TEST(GcodeArcs, RandomArcsInAllPlanesMatchClosedForm) {
                     offset[first_of[plane]], "IJK"[second_of[plane]], offset[second_of[plane]]);
     }
     std::snprintf(program, sizeof program,
-                  "G21 G90\nG0 X%.12f Y%.12f Z%.12f\n%s %s %s X%.12f Y%.12f Z%.12f %s\n", start.x(),
+                  "G21 F100 G90\nG0 X%.12f Y%.12f Z%.12f\n%s %s %s X%.12f Y%.12f Z%.12f %s\n", start.x(),
                   start.y(), start.z(), incremental ? "G91" : "G90", plane_code[plane],
                   sweep > 0 ? "G3" : "G2", axis_words.x(), axis_words.y(), axis_words.z(), centre_words);
     const GcodeResult r = parse(program);
@@ -233,7 +234,7 @@ TEST(GcodeArcs, RandomArcsInAllPlanesMatchClosedForm) {
 
 TEST(GcodeModes, IncrementalAxesAndIncrementalCentresByDefault) {
   const GcodeResult r = parse(
-      "G21 G90\nG0 X0 Y0 Z5\nG91 G1 X10 F300\nY10\nG3 X-10 Y10 I-10 J0\nG1 Z-2\n"
+      "G21 F100 G90\nG0 X0 Y0 Z5\nG91 G1 X10 F300\nY10\nG3 X-10 Y10 I-10 J0\nG1 Z-2\n"
       "G90 G90.1 G2 X10 Y10 I0 J10\nG91 G91.1 G2 X-10 Y-10 I-10 J0\n");
   ASSERT_EQ(r.path.moves.size(), 6u);
   EXPECT_EQ(r.path.moves[0].end, Vector3d(10, 0, 5));
@@ -247,7 +248,7 @@ TEST(GcodeModes, IncrementalAxesAndIncrementalCentresByDefault) {
 }
 
 TEST(GcodeModes, AbsoluteCentresStayAbsoluteUnderIncrementalAxes) {
-  const GcodeResult r = parse("G21 G90.1\nG0 X20 Y20 Z0\nG91 G3 X-10 Y10 I10 J20\n");
+  const GcodeResult r = parse("G21 F100 G90.1\nG0 X20 Y20 Z0\nG91 G3 X-10 Y10 I10 J20\n");
   ASSERT_EQ(r.path.moves.size(), 1u);
   expect_on_circle(r.path.moves[0], Vector3d(10, 20, 0), kZ, 10.0, M_PI / 2, 0.0);
 }
@@ -266,7 +267,7 @@ TEST(GcodeModes, InchProgramIntoMillimetreJob) {
 TEST(GcodeModes, MillimetreProgramIntoInchJob) {
   GcodeOptions options;
   options.job_units = morph::Units::Inch;
-  const GcodeResult r = parse("G21\nG0 X25.4 Y0 Z0\nG1 X50.8 F254\nG2 X25.4 Y0 I-12.7\n", options);
+  const GcodeResult r = parse("G21 F100\nG0 X25.4 Y0 Z0\nG1 X50.8 F254\nG2 X25.4 Y0 I-12.7\n", options);
   ASSERT_EQ(r.path.moves.size(), 2u);
   EXPECT_NEAR((r.path.moves[0].end - Vector3d(2, 0, 0)).norm(), 0.0, 1e-12);
   EXPECT_NEAR(r.path.moves[0].feed, 10.0, 1e-12);
@@ -275,16 +276,16 @@ TEST(GcodeModes, MillimetreProgramIntoInchJob) {
 
 TEST(GcodeModes, ArcToleranceIsInTheProgramUnits) {
   // 0.002 inch (0.0508 mm) off on a 4-inch radius is accepted in an inch program ...
-  EXPECT_EQ(error_of("G20\nG0 X4 Y0 Z0\nG3 X0 Y4.002 I-4\n"), "");
+  EXPECT_EQ(error_of("G20 F10\nG0 X4 Y0 Z0\nG3 X0 Y4.002 I-4\n"), "");
   // ... while 0.04 mm is too much in a millimetre program even on a 100 mm radius,
-  EXPECT_NE(error_of("G21\nG0 X100 Y0 Z0\nG3 X0 Y100.04 I-100\n"), "");
+  EXPECT_NE(error_of("G21 F100\nG0 X100 Y0 Z0\nG3 X0 Y100.04 I-100\n"), "");
   // and on a 10 mm radius the 0.1 % relative limit applies (0.02 mm > 0.01 mm).
-  EXPECT_NE(error_of("G21\nG0 X10 Y0 Z0\nG3 X0 Y10.02 I-10\n"), "");
-  EXPECT_EQ(error_of("G21\nG0 X10 Y0 Z0\nG3 X0 Y10.005 I-10\n"), "");
+  EXPECT_NE(error_of("G21 F100\nG0 X10 Y0 Z0\nG3 X0 Y10.02 I-10\n"), "");
+  EXPECT_EQ(error_of("G21 F100\nG0 X10 Y0 Z0\nG3 X0 Y10.005 I-10\n"), "");
 }
 
 TEST(GcodeModes, PlaneAndMotionAreModal) {
-  const GcodeResult r = parse("G21 G18 G2\nG0 X10 Y0 Z0\nG3 X0 Z-10 I-10\nX-10 Z0 K10\n");
+  const GcodeResult r = parse("G21 F100 G18 G2\nG0 X10 Y0 Z0\nG3 X0 Z-10 I-10\nX-10 Z0 K10\n");
   ASSERT_EQ(r.path.moves.size(), 2u);
   expect_on_circle(r.path.moves[1], Vector3d::Zero(), kY, 10.0, M_PI / 2, 0.0);
 }
@@ -308,30 +309,30 @@ TEST(GcodeLexing, CommentsLineNumbersSpacesAndCase) {
 }
 
 TEST(GcodeLexing, PercentDelimitersAndProgramEnd) {
-  const GcodeResult r = parse("%\nG21 G0 X0 Y0 Z0\nG1 X1\n%\nG1 X2 garbage that is never read\n");
+  const GcodeResult r = parse("%\nG21 F100 G0 X0 Y0 Z0\nG1 X1\n%\nG1 X2 garbage that is never read\n");
   ASSERT_EQ(r.path.moves.size(), 1u);
   EXPECT_TRUE(has_warning(r, 5, "ignored"));
-  const GcodeResult m30 = parse("G21 G0 X0 Y0 Z0\nG1 X1\nM30\nG1 X5\n");
+  const GcodeResult m30 = parse("G21 F100 G0 X0 Y0 Z0\nG1 X1\nM30\nG1 X5\n");
   ASSERT_EQ(m30.path.moves.size(), 1u);
   EXPECT_TRUE(has_warning(m30, 4, "after the program end (M30)"));
 }
 
 TEST(GcodeLexing, BlockDeleteSkipsTheLineWithAWarning) {
-  const GcodeResult r = parse("G21 G0 X0 Y0 Z0\n/G1 X50\nG1 Y1\n");
+  const GcodeResult r = parse("G21 F100 G0 X0 Y0 Z0\n/G1 X50\nG1 Y1\n");
   ASSERT_EQ(r.path.moves.size(), 1u);
   EXPECT_EQ(r.path.moves[0].end, Vector3d(0, 1, 0));
   EXPECT_TRUE(has_warning(r, 2, "block delete"));
 }
 
 TEST(GcodeLexing, WordCountsRecordCodesByNumber) {
-  const GcodeResult r = parse("G21 G90 G90.1\nG00 X0 Y0 Z0 S1000 M03\nG01 X1 F100\nG1 X2\nM5 M30\n");
+  const GcodeResult r = parse("G21 F100 G90 G90.1\nG00 X0 Y0 Z0 S1000 M03\nG01 X1 F100\nG1 X2\nM5 M30\n");
   EXPECT_EQ(r.word_counts.at("G0"), 1);
   EXPECT_EQ(r.word_counts.at("G1"), 2);
   EXPECT_EQ(r.word_counts.at("G90.1"), 1);
   EXPECT_EQ(r.word_counts.at("M3"), 1);
   EXPECT_EQ(r.word_counts.at("M30"), 1);
   EXPECT_EQ(r.word_counts.at("X"), 3);
-  EXPECT_EQ(r.word_counts.at("F"), 1);
+  EXPECT_EQ(r.word_counts.at("F"), 2);
   EXPECT_EQ(r.word_counts.at("S"), 1);
   EXPECT_EQ(r.path.moves[0].spindle, 1000.0);
 }
@@ -340,7 +341,7 @@ TEST(GcodeTools, ToolChangesSetTheMoveTool) {
   GcodeOptions options;
   options.initial_tool = 7;
   const GcodeResult r =
-      parse("G21 G0 X0 Y0 Z0\nG1 X1\nT3\nG1 X2\nM6\nG1 X3\nT4 M6\nG1 X4\nM61 Q9\nG1 X5\n", options);
+      parse("G21 F100 G0 X0 Y0 Z0\nG1 X1\nT3\nG1 X2\nM6\nG1 X3\nT4 M6\nG1 X4\nM61 Q9\nG1 X5\n", options);
   ASSERT_EQ(r.path.moves.size(), 5u);
   EXPECT_EQ(r.path.moves[0].tool, 7);
   EXPECT_EQ(r.path.moves[1].tool, 7);  // T only selects; M6 changes
@@ -349,22 +350,22 @@ TEST(GcodeTools, ToolChangesSetTheMoveTool) {
   EXPECT_EQ(r.path.moves[4].tool, 9);
   EXPECT_EQ(r.tools_used, (std::set<int>{3, 4, 7, 9}));
   // The initial tool counts only if it moved.
-  EXPECT_EQ(parse("T2 M6\nG21 G0 X0 Y0 Z0\nG1 X1\n", options).tools_used, (std::set<int>{2}));
+  EXPECT_EQ(parse("T2 M6\nG21 F100 G0 X0 Y0 Z0\nG1 X1\n", options).tools_used, (std::set<int>{2}));
 }
 
 TEST(GcodeStart, MovesStartOnceXyzAreKnown) {
-  const GcodeResult r = parse("G21\nG0 Z20\nG0 X1\nG0 Y2\nG1 Z0\n");
+  const GcodeResult r = parse("G21 F100\nG0 Z20\nG0 X1\nG0 Y2\nG1 Z0\n");
   ASSERT_EQ(r.path.moves.size(), 1u);
   EXPECT_EQ(r.path.moves[0].start, Vector3d(1, 2, 20));
   EXPECT_EQ(r.path.moves[0].line, 5);
   // Incremental moves from an unknown axis leave it unknown.
-  EXPECT_TRUE(parse("G21 G91\nG0 X1 Y1 Z1\nG0 X1\n").path.moves.empty());
+  EXPECT_TRUE(parse("G21 F100 G91\nG0 X1 Y1 Z1\nG0 X1\n").path.moves.empty());
 }
 
 TEST(GcodeStart, GivenStartPositionMakesTheFirstMotionAMove) {
   GcodeOptions options;
   options.start = Vector3d(0, 0, 50);
-  const GcodeResult r = parse("G21\nG0 X1\n", options);
+  const GcodeResult r = parse("G21 F100\nG0 X1\n", options);
   ASSERT_EQ(r.path.moves.size(), 1u);
   EXPECT_EQ(r.path.moves[0].start, Vector3d(0, 0, 50));
   EXPECT_EQ(r.path.moves[0].end, Vector3d(1, 0, 50));
@@ -372,7 +373,7 @@ TEST(GcodeStart, GivenStartPositionMakesTheFirstMotionAMove) {
 }
 
 TEST(GcodeStart, HomeMakesItsAxesUnknownAgain) {
-  const GcodeResult r = parse("G21 G0 X0 Y0 Z5\nG1 X1\nG91 G28 Z0\nG90 G0 X5 Y5\nG0 Z1\nG1 X6\n");
+  const GcodeResult r = parse("G21 F100 G0 X0 Y0 Z5\nG1 X1\nG91 G28 Z0\nG90 G0 X5 Y5\nG0 Z1\nG1 X6\n");
   ASSERT_EQ(r.path.moves.size(), 2u);  // X1, then nothing until Z is programmed, then X6
   EXPECT_EQ(r.path.moves[1].start, Vector3d(5, 5, 1));
   EXPECT_TRUE(has_warning(r, 3, "G28"));
@@ -380,41 +381,54 @@ TEST(GcodeStart, HomeMakesItsAxesUnknownAgain) {
 
 // ---- warnings ------------------------------------------------------------------------------------
 
-TEST(GcodeWarnings, UnknownWordsAndCodesAreWarningsWithTheirLine) {
-  const GcodeResult r = parse(
-      "G21 G0 X0 Y0 Z0\nG1 X1 E5\nG12\nM77\nM123\nG1 X2 I4\nG17 G2 X3 Y1 I0 J1 K2\nG43 H1 G54 G64 P0.1 "
-      "G94\n");
-  EXPECT_TRUE(has_warning(r, 2, "unknown word E5"));
-  EXPECT_TRUE(has_warning(r, 3, "unknown code G12"));
-  EXPECT_TRUE(has_warning(r, 4, "unknown code M77"));
-  EXPECT_TRUE(has_warning(r, 5, "M123"));
-  EXPECT_TRUE(has_warning(r, 6, "I4 ignored"));
-  EXPECT_TRUE(has_warning(r, 7, "K2 ignored"));
-  for (const morph::Warning& w : r.warnings) {
-    EXPECT_EQ(w.file, "test.ngc");
-    EXPECT_NE(w.line, 8) << w.message;  // harmless modal codes raise nothing
+TEST(GcodeWarnings, UserMCodesAndNormalOffsetsAreWarningsWithTheirLine) {
+  const GcodeResult r =
+      parse("G21 F100 G0 X0 Y0 Z0\nG1 X1\nM123\nG17 G2 X2 Y1 I0 J1 K2\nG43 H1 G54 G64 P0.1 G94\n");
+  EXPECT_TRUE(has_warning(r, 3, "M123"));
+  EXPECT_TRUE(has_warning(r, 4, "K2 ignored"));
+  EXPECT_TRUE(has_warning(r, 5, "no tool table"));  // G43 H1 without a table applies 0
+  for (const morph::Warning& w : r.warnings) EXPECT_EQ(w.file, "test.ngc");
+  EXPECT_EQ(r.path.moves.size(), 2u);  // the warnings did not stop the moves
+}
+
+TEST(GcodeErrors, UnknownWordsCodesAndUnusedWordsAreRefusedWithTheirLine) {
+  const std::string ok = "G21 F100 G0 X0 Y0 Z0\n";
+  const struct {
+    std::string line2;
+    std::string fragment;
+  } cases[] = {
+      {"G1 X1 E5", "E5: nothing on this line uses it"},
+      {"G12", "unsupported code G12"},
+      {"M77", "unsupported code M77"},
+      {"G1 X2 I4", "I4: nothing on this line uses it"},
+      {"G0 X1 Q3", "Q3: nothing on this line uses it"},
+      {"G4", "G4 (dwell) needs"},
+  };
+  for (const auto& c : cases) {
+    const std::string message = error_of(ok + c.line2 + "\n");
+    EXPECT_EQ(message.rfind("test.ngc:2: ", 0), 0u) << c.line2 << " -> " << message;
+    EXPECT_NE(message.find(c.fragment), std::string::npos) << c.line2 << " -> " << message;
   }
-  EXPECT_EQ(r.path.moves.size(), 3u);  // the warnings did not stop the moves
 }
 
 TEST(GcodeWarnings, MissingUnitsIsNotedOnce) {
-  const GcodeResult r = parse("G0 X0 Y0 Z0\nG1 X1\nG1 X2\n");
+  const GcodeResult r = parse("G0 X0 Y0 Z0\nG1 X1 F100\nG1 X2\n");
   ASSERT_EQ(r.warnings.size(), 1u);
   EXPECT_EQ(r.warnings[0].line, 1);
   EXPECT_NE(r.warnings[0].message.find("G20/G21"), std::string::npos);
 }
 
-TEST(GcodeWarnings, ToolTableLineDoesNotMove) {
-  const GcodeResult r = parse("G21 G0 X0 Y0 Z0\nG1 X1\nG10 L1 P1 Z1.5 R0.1\nG1 X2\n");
+TEST(GcodeTools, ToolTableLineDoesNotMove) {
+  const GcodeResult r = parse("G21 F100 G0 X0 Y0 Z0\nG1 X1\nG10 L1 P1 Z1.5 R0.1\nG1 X2\n");
   ASSERT_EQ(r.path.moves.size(), 2u);
   EXPECT_EQ(r.path.moves[1].start, Vector3d(1, 0, 0));
-  EXPECT_TRUE(has_warning(r, 3, "G10 L1"));
+  EXPECT_TRUE(r.warnings.empty());
 }
 
 // ---- errors --------------------------------------------------------------------------------------
 
 TEST(GcodeErrors, EveryErrorNamesFileAndLine) {
-  const std::string ok = "G21 G0 X10 Y0 Z0\n";  // line 1
+  const std::string ok = "G21 F100 G0 X10 Y0 Z0\n";  // line 1
   const struct {
     std::string line2;
     std::string fragment;
@@ -429,9 +443,15 @@ TEST(GcodeErrors, EveryErrorNamesFileAndLine) {
       {"G1 X1 X2", "two X words"},
       {"G0 G1 X1", "two motion codes"},
       {"G20 G21", "two units codes"},
-      {"#1 = 2", "parameters"},
-      {"G1 X[1+2]", "parameters (#) and expressions"},
-      {"o100 sub", "O-word"},
+      {"#1 = [2", "not closed with ']'"},
+      {"G1 X[1+]", "has no number"},
+      {"G1 X#<nope>", "#<nope> is not defined"},
+      {"G1 X[1/0]", "division by zero"},
+      {"o100 sub", "never closed"},
+      {"o100 endwhile", "without a matching o100 while"},
+      {"o100 call", "no o100 sub in this file"},
+      {"o[#1] call", "computed O-word labels"},
+      {"G1 F0 X1", "no feed rate"},
       {"G2 X0 Y10", "neither an I/J/K centre nor an R radius"},
       {"G3 X0 Y10.5 I-10", "not on its circle"},
       {"G3 X10 Y0 R5", "ends where it starts"},
@@ -442,11 +462,16 @@ TEST(GcodeErrors, EveryErrorNamesFileAndLine) {
       {"G3 X0 Y10 I-10 P1.5", "positive integer"},
       {"G41 D1", "cutter radius compensation"},
       {"G42.1 D6", "cutter radius compensation"},
-      {"G81 X1 Y1 Z-1 R1", "canned cycles"},
-      {"G92 X0", "coordinate offsets"},
-      {"G53 G0 Z0", "machine-coordinate"},
+      {"G81 X1 Y1 Z-1", "needs R"},
+      {"G81 X1 Y1 Z1 R0", "is below the bottom"},
+      {"G88 X1 Y1 Z-1 R1", "G88"},
+      {"G92", "needs at least one axis word"},
+      {"G91 G53 G0 Z0", "G53"},
+      {"G53 G2 X0 Y10 R5", "G53"},
       {"G5.1 X1 I1 J1", "spline"},
-      {"G10 L2 P1 X0", "G10 (setting coordinate offsets)"},
+      {"G10 L2 P1 R10 X0", "rotation"},
+      {"G10 L5 P1 X0", "G10 needs L1"},
+      {"G43 H1.5", "H must be an integer"},
       {"G38.2 Z-5 F10", "probing"},
       {"G33 Z-1 K1", "threading"},
       {"G68 X0 Y0 R45", "rotation"},
@@ -460,7 +485,10 @@ TEST(GcodeErrors, EveryErrorNamesFileAndLine) {
       {"G1 X1 )", "')' without"},
       {"G1 X1 / Y2", "block delete"},
       {"M98 P100", "subprogram"},
-      {"T1.5 M6", "T must be a non-negative integer"},
+      {"M72", "no state saved"},
+      {"G1 X1 @2", "cannot be used with polar"},
+      {"G0 G1 G80 X1", "two motion codes"},
+      {"T1.5 M6", "T must be an integer"},
   };
   for (const auto& c : cases) {
     const std::string message = error_of(ok + c.line2 + "\n");
@@ -474,13 +502,13 @@ TEST(GcodeErrors, EveryErrorNamesFileAndLine) {
 }
 
 TEST(GcodeErrors, ArcBeforeThePositionIsKnown) {
-  const std::string message = error_of("G21\nG0 X0 Y0\nG2 X1 Y1 I1\n");
+  const std::string message = error_of("G21 F100\nG0 X0 Y0\nG2 X1 Y1 I1\n");
   EXPECT_EQ(message.rfind("test.ngc:3: ", 0), 0u) << message;
   EXPECT_NE(message.find("unknown position"), std::string::npos) << message;
 }
 
 TEST(GcodeErrors, AxisWordsWithNoMotionModeAtTheStart) {
-  const std::string message = error_of("G21\nX1 Y2 Z3\n");
+  const std::string message = error_of("G21 F100\nX1 Y2 Z3\n");
   EXPECT_EQ(message.rfind("test.ngc:2: ", 0), 0u) << message;
 }
 
@@ -495,7 +523,7 @@ TEST(GcodeErrors, ArbitraryLinesEitherParseOrRaiseInputError) {
     std::string line;
     for (std::size_t n = length(random); n > 0; --n) line += alphabet[pick(random)];
     try {
-      const GcodeResult r = parse("G21 G0 X1 Y2 Z3\nG1 X4\n" + line + "\nG1 X5\n");
+      const GcodeResult r = parse("G21 F100 G0 X1 Y2 Z3\nG1 X4\n" + line + "\nG1 X5\n");
       ++parsed;
       for (const Move& m : r.path.moves) {
         ASSERT_TRUE(m.start.allFinite() && m.end.allFinite() && m.center.allFinite() &&
@@ -662,7 +690,9 @@ TEST(GcodeRealFiles, Cameo) {
   EXPECT_EQ(r.path.moves.size(), 35280u);
   EXPECT_EQ(r.tools_used, (std::set<int>{1}));
   EXPECT_EQ(r.word_counts.at("G43"), 1);
-  EXPECT_TRUE(r.warnings.empty());  // the closing '%' after M30 is not content
+  // The closing '%' after M30 is not content; G43 H1 without a tool table applies offset 0.
+  ASSERT_EQ(r.warnings.size(), 1u);
+  EXPECT_NE(r.warnings[0].message.find("G43 H1: no tool table"), std::string::npos);
   Bounds all;
   for (const Move& m : r.path.moves) {
     all.add(m.start);
