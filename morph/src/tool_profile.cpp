@@ -264,9 +264,9 @@ double ellipse_quadrant_distance(double e0, double e1, double y0, double y1) {
       // The root s of (r0 z0 / (s + r0))^2 + (z1 / (s + 1))^2 = 1 in [z1 - 1, |(r0 z0, z1)| - 1].
       const double n0 = r0 * z0;
       double s0 = z1 - 1.0, s1 = g < 0.0 ? 0.0 : std::hypot(n0, z1) - 1.0, s = 0.0;
-      for (int i = 0; i < 2200; ++i) {
+      for (int i = 0; i < 200; ++i) {
         s = 0.5 * (s0 + s1);
-        if (s == s0 || s == s1) break;
+        if (s == s0 || s == s1 || s1 - s0 <= 4e-16 * std::max(1.0, std::abs(s))) break;
         const double a = n0 / (s + r0), b = z1 / (s + 1.0);
         g = a * a + b * b - 1.0;
         if (g > 0.0)

@@ -47,8 +47,8 @@ TEST_P(BundledToolJobs, ReferenceConvergesToTheExactSurface) {
   for (const auto& [number, tool] : job.tools) EXPECT_FALSE(tool.profile.empty()) << number;
   // Halving the voxel: the reference stays within sqrt(3) voxel of the truth where resolvable,
   // and its largest deviation shrinks.
-  const morphmill::VerifyOutcome coarse = reference_check(job, 0.4);
-  const morphmill::VerifyOutcome fine = reference_check(job, 0.2);
+  const morphmill::VerifyOutcome coarse = reference_check(job, 0.6);
+  const morphmill::VerifyOutcome fine = reference_check(job, 0.3);
   EXPECT_FALSE(fine.generator_skipped.empty());
   EXPECT_TRUE(coarse.reference_converges) << coarse.reference_resolvable_max << " > " << coarse.reference_bound;
   EXPECT_TRUE(fine.reference_converges) << fine.reference_resolvable_max << " > " << fine.reference_bound;

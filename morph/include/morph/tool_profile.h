@@ -85,8 +85,8 @@ class ToolProfile {
 
 namespace detail {
 /// Distance from (y0, y1), both >= 0, to the ellipse x0^2/e0^2 + x1^2/e1^2 = 1 (e0, e1 > 0),
-/// by bisection on the nearest point's Lagrange parameter to the last bit (D. Eberly, "Distance
-/// from a point to an ellipse"); unsigned.
+/// by bisection on the nearest point's Lagrange parameter to a relative 4e-16 (D. Eberly,
+/// "Distance from a point to an ellipse"); unsigned.
 double ellipse_quadrant_distance(double e0, double e1, double y0, double y1);
 }  // namespace detail
 
