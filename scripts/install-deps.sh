@@ -13,6 +13,7 @@ packages=(
   libgtest-dev libgmock-dev libbenchmark-dev
   chromium
   libplplot-dev plplot-driver-cairo
+  libpolyclipping-dev
 )
 # Optional extras for reports and browser checks are added by callers via MORPHMILL_EXTRA_PACKAGES.
 if [[ -n "${MORPHMILL_EXTRA_PACKAGES:-}" ]]; then

@@ -7,8 +7,9 @@
 #      finished cases are kept) and the merge equals the single-process campaign;
 #   3. a campaign whose cases fail (--reference-memory-cap 0.001: the reference refuses every case):
 #      every task and the merge FAILED with exit 1, the merged summary complete.
-# Exit 0: passed; 1: failed; 77: skipped because Slurm cannot run here (not root, packages missing)
-# -- unless MORPHMILL_REQUIRE_SLURM=1 (set by .ci/run), which makes that a failure.
+# Runs only when MORPHMILL_SLURM_TEST=1 (make test-slurm) or MORPHMILL_REQUIRE_SLURM=1 (.ci/run).
+# Exit 0: passed; 1: failed; 77: skipped because not asked, or Slurm cannot run here (not root,
+# packages missing, ports taken) -- unless MORPHMILL_REQUIRE_SLURM=1, which makes that a failure.
 #
 # usage: scripts/slurm-campaign-test.sh MORPHMILL_BINARY [DOCS_FILE] [WORK_DIR]
 set -euo pipefail
@@ -33,6 +34,9 @@ fail() {
   echo "FAIL: $*" >&2
   exit 1
 }
+if [[ ${MORPHMILL_SLURM_TEST:-0} != 1 && ${MORPHMILL_REQUIRE_SLURM:-0} != 1 ]]; then
+  skip "it starts Slurm daemons as root and takes minutes, so it runs only when asked: make test-slurm (or MORPHMILL_SLURM_TEST=1 ctest -L slurm)"
+fi
 command -v jq >/dev/null || skip "jq not found (scripts/slurm-local.sh install)"
 
 status=0

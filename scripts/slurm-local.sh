@@ -39,6 +39,12 @@ wait_for() {
   return 1
 }
 
+# True if nothing listens on TCP port $1 (and no connection lingers on it).
+port_free() {
+  ! (exec 3<>"/dev/tcp/127.0.0.1/$1") 2>/dev/null &&
+    ! { command -v ss >/dev/null && ss -Htan "( sport = :$1 )" | grep -q .; }
+}
+
 show_logs() {
   local state=$1
   for log in "$state"/*.log; do
@@ -69,6 +75,17 @@ start() {
   echo $! >"$state/munged.pid"
   wait_for "test -S '$state/munge/munge.socket'" 10 || { show_logs "$state"; cannot "munged did not start"; }
 
+  # Ports: SLURM_LOCAL_CTLD_PORT / SLURM_LOCAL_D_PORT, else the first free pair from 16817 (not
+  # Slurm's 6817/6818, which a real Slurm on this machine may hold).
+  local ctld_port=${SLURM_LOCAL_CTLD_PORT:-} d_port=${SLURM_LOCAL_D_PORT:-}
+  if [[ -z $ctld_port ]]; then
+    for ((ctld_port = 16817; ctld_port < 16917; ctld_port += 2)); do
+      port_free "$ctld_port" && port_free $((ctld_port + 1)) && break
+    done
+    d_port=$((ctld_port + 1))
+  fi
+  port_free "$ctld_port" && port_free "$d_port" || cannot "port $ctld_port or $d_port is in use"
+
   local host node_line cpus memory
   host=$(hostname -s)
   node_line=$(slurmd -C | head -n 1)
@@ -78,8 +95,8 @@ start() {
 # Written by scripts/slurm-local.sh: one node, everything in $state.
 ClusterName=morphmill
 SlurmctldHost=$host(127.0.0.1)
-SlurmctldPort=${SLURM_LOCAL_CTLD_PORT:-6817}
-SlurmdPort=${SLURM_LOCAL_D_PORT:-6818}
+SlurmctldPort=$ctld_port
+SlurmdPort=$d_port
 SlurmUser=root
 SlurmdUser=root
 AuthType=auth/munge

@@ -271,8 +271,9 @@ void register_info_commands(CLI::App& app) {
       "Print a job as MorphMill understands it: the stock, the tools, each path with its number of\n"
       "moves by kind (rapid, linear, arc) and length, the bounding box of the tool point and every\n"
       "warning (unknown JSON keys, G-code words that were ignored). Reads the G-code and stock mesh\n"
-      "the job names. Exit code 0 if the job is valid, 2 if it is not (the message names the file\n"
-      "and the JSON path or G-code line).");
+      "the job names. With --moves, every move as understood instead, of a job or of a G-code file.\n"
+      "Exit code 0 if the job is valid, 2 if it is not (the message names the file and the JSON path\n"
+      "or G-code line).");
   info->footer(
       "Examples:\n"
       "  morphmill info data/jobs/slots.json --json\n"

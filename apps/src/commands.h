@@ -28,5 +28,6 @@ void register_deviation_commands(CLI::App& app);  // deviation, render
 void register_verify_command(CLI::App& app);      // verify
 void register_stress_command(CLI::App& app);      // stress
 void register_study_command(CLI::App& app);       // study
+void register_planar_commands(CLI::App& app);     // erode2d, verify2d
 
 }  // namespace morphmill

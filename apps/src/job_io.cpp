@@ -415,11 +415,48 @@ class JobParser {
     }
   }
 
+  /// The controller's set-up a G-code path runs with: its tool table (the job's tools), work
+  /// offsets, LinuxCNC var file, whether T alone changes the tool, the block-delete switch.
+  void gcode_machine_setup(const json& v, const std::string& at, const std::map<int, morph::Tool>& tools,
+                           morph::GcodeOptions& options) const {
+    for (const auto& [number, tool] : tools) {
+      morph::GcodeTool entry;
+      entry.diameter = 2.0 * tool.radius;
+      options.tools[number] = entry;
+    }
+    if (const json* f = find(v, "var_file"))
+      options.var_file = referenced_file(*f, join_path(at, "var_file"), "LinuxCNC var");
+    if (const json* w = find(v, "work_offsets")) {
+      const std::string wat = join_path(at, "work_offsets");
+      object(*w, wat);
+      static const char* kSystems[] = {"G54", "G55", "G56", "G57", "G58", "G59", "G59.1", "G59.2", "G59.3"};
+      for (auto it = w->begin(); it != w->end(); ++it) {
+        const auto system = std::find(std::begin(kSystems), std::end(kSystems), it.key());
+        if (system == std::end(kSystems))
+          fail(join_path(wat, it.key()), "expected one of G54, G55, G56, G57, G58, G59, G59.1, G59.2, G59.3");
+        options.work_offsets[int(system - std::begin(kSystems)) + 1] =
+            point(it.value(), join_path(wat, it.key()));
+      }
+    }
+    if (const json* t = find(v, "tool_change_on_t")) {
+      if (!t->is_boolean())
+        fail(join_path(at, "tool_change_on_t"), "expected true or false, got " + describe_value(*t));
+      options.tool_change_on_t = t->get<bool>();
+    }
+    if (const json* b = find(v, "block_delete")) {
+      if (!b->is_boolean())
+        fail(join_path(at, "block_delete"), "expected true or false, got " + describe_value(*b));
+      options.block_delete = b->get<bool>();
+    }
+  }
+
   morph::Path path(const json& v, std::size_t index, const std::map<int, morph::Tool>& tools,
                    morph::Units units) const {
     const std::string at = index_path("paths", index);
     object(v, at);
-    check_keys(v, at, {"tool", "polyline", "gcode", "name", "description", "feed", "start"});
+    check_keys(v, at,
+               {"tool", "polyline", "gcode", "name", "description", "feed", "start", "var_file",
+                "work_offsets", "tool_change_on_t", "block_delete"});
     morph::Path path;
     if (const json* name = find(v, "name")) path.name = string(*name, join_path(at, "name"));
     if (const json* d = find(v, "description")) string(*d, join_path(at, "description"));
@@ -443,7 +480,8 @@ class JobParser {
 
     if (polyline) {
       const std::string pat = join_path(at, "polyline");
-      if (find(v, "start")) warn(join_path(at, "start"), "only used with 'gcode', ignored");
+      for (const char* key : {"start", "var_file", "work_offsets", "tool_change_on_t", "block_delete"})
+        if (find(v, key)) warn(join_path(at, key), "only used with 'gcode', ignored");
       double feed = 0.0;
       if (const json* f = find(v, "feed")) feed = positive(*f, join_path(at, "feed"));
       if (!polyline->is_array()) fail(pat, "expected an array of points, got " + describe_value(*polyline));
@@ -476,6 +514,7 @@ class JobParser {
       options.job_units = units;
       options.initial_tool = tool;
       if (const json* s = find(v, "start")) options.start = point(*s, join_path(at, "start"));
+      gcode_machine_setup(v, at, tools, options);
       morph::GcodeResult result;
       try {
         result = morph::read_gcode(file, options);

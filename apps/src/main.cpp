@@ -29,6 +29,7 @@ int main(int argc, char** argv) {
   morphmill::register_verify_command(app);
   morphmill::register_stress_command(app);
   morphmill::register_study_command(app);
+  morphmill::register_planar_commands(app);
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {

@@ -583,6 +583,11 @@ void remove_or_throw(const fs::path& path) {
 std::vector<CaseResult> prepare_shard_dir(const StressOptions& options, const nlohmann::json& identity) {
   const fs::path dir(options.out_dir);
   std::error_code error;
+  // A run replaces a stress output; anything else (a typo naming a home directory) is left alone.
+  if (fs::is_directory(dir, error) && !fs::is_empty(dir, error) && !fs::exists(dir / "campaign.json") &&
+      !fs::exists(dir / "summary.json"))
+    throw morph::InputError("--out " + options.out_dir +
+                            " is not empty and not the output of `morphmill stress`: give a new directory");
   fs::create_directories(dir, error);
   if (error)
     throw morph::IoError(options.out_dir + ": cannot create the output directory: " + error.message());

@@ -122,6 +122,7 @@ void BlockReader::read(std::string_view line, Block& block) {
   block.assignments.clear();
   block.o_kind = OKind::None;
   block.note = Note::None;
+  depth_ = 0;
   normalize(line);
   std::size_t i = 0;
   if (at(0) == '/') {

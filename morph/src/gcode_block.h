@@ -104,6 +104,7 @@ class BlockReader {
   char at(std::size_t i) const { return i < s_.size() ? s_[i] : '\0'; }
 
   const Parameters& parameters_;
+  int depth_ = 0;  ///< nesting of values being read
   std::string s_;  ///< the line in lower case without blanks, comments kept as written
 };
 

@@ -117,10 +117,11 @@ void Interpreter::canned_cycle() {
     current_cc = old_cc;
   }
   const double clear_cc = retract_to_r_ ? r : old_cc;
-  // LinuxCNC's G73/G83 retract clearance: 1 on a millimetre machine, 0.05 on an inch machine.
-  const double rapid_delta = block_.has('d')                     ? block_.get('d')
-                             : options_.job_units == Units::Inch ? 0.05
-                                                                 : 1.0;
+  // The G73/G83 retract between pecks: 0.010 inch, in the program's units, as the LinuxCNC of
+  // Debian 12 does it (later versions make it an ini setting, 1 mm / 0.05 inch by default).
+  const double rapid_delta = block_.has('d')                 ? block_.get('d')
+                             : program_units_ == Units::Inch ? 0.010
+                                                             : 0.254;
   double i = 0.0, j = 0.0, k = 0.0;
   if (code == 870) {
     i = sticky('i', cycle_i_, "the X offset");

@@ -83,6 +83,14 @@ bool is_digit(char c) {
 }  // namespace
 
 double BlockReader::real_value(std::size_t& i, char letter) {
+  // Nesting is recursion here: bound it so that a hostile line cannot exhaust the stack.
+  struct Depth {
+    int& depth;
+    explicit Depth(int& d) : depth(d) {
+      if (++depth > 256) fail("expression nested more than 256 deep");
+    }
+    ~Depth() { --depth; }
+  } guard(depth_);
   const char c = at(i);
   double v;
   if (c == '[') {

@@ -150,6 +150,7 @@ class Interpreter {
   std::array<bool, 2> home_known_{false, false};  ///< G28, G30 stored positions given
   std::map<int, GcodeTool> table_;                ///< the controller's table (G10 L1 edits it)
   bool length_warned_ = false;
+  double physical_length_ = 0.0;  ///< the tool table's length of the tool in the spindle
 
   Motion motion_ = Motion::None;
   int cycle_code_ = 0;

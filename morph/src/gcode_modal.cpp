@@ -336,11 +336,7 @@ void Interpreter::update_tip_shift() {
   const auto it = options_.tools.find(current_tool_);
   const double physical = it == options_.tools.end() ? 0.0 : it->second.length_offset;
   tip_shift_ = length_offset_ - Eigen::Vector3d(0.0, 0.0, physical);
-  if (physical != 0.0 && length_offset_.z() == 0.0 && !length_warned_) {
-    length_warned_ = true;
-    warn("tool " + std::to_string(current_tool_) + " is " + format_number(physical) +
-         " long in the tool table but no G43 is in effect: its tip runs that far below the programmed point");
-  }
+  physical_length_ = physical;
 }
 
 void Interpreter::select_system(int index) {

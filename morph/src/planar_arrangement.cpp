@@ -116,7 +116,7 @@ class Classifier {
         radius_(radius),
         eps_on_(eps_on),
         move_boxes_(boxes_of_moves()),
-        move_grid_(move_boxes_, extent, 2.0 * radius + 1e-300),
+        move_grid_(move_boxes_, extent, mean_size(move_boxes_, 2.0 * radius)),
         stock_boxes_(boxes_of_stock()),
         stock_grid_(stock_boxes_, extent, cell_for_stock(extent)) {}
 
@@ -153,6 +153,12 @@ class Classifier {
   }
 
  private:
+  /// Cells about as large as the boxes on average: a long move is listed in a few cells, not thousands.
+  static double mean_size(const std::vector<Box2>& boxes, double at_least) {
+    double sum = 0.0;
+    for (const Box2& b : boxes) sum += b.sizes().maxCoeff();
+    return std::max(at_least, boxes.empty() ? at_least : sum / static_cast<double>(boxes.size()));
+  }
   std::vector<Box2> boxes_of_moves() const {
     std::vector<Box2> boxes(near_.size());
     for (std::size_t i = 0; i < near_.size(); ++i)
@@ -262,9 +268,25 @@ PlanarResult arrange(const Region* stock, const Trajectory& moves, double radius
   extent = inflated(extent, 2.0 * eps);
 
   // Candidate curves: the stock's boundary first (it wins ties), then each move's dilation boundary.
-  std::vector<Curve> curves = stock_curves;
+  // Full circles become two halves: every split point of a curve is then an end some other
+  // coincident curve can see (a plunge's circle and the half circle behind the next move's start).
+  std::vector<Curve> curves;
+  auto add_candidate = [&](const Curve& c) {
+    if (!(c.is_arc() && c.start == c.end)) return curves.push_back(c);
+    const double a0 = start_angle(c), half = 0.5 * c.sweep;
+    Curve first = make_arc(c.center, c.radius, a0, half, c.from),
+          second = make_arc(c.center, c.radius, a0 + half, half, c.from);
+    first.start = c.start;
+    second.start = first.end;
+    second.end = c.start;
+    curves.push_back(first);
+    curves.push_back(second);
+  };
+  for (const Curve& c : stock_curves) add_candidate(c);
   const std::size_t stock_count = curves.size();
-  for (const std::uint32_t i : near) dilation_boundary(moves[i], radius, curves);
+  std::vector<Curve> boundary;
+  for (const std::uint32_t i : near) dilation_boundary(moves[i], radius, boundary);
+  for (const Curve& c : boundary) add_candidate(c);
   if (stock)
     curves.erase(std::remove_if(curves.begin() + static_cast<long>(stock_count), curves.end(),
                                 [&](const Curve& c) { return !bounds(c).intersects(extent); }),
@@ -307,7 +329,7 @@ PlanarResult arrange(const Region* stock, const Trajectory& moves, double radius
   stats.intersections = hits.size();
   check_interrupt(options);
 
-  // Split points: every curve's ends (and a full circle's far side), and each hit on both curves.
+  // Split points: every curve's ends and each hit on both curves.
   std::vector<Vec2> points;
   std::vector<Split> splits;
   for (std::uint32_t i = 0; i < curves.size(); ++i) {
@@ -316,10 +338,6 @@ PlanarResult arrange(const Region* stock, const Trajectory& moves, double radius
     points.push_back(c.start);
     splits.push_back({i, 1.0, static_cast<std::uint32_t>(points.size())});
     points.push_back(c.end);
-    if (c.start == c.end) {
-      splits.push_back({i, 0.5, static_cast<std::uint32_t>(points.size())});
-      points.push_back(point_at(c, 0.5));
-    }
   }
   for (const Hit& h : hits) {
     const auto p = static_cast<std::uint32_t>(points.size());

@@ -66,6 +66,37 @@ TEST_F(CliInfo, InfoJson) {
   EXPECT_EQ(d["tools"][0]["type"], "sphere");
 }
 
+TEST_F(CliInfo, MovesOfAGcodeFileAsJson) {
+  // The canned-cycle conformance program from the machine origin: its first moves and a cycle.
+  const CommandRun r =
+      run("info --moves '" + kData + "/gcode/conformance/canned_cycles.ngc' --format json --start 0,0,0");
+  ASSERT_EQ(r.exit_code, 0) << r.errors;
+  const nlohmann::json d = nlohmann::json::parse(r.output);
+  EXPECT_EQ(d["units"], "mm");
+  const nlohmann::json& moves = d["moves"];
+  ASSERT_GT(moves.size(), 10u);
+  EXPECT_EQ(moves[0]["kind"], "rapid");
+  EXPECT_EQ(moves[0]["line"], 4);
+  EXPECT_EQ(moves[0]["end"], nlohmann::json::parse("[0, 0, 10]"));
+  EXPECT_EQ(moves[3]["kind"], "linear");  // G81 feeds to the bottom
+  EXPECT_EQ(moves[3]["end"], nlohmann::json::parse("[5, 5, -2]"));
+  EXPECT_EQ(moves[3]["line"], 5);
+  EXPECT_DOUBLE_EQ(moves[3]["feed"].get<double>(), 100.0);
+  // A job's moves, arcs with their centre, axis and sweep; a bad G-code file: exit 2 with its line.
+  const CommandRun job = run("info --moves '" + kData + "/jobs/slots.json' --format json");
+  ASSERT_EQ(job.exit_code, 0) << job.errors;
+  bool arc = false;
+  const nlohmann::json job_moves = nlohmann::json::parse(job.output)["moves"];
+  for (const nlohmann::json& m : job_moves)
+    if (m["kind"] == "arc") arc = m.contains("center") && m.contains("axis") && m.contains("sweep");
+  EXPECT_TRUE(arc);
+  const CommandRun bad = run("info --moves '" + kData + "/gcode/conformance/refuse_undefined_parameter.ngc'");
+  EXPECT_EQ(bad.exit_code, 2);
+  EXPECT_NE(bad.errors.find("refuse_undefined_parameter.ngc:4: named parameter #<width> is not defined"),
+            std::string::npos)
+      << bad.errors;
+}
+
 TEST_F(CliInfo, MeshInfoTable) {
   const CommandRun r = run("mesh-info '" + kData + "/meshes/cube.stl'");
   ASSERT_EQ(r.exit_code, 0) << r.errors;

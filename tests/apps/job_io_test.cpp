@@ -269,6 +269,29 @@ TEST_F(JobIo, GcodeKeysUnitsAndStart) {
   EXPECT_TRUE(found);
 }
 
+TEST_F(JobIo, GcodeMachineSetUpKeys) {
+  // G55 offsets from the job, T2 changed on T alone, the '/' line run, a var file for G28.
+  write_text("setup.nc", "G21 G90 F100\nG55 G0 X0 Y0 Z0\nT2\n/G1 X1\nG28\nM2\n");
+  write_text("machine.var", "5161 7\n5162 8\n5163 9\n");
+  json j = minimal();
+  j["tools"]["2"] = json::parse(R"({"type": "sphere", "radius": 2})");
+  j["paths"] = json::parse(
+      R"([{"tool": 1, "gcode": "setup.nc", "start": [0, 0, 0], "work_offsets": {"G55": [10, 20, 30]},
+      "tool_change_on_t": true, "block_delete": false, "var_file": "machine.var"}])");
+  const morph::Job job = parse(j);
+  const morph::Path& p = job.paths[0];
+  ASSERT_EQ(p.moves.size(), 3u);
+  EXPECT_EQ(p.moves[0].end, Eigen::Vector3d(10, 20, 30));
+  EXPECT_EQ(p.moves[1].end, Eigen::Vector3d(11, 20, 30));
+  EXPECT_EQ(p.moves[1].tool, 2);
+  EXPECT_EQ(p.moves[2].end, Eigen::Vector3d(7, 8, 9));
+  j["paths"][0]["work_offsets"] = json::parse(R"({"G60": [0, 0, 0]})");
+  expect_error(j, "paths[0].work_offsets.G60: expected one of G54");
+  j["paths"][0]["work_offsets"] = json::parse("{}");
+  j["paths"][0]["tool_change_on_t"] = 1;
+  expect_error(j, "paths[0].tool_change_on_t: expected true or false");
+}
+
 TEST_F(JobIo, UnknownKeysAreWarningsWithSuggestions) {
   json j = minimal();
   j["tolerence"] = 0.1;

@@ -393,6 +393,14 @@ TEST(StressRun, ANewRunRemovesTheOldVerdictFirstAndResumeChecksTheCampaign) {
   EXPECT_FALSE(fs::exists(dir / "failures" / "case_000001.json"));
   EXPECT_TRUE(fs::is_empty(dir / "cases"));
 
+  // A directory that is not a stress output is not cleared for a run.
+  const fs::path precious = scratch("not_stress");
+  std::ofstream(precious / "notes.txt") << "keep me";
+  StressOptions elsewhere = options;
+  elsewhere.out_dir = precious.string();
+  EXPECT_THROW(run_stress(elsewhere), morph::InputError);
+  EXPECT_TRUE(fs::exists(precious / "notes.txt"));
+
   // --resume of the campaign in dir with another option is refused, naming it.
   options.resume = true;
   options.face_samples = 99;

@@ -718,3 +718,94 @@ TEST(GcodeRealFiles, ThreeDChips) {
   EXPECT_NEAR((cut.lo - Vector3d(-52, -56.128, -30.5)).norm(), 0.0, 1e-12);
   EXPECT_NEAR((cut.hi - Vector3d(53, 56.128, 10)).norm(), 0.0, 1e-12);
 }
+
+// ---- the LinuxCNC dialect: bounds, tools, machine set-up -------------------------------------
+
+TEST(GcodeControlFlow, EndlessLoopsAndRecursionAreBoundedWithAClearError) {
+  GcodeOptions options;
+  options.max_loop_iterations = 1000;
+  const std::string endless = error_of("G21 F100\no1 while [1]\no1 endwhile\nM2\n", options);
+  EXPECT_EQ(endless.rfind("test.ngc:3: ", 0), 0u) << endless;
+  EXPECT_NE(endless.find("loop ran 1000 times"), std::string::npos) << endless;
+  options.max_blocks = 500;
+  options.max_loop_iterations = 1'000'000;
+  const std::string long_run =
+      error_of("G21 F100\n#1=0\no1 while [#1 LT 1000]\n#1=[#1+1]\no1 endwhile\nM2\n", options);
+  EXPECT_NE(long_run.find("max_blocks"), std::string::npos) << long_run;
+  const std::string recursion = error_of("o<r> sub\no<r> call\no<r> endsub\no<r> call\nM2\n");
+  EXPECT_EQ(recursion.rfind("test.ngc:2: ", 0), 0u) << recursion;
+  EXPECT_NE(recursion.find("nested deeper than 10"), std::string::npos) << recursion;
+}
+
+TEST(GcodeTools, BareTOnlyPreparesAndIsWarnedWhenItNeverReachesTheSpindle) {
+  GcodeOptions options;
+  options.initial_tool = 1;
+  options.tools = {{1, {}}, {2, {}}};
+  const GcodeResult r = parse("G21 F100 G0 X0 Y0 Z0\nT2\nG1 X1\nT7 M6\nG1 X2\n", options);
+  ASSERT_EQ(r.path.moves.size(), 2u);
+  EXPECT_EQ(r.path.moves[0].tool, 1);  // T2 alone does not change the tool
+  EXPECT_EQ(r.path.moves[1].tool, 7);
+  EXPECT_TRUE(has_warning(r, 2, "T2 is selected but never put in the spindle"));
+  EXPECT_TRUE(has_warning(r, 4, "T7 selects a tool that is not in the tool table"));
+  // A controller that changes tools on T.
+  options.tool_change_on_t = true;
+  const GcodeResult t = parse("G21 F100 G0 X0 Y0 Z0\nT2\nG1 X1\n", options);
+  ASSERT_EQ(t.path.moves.size(), 1u);
+  EXPECT_EQ(t.path.moves[0].tool, 2);
+  EXPECT_TRUE(t.warnings.empty());
+}
+
+TEST(GcodeTools, ToolLengthOffsetsFromTheTableMoveTheTipAsOnTheMachine) {
+  GcodeOptions options;
+  options.initial_tool = 1;
+  options.tools[1].length_offset = 50.0;  // the tool is 50 long: without G43 its tip is 50 lower
+  const GcodeResult r = parse("G21 F100 G0 X0 Y0 Z100\nG1 Z60\nG43 H1\nG1 Z5\nG49\nG1 X1\nG1 Z5\n", options);
+  ASSERT_EQ(r.path.moves.size(), 4u);
+  EXPECT_EQ(r.path.moves[0].end, Vector3d(0, 0, 10));    // Z60 less the 50 long tool
+  EXPECT_EQ(r.path.moves[1].start, Vector3d(0, 0, 10));  // G43 did not move the machine
+  EXPECT_EQ(r.path.moves[1].end, Vector3d(0, 0, 5));     // with G43 H1, Z5 is the tip
+  EXPECT_EQ(r.path.moves[2].end, Vector3d(1, 0, 5));     // G49 does not move it either
+  EXPECT_EQ(r.path.moves[3].end, Vector3d(1, 0, -45));   // but Z5 is the gauge line again
+  EXPECT_TRUE(has_warning(r, 2, "no G43"));
+  EXPECT_EQ(r.path.moves[0].line, 2);
+  EXPECT_NE(error_of("G21 F100\nG43 H3\n", options).find("tool 3 is not in the tool table"),
+            std::string::npos);
+}
+
+TEST(GcodeMachineSetup, WorkOffsetsAndVarFile) {
+  const std::string var = testing::TempDir() + "gcode_setup.var";
+  {
+    std::ofstream out(var);
+    out << "5220\t2.000000\n5241\t5.000000\n5242\t6.000000\n5243\t7.000000\n5161\t1.0\n5162\t2.0\n5163\t3."
+           "0\n";
+  }
+  GcodeOptions options;
+  options.var_file = var;
+  options.start = Vector3d::Zero();
+  // The var file makes G55 active, with its offsets, and gives the G28 position.
+  const GcodeResult r = parse("G21 F100\nG0 X0 Y0 Z0\nG28\n", options);
+  ASSERT_EQ(r.path.moves.size(), 2u);
+  EXPECT_EQ(r.path.moves[0].end, Vector3d(5, 6, 7));
+  EXPECT_EQ(r.path.moves[1].end, Vector3d(1, 2, 3));
+  // The job's work offsets override the var file's.
+  options.work_offsets[2] = Vector3d(-1, -1, -1);
+  EXPECT_EQ(parse("G21 F100\nG0 X0 Y0 Z0\n", options).path.moves[0].end, Vector3d(-1, -1, -1));
+  options.var_file = testing::TempDir() + "no_such.var";
+  EXPECT_THROW(parse("G21\n", options), morph::IoError);
+}
+
+TEST(GcodeErrors, DeepExpressionsAreRefusedNotACrash) {
+  const std::string deep =
+      "G21 F100 G0 X0 Y0 Z0\nG1 X" + std::string(100000, '[') + "1" + std::string(100000, ']') + "\n";
+  EXPECT_NE(error_of(deep).find("test.ngc:2: expression nested more than 256 deep"), std::string::npos);
+  const std::string minus = "G21 F100 G0 X0 Y0 Z0\nG1 X" + std::string(100000, '-') + "#1\n";
+  EXPECT_NE(error_of(minus).find("nested more than 256 deep"), std::string::npos);
+}
+
+TEST(GcodeErrors, CutterCompensationIsRefusedNamingTheLine) {
+  for (const std::string code : {"G41", "G42", "G41.1 D2", "G42.1 D2"}) {
+    const std::string message = error_of("G21 F100 G0 X0 Y0 Z0\nG1 X1\n" + code + "\nG1 X5\n");
+    EXPECT_EQ(message.rfind("test.ngc:3: ", 0), 0u) << code << " -> " << message;
+    EXPECT_NE(message.find("cutter radius compensation"), std::string::npos) << message;
+  }
+}

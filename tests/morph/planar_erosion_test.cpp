@@ -242,3 +242,19 @@ TEST(PlanarErosion, ResultDoesNotDependOnThreads) {
       EXPECT_EQ(a.region.loops[i].curves[k].start, b.region.loops[i].curves[k].start);
   }
 }
+
+TEST(PlanarErosion, PlungeThenAPassFromThePlungePoint) {
+  // The plunge's circle and the half circle behind the pass's start coincide on one side: the first
+  // G-code feed move after a plunge. Found on data/jobs/pocket.nc.
+  const Region stock = rectangle(0, 0, 10, 10);
+  const auto r = morph::planar::erode(stock, polyline({{5, 5}, {5, 5}, {8, 5}}), 1.0);
+  expect_closed(r.region);
+  EXPECT_NEAR(morph::planar::area(r.region), 100.0 - 6.0 - M_PI, kExact);
+  EXPECT_NEAR(morph::planar::perimeter(r.region), 46.0 + 2.0 * M_PI, kExact);
+  // A full-turn arc move starting where a plunge was.
+  Trajectory moves = polyline({{8, 5}, {8, 5}});
+  moves.push_back(circle_move({5, 5}, 3.0, 1));
+  const auto ring = morph::planar::erode(stock, moves, 1.0);
+  expect_closed(ring.region);
+  EXPECT_NEAR(morph::planar::area(ring.region), 100.0 - 12.0 * M_PI, kExact);
+}

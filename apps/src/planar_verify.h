@@ -1,0 +1,53 @@
+#pragma once
+// morphmill verify2d: the exact planar erosion against the Clipper reference, with pictures and a
+// report.
+#include <morph/planar_deviation.h>
+#include <morph/planar_erosion.h>
+#include <morph/progress.h>
+#include <morphmill/planar_io.h>
+
+#include <string>
+#include <vector>
+
+namespace morphmill {
+
+struct Verify2dOptions {
+  std::string job_path;
+  std::string out_dir;
+  double tolerance = 0.0;  ///< reference chord tolerance; 0 uses the job's
+  morph::Progress* progress = nullptr;
+};
+
+struct ConvergenceRow {
+  double chord_tolerance = 0.0;
+  double hausdorff = 0.0;
+  double area_difference = 0.0;  ///< reference area - exact area
+  std::size_t reference_vertices = 0;
+  double reference_seconds = 0.0;
+};
+
+struct Verify2dOutcome {
+  PlanarJob job;
+  morph::planar::PlanarResult exact;
+  morph::planar::PlanarResult dilation;
+  morph::planar::PlanarResult classical;
+  morph::planar::Region reference;
+  morph::planar::PlanarDeviation deviation;  ///< exact -> reference and back, at the tolerance
+  std::vector<ConvergenceRow> convergence;   ///< tolerance x 10, 1, 1/10
+  double tolerance = 0.0;
+  bool pieces_match = false;
+  bool within_bound = false;  ///< Hausdorff <= 2 x tolerance (see docs/planar.md)
+  bool verdict() const { return pieces_match && within_bound; }
+};
+
+/// Runs everything and writes out_dir/{result.svg,result.dxf,result.json,dilation.svg,classical.svg,
+/// reference.svg,deviation.svg,report.json,report.md}.
+Verify2dOutcome run_verify2d(const Verify2dOptions& options);
+
+/// Heatmap: the first region's boundary coloured by |distance| to the other, over the other's outline.
+void write_deviation_svg(const morph::planar::Region& measured,
+                         const morph::planar::DirectedDeviation& deviation,
+                         const morph::planar::Region& other, double colour_max, const std::string& title,
+                         const std::string& path);
+
+}  // namespace morphmill
