@@ -9,6 +9,7 @@ packages=(
   libopenvdb-dev libboost-dev libboost-iostreams-dev libblosc-dev zlib1g-dev
   libembree-dev
   libopenmesh-dev
+  libcgal-dev
   nlohmann-json3-dev libcli11-dev libfmt-dev libstb-dev
   libgtest-dev libgmock-dev libbenchmark-dev
   chromium

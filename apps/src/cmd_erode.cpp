@@ -5,6 +5,7 @@
 #include <morph/topology.h>
 #include <morphmill/job_io.h>
 #include <morphmill/mesh_io.h>
+#include <morphmill/self_intersections.h>
 #include <tbb/global_control.h>
 #include <tbb/task_group.h>
 
@@ -26,6 +27,7 @@ struct ErodeCommandOptions {
   double tolerance = 0.0;
   int threads = 0;
   bool ascii = false;
+  bool allow_open = false;
 };
 
 void run_erode(const ErodeCommandOptions& options) {
@@ -40,14 +42,20 @@ void run_erode(const ErodeCommandOptions& options) {
   erode_options.tolerance = options.tolerance;
   erode_options.progress = &progress;
   const morph::ErodeResult result = morph::erode(job, erode_options);
-  MeshWriteOptions write_options;
-  write_options.binary = !options.ascii;
-  // The summary's topology is computed while the file is written.
+  // What the surface is decides whether it is written: a surface that is not a closed, oriented
+  // 2-manifold free of self-intersections is not the solid that was promised.
   morph::TopologyReport topology;
-  tbb::task_group summary;
-  summary.run([&] { topology = morph::topology_report(result.mesh); });
-  write_mesh(result.mesh, options.mesh_path, write_options);
-  summary.wait();
+  SelfIntersections crossings;
+  tbb::task_group checks;
+  checks.run([&] { topology = morph::topology_report(result.mesh); });
+  checks.run([&] { crossings = find_self_intersections(result.mesh); });
+  checks.wait();
+  const bool valid = topology.closed_manifold() && crossings.pairs == 0;
+  if (valid || options.allow_open) {
+    MeshWriteOptions write_options;
+    write_options.binary = !options.ascii;
+    write_mesh(result.mesh, options.mesh_path, write_options);
+  }
   const morph::ErodeStats& s = result.stats;
   std::cout << "erode " << (job.name.empty() ? options.job_path : job.name) << " at tolerance "
             << (options.tolerance > 0.0 ? options.tolerance : job.tolerance) << ": " << s.moves << " moves ("
@@ -58,10 +66,21 @@ void run_erode(const ErodeCommandOptions& options) {
   if (!topology.closed_manifold())
     std::cout << " (" << topology.boundary_edges << " boundary, " << topology.non_manifold_edges
               << " non-manifold edges, " << topology.non_manifold_vertices << " non-manifold vertices)";
+  std::cout << ", self-intersections: " << crossings.pairs << " pairs";
+  if (!crossings.first_pairs.empty())
+    std::cout << " (first: triangles " << crossings.first_pairs[0].first << " and "
+              << crossings.first_pairs[0].second << ")";
   std::cout << ", volume " << std::setprecision(10) << topology.volume << '\n'
             << std::fixed << std::setprecision(2) << "  " << s.seconds_total << " s (setup "
             << s.seconds_setup << ", trim " << s.seconds_trim << ", assemble " << s.seconds_assemble
-            << ") -> " << options.mesh_path << '\n';
+            << ") -> " << (valid || options.allow_open ? options.mesh_path : "not written") << '\n';
+  if (!valid) {
+    std::cerr << "erode: the surface is not a closed, oriented 2-manifold free of self-intersections; "
+              << (options.allow_open ? "written anyway (--allow-open)"
+                                     : "not written (--allow-open writes it anyway)")
+              << '\n';
+    throw VerdictFailed{};
+  }
 }
 
 }  // namespace
@@ -74,6 +93,8 @@ void register_erode_command(CLI::App& app) {
       "side sweeps along every move, front sweeps at path ends and turns, and the stock's faces, each\n"
       "trimmed against the exact swept volumes. The PLY output keeps each face's provenance\n"
       "(patch_kind, source = move or stock face, line = G-code line).\n"
+      "Exit code 0 when the surface is a closed, oriented 2-manifold free of self-intersections\n"
+      "(exact predicates); 1 when it is not (nothing is written unless --allow-open); 2 bad input.\n"
       "Example: morphmill erode data/jobs/through_slots.json -o out/part.ply --tolerance 0.01");
   command->add_option("job", options->job_path, "Job file (JSON, see docs/job-format.md)")->required();
   command->add_option("--out,-o", options->mesh_path, "Output mesh (PLY keeps the face provenance)")
@@ -82,6 +103,9 @@ void register_erode_command(CLI::App& app) {
                       "Largest distance from the exact surface, job units (default: the job's tolerance)");
   command->add_option("--threads", options->threads, "Worker threads (default: all cores)");
   command->add_flag("--ascii", options->ascii, "Write ASCII instead of binary PLY/STL");
+  command->add_flag("--allow-open", options->allow_open,
+                    "Write the surface even when it is not a closed, oriented 2-manifold free of\n"
+                    "self-intersections (the exit code is still 1)");
   command->callback([options] { run_erode(*options); });
 }
 

@@ -5,6 +5,7 @@
 #include <morph/topology.h>
 #include <morphmill/job_io.h>
 #include <morphmill/mesh_io.h>
+#include <morphmill/self_intersections.h>
 
 #include <iostream>
 #include <map>
@@ -113,6 +114,17 @@ json mesh_report_json(const morph::TriangleMesh& mesh, const std::string& path) 
            {"volume", r.volume}};
   // For a closed orientable surface chi = 2 (components - genus).
   if (r.closed_manifold()) out["genus"] = long(r.components) - r.euler_characteristic / 2;
+  json pieces = json::array();
+  for (const morph::PieceTopology& piece : r.pieces)
+    pieces.push_back({{"triangles", piece.triangles},
+                      {"euler_characteristic", piece.euler_characteristic},
+                      {"closed_manifold", piece.closed_manifold},
+                      {"genus", piece.closed_manifold ? json(piece.genus) : json(nullptr)}});
+  out["pieces"] = pieces;
+  const SelfIntersections crossings = find_self_intersections(mesh);
+  out["self_intersecting_pairs"] = crossings.pairs;
+  out["first_self_intersecting_pairs"] = crossings.first_pairs;
+  out["valid_solid"] = r.closed_manifold() && crossings.pairs == 0;
   out["bounds"] = box.isEmpty() ? json(nullptr)
                                 : json{{"min", {box.min().x(), box.min().y(), box.min().z()}},
                                        {"max", {box.max().x(), box.max().y(), box.max().z()}}};
@@ -152,6 +164,28 @@ void print_mesh_report(const json& r, std::ostream& out) {
   row("Euler characteristic", std::to_string(r["euler_characteristic"].get<long>()));
   if (r.contains("genus")) row("genus", std::to_string(r["genus"].get<long>()));
   row("closed manifold", r["closed_manifold"].get<bool>() ? "yes" : "no");
+  std::string crossings = count("self_intersecting_pairs") + " pairs of triangles";
+  if (!r["first_self_intersecting_pairs"].empty()) {
+    crossings += " (first:";
+    for (const json& pair : r["first_self_intersecting_pairs"])
+      crossings += " " + std::to_string(pair[0].get<std::uint32_t>()) + "&" +
+                   std::to_string(pair[1].get<std::uint32_t>());
+    crossings += ")";
+  }
+  row("self-intersections", crossings);
+  row("valid solid", r["valid_solid"].get<bool>() ? "yes (closed, oriented, no self-intersections)" : "no");
+  constexpr std::size_t kPiecesShown = 20;
+  const json& pieces = r["pieces"];
+  for (std::size_t i = 0; i < pieces.size() && i < kPiecesShown; ++i) {
+    const json& piece = pieces[i];
+    row(i == 0 ? "pieces" : "",
+        fmt::format("#{}: {} triangles, {}", i + 1, piece["triangles"].get<std::size_t>(),
+                    piece["closed_manifold"].get<bool>()
+                        ? "closed, genus " + std::to_string(piece["genus"].get<long>())
+                        : "not closed (Euler characteristic " +
+                              std::to_string(piece["euler_characteristic"].get<long>()) + ")"));
+  }
+  if (pieces.size() > kPiecesShown) row("", fmt::format("... {} more", pieces.size() - kPiecesShown));
   row("area", number(r["area"].get<double>()));
   row("enclosed volume",
       number(r["volume"].get<double>()) +

@@ -176,6 +176,53 @@ std::vector<char> manifold_vertices(const TriangleMesh& mesh) {
   return manifold_rows(mesh, mesh.vertices.size(), same, same);
 }
 
+// Each piece's own Euler characteristic and soundness. Edges belong to one piece (pieces are
+// edge-connected); a vertex where pieces touch counts once in each of them.
+std::vector<PieceTopology> piece_topologies(const TriangleMesh& mesh, const std::vector<EdgeUse>& uses,
+                                            const std::vector<char>& manifold,
+                                            const std::vector<std::uint32_t>& component_of_triangle,
+                                            std::size_t components) {
+  std::vector<long> vertices(components, 0), edges(components, 0);
+  std::vector<char> sound(components, 1);
+  for (std::size_t begin = 0; begin < uses.size();) {
+    std::size_t end = begin + 1;
+    while (end < uses.size() && uses[end].key == uses[begin].key) ++end;
+    const std::uint32_t piece = component_of_triangle[uses[begin].triangle];
+    ++edges[piece];
+    if (end - begin != 2 || uses[begin].forward == uses[begin + 1].forward) sound[piece] = 0;
+    begin = end;
+  }
+  std::vector<PieceTopology> pieces(components);
+  constexpr std::uint32_t kNone = UINT32_MAX;
+  std::vector<std::uint32_t> first_piece(mesh.vertices.size(), kNone);
+  std::vector<std::pair<std::uint32_t, std::uint32_t>> shared;  // (vertex, a further piece)
+  for (std::size_t t = 0; t < mesh.triangles.size(); ++t) {
+    const Triangle& tri = mesh.triangles[t];
+    if (collapsed(tri)) continue;
+    const std::uint32_t piece = component_of_triangle[t];
+    ++pieces[piece].triangles;
+    for (std::uint32_t v : tri) {
+      if (!manifold[v]) sound[piece] = 0;
+      if (first_piece[v] == kNone) {
+        first_piece[v] = piece;
+        ++vertices[piece];
+      } else if (first_piece[v] != piece) {
+        shared.emplace_back(v, piece);
+      }
+    }
+  }
+  std::sort(shared.begin(), shared.end());
+  shared.erase(std::unique(shared.begin(), shared.end()), shared.end());
+  for (const auto& vertex_piece : shared) ++vertices[vertex_piece.second];
+  for (std::size_t c = 0; c < components; ++c) {
+    PieceTopology& piece = pieces[c];
+    piece.euler_characteristic = vertices[c] - edges[c] + static_cast<long>(piece.triangles);
+    piece.closed_manifold = sound[c] && piece.triangles > 0;
+    piece.genus = piece.closed_manifold ? (2 - piece.euler_characteristic) / 2 : -1;
+  }
+  return pieces;
+}
+
 }  // namespace
 
 std::vector<std::uint32_t> non_manifold_vertices(const TriangleMesh& mesh) {
@@ -261,6 +308,7 @@ TopologyReport topology_report(const TriangleMesh& mesh) {
                                                    component_of_triangle);
   report.euler_characteristic = static_cast<long>(report.vertices) - static_cast<long>(report.edges) +
                                 static_cast<long>(proper_triangles);
+  report.pieces = piece_topologies(mesh, uses, manifold, component_of_triangle, report.components);
   report.volume = enclosed_volume(mesh);
   report.area = surface_area(mesh);
   return report;

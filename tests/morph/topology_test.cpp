@@ -243,3 +243,57 @@ TEST(Topology, IndexOutOfRangeIsAnInputError) {
 }
 
 }  // namespace
+
+namespace {
+
+// A torus and a cube, apart: genus 1 and 0 piece by piece, whatever the whole mesh's sum says.
+TEST(TopologyPieces, GenusOfEachPiece) {
+  TriangleMesh mesh = torus(3.0, 1.0, 24, 12);
+  mesh.append(box({10, 10, 10}, {11, 11, 11}));
+  const morph::TopologyReport r = morph::topology_report(mesh);
+  ASSERT_EQ(r.pieces.size(), 2u);
+  EXPECT_EQ(r.pieces[0].triangles, 24u * 12u * 2u);
+  EXPECT_EQ(r.pieces[0].euler_characteristic, 0);
+  EXPECT_TRUE(r.pieces[0].closed_manifold);
+  EXPECT_EQ(r.pieces[0].genus, 1);
+  EXPECT_EQ(r.pieces[1].triangles, 12u);
+  EXPECT_EQ(r.pieces[1].euler_characteristic, 2);
+  EXPECT_EQ(r.pieces[1].genus, 0);
+  EXPECT_EQ(r.euler_characteristic, 2);
+}
+
+// Two cubes welded at one corner: each piece counts the shared vertex, and neither is a closed
+// manifold (the pinch belongs to both).
+TEST(TopologyPieces, APinchSpoilsBothPieces) {
+  TriangleMesh mesh = unit_cube();
+  TriangleMesh other = box({1, 1, 1}, {2, 2, 2});
+  for (std::size_t i = 1; i < 8; ++i) mesh.vertices.push_back(other.vertices[i]);
+  for (const Triangle& t : other.triangles) {
+    Triangle w;
+    for (int k = 0; k < 3; ++k) w[k] = t[k] == 0 ? 7 : t[k] + 7;
+    mesh.triangles.push_back(w);
+  }
+  const morph::TopologyReport r = morph::topology_report(mesh);
+  ASSERT_EQ(r.pieces.size(), 2u);
+  for (const morph::PieceTopology& piece : r.pieces) {
+    EXPECT_EQ(piece.euler_characteristic, 8 - 18 + 12);
+    EXPECT_FALSE(piece.closed_manifold);
+    EXPECT_EQ(piece.genus, -1);
+  }
+}
+
+TEST(TopologyPieces, AnOpenPieceHasNoGenus) {
+  TriangleMesh mesh = unit_cube();
+  mesh.triangles.pop_back();
+  mesh.append(unit_cube());
+  for (std::size_t i = 8; i < mesh.vertices.size(); ++i) mesh.vertices[i].x() += 5.0;
+  const morph::TopologyReport r = morph::topology_report(mesh);
+  ASSERT_EQ(r.pieces.size(), 2u);
+  EXPECT_FALSE(r.pieces[0].closed_manifold);
+  EXPECT_EQ(r.pieces[0].genus, -1);
+  EXPECT_EQ(r.pieces[0].euler_characteristic, 8 - 18 + 11);
+  EXPECT_TRUE(r.pieces[1].closed_manifold);
+  EXPECT_EQ(r.pieces[1].genus, 0);
+}
+
+}  // namespace

@@ -10,6 +10,16 @@
 
 namespace morph {
 
+/// One edge-connected piece of a mesh.
+struct PieceTopology {
+  std::size_t triangles = 0;      ///< proper triangles (three distinct vertex indices)
+  long euler_characteristic = 0;  ///< V - E + F of the piece alone
+  bool closed_manifold = false;   ///< no boundary, non-manifold or inconsistent edge, no
+                                  ///< non-manifold vertex in the piece
+  /// Genus (handles) of a closed oriented piece, (2 - V + E - F) / 2; -1 where that is not one.
+  long genus = -1;
+};
+
 struct TopologyReport {
   std::size_t vertices = 0;  ///< vertices referenced by at least one triangle
   std::size_t unreferenced_vertices = 0;
@@ -24,6 +34,8 @@ struct TopologyReport {
   long euler_characteristic = 0;          ///< V - E + F
   double volume = 0.0;                    ///< enclosed volume (divergence theorem)
   double area = 0.0;
+  /// Per piece, in the order of their smallest triangle index (see connected_components).
+  std::vector<PieceTopology> pieces;
 
   /// Closed, oriented 2-manifold: no boundary, no non-manifold edges or vertices, consistent.
   bool closed_manifold() const {
