@@ -55,11 +55,9 @@ void print_job(const json& d, std::ostream& out) {
 
   out << "\nTools:\n";
   for (const json& t : d["tools"]) {
-    out << fmt::format("  T{:<4} {:<9} radius {}", t["number"].get<int>(), t["type"].get<std::string>(),
-                       number(t["radius"].get<double>()));
-    for (const char* key : {"length", "corner_radius", "angle", "tip_radius"})
-      if (t.contains(key)) out << "  " << key << " " << number(t[key].get<double>());
-    if (!t["supported"].get<bool>()) out << "  (reserved type: not computed by erode/reference yet)";
+    out << fmt::format("  T{:<4} {}", t["number"].get<int>(), t["shape"].get<std::string>());
+    if (t.contains("length_offset")) out << "  length offset " << number(t["length_offset"].get<double>());
+    if (!t["generator"].get<bool>()) out << "  (erode cannot build this shape yet; reference and verify can)";
     out << "\n";
   }
 

@@ -8,8 +8,10 @@
 #include <morph/topology.h>
 #include <morphmill/job_io.h>
 #include <morphmill/mesh_io.h>
+#include <morphmill/tool_sources.h>
 
 #include <algorithm>
+#include <cctype>
 #include <cerrno>
 #include <cmath>
 #include <cstring>
@@ -312,47 +314,206 @@ class JobParser {
     return stock;
   }
 
+  /// A size given as a diameter or as a radius (exactly one of the two keys); returns the radius,
+  /// or NaN when neither is given and the size is optional.
+  double radius_or_diameter(const json& v, const std::string& at, const char* diameter_key,
+                            const char* radius_key, bool required) const {
+    const json* d = find(v, diameter_key);
+    const json* r = find(v, radius_key);
+    if (d && r) fail(at, std::string("give '") + diameter_key + "' or '" + radius_key + "', not both");
+    if (d) return 0.5 * positive(*d, join_path(at, diameter_key));
+    if (r) return positive(*r, join_path(at, radius_key));
+    if (required)
+      fail(at, std::string("missing required key '") + diameter_key + "' (or '" + radius_key + "')");
+    return std::nan("");
+  }
+
+  /// Tools (docs/job-format.md, "tools"): the shape's keys, then the morph constructor, whose
+  /// complaints name their field (put after the tool's JSON path here).
   morph::Tool tool(const json& v, const std::string& at, int tool_number) const {
     object(v, at);
-    morph::Tool tool;
-    tool.number = tool_number;
     const std::string type_at = join_path(at, "type");
-    tool.type = morph::tool_type_from_string(string(require(v, at, "type"), type_at), file_ + ": " + type_at);
-    tool.radius = positive(require(v, at, "radius"), join_path(at, "radius"));
-    switch (tool.type) {
-      case morph::ToolType::Sphere:
-        check_keys(v, at, {"type", "radius", "description"});
-        break;
-      case morph::ToolType::BallEnd:
-      case morph::ToolType::Flat:
-        check_keys(v, at, {"type", "radius", "length", "description"});
-        tool.length = positive(require(v, at, "length"), join_path(at, "length"));
-        break;
-      case morph::ToolType::Bullnose:
-        check_keys(v, at, {"type", "radius", "length", "corner_radius", "description"});
-        tool.length = positive(require(v, at, "length"), join_path(at, "length"));
-        tool.corner_radius = positive(require(v, at, "corner_radius"), join_path(at, "corner_radius"));
-        if (tool.corner_radius > tool.radius)
-          fail(join_path(at, "corner_radius"), "must not exceed the radius " + text(tool.radius));
-        break;
-      case morph::ToolType::Conical: {
-        check_keys(v, at, {"type", "radius", "length", "angle", "tip_radius", "description"});
-        tool.length = positive(require(v, at, "length"), join_path(at, "length"));
-        tool.angle = number(require(v, at, "angle"), join_path(at, "angle"));
-        if (!(tool.angle > 0 && tool.angle < 180))
-          fail(join_path(at, "angle"),
-               "must be between 0 and 180 degrees (exclusive), got " + text(tool.angle));
-        if (const json* tip = find(v, "tip_radius")) {
-          tool.tip_radius = number(*tip, join_path(at, "tip_radius"));
-          if (!(tool.tip_radius >= 0 && tool.tip_radius < tool.radius))
-            fail(join_path(at, "tip_radius"),
-                 "must be at least 0 and less than the radius " + text(tool.radius));
+    const std::string type_name = string(require(v, at, "type"), type_at);
+    const morph::ToolType type = morph::tool_type_from_string(type_name, file_ + ": " + type_at);
+    const bool by_diameter = find(v, "diameter") != nullptr;
+    auto number_of = [&](const char* key) { return number(require(v, at, key), join_path(at, key)); };
+    auto optional_number = [&](const char* key) {
+      const json* x = find(v, key);
+      return x ? number(*x, join_path(at, key)) : std::nan("");
+    };
+    morph::Tool tool;
+    try {
+      switch (type) {
+        case morph::ToolType::Sphere:
+          check_keys(v, at, {"type", "diameter", "radius", "length_offset", "description"});
+          tool = morph::sphere_tool(radius_or_diameter(v, at, "diameter", "radius", true));
+          break;
+        case morph::ToolType::BallEnd:
+          check_keys(v, at, {"type", "diameter", "radius", "length", "length_offset", "description"});
+          tool = morph::ball_tool(radius_or_diameter(v, at, "diameter", "radius", true),
+                                  positive(require(v, at, "length"), join_path(at, "length")));
+          break;
+        case morph::ToolType::Flat:
+          check_keys(v, at, {"type", "diameter", "radius", "length", "length_offset", "description"});
+          tool = morph::flat_tool(radius_or_diameter(v, at, "diameter", "radius", true), number_of("length"));
+          break;
+        case morph::ToolType::Bullnose:
+          check_keys(
+              v, at,
+              {"type", "diameter", "radius", "corner_radius", "length", "length_offset", "description"});
+          tool = morph::bullnose_tool(radius_or_diameter(v, at, "diameter", "radius", true),
+                                      number_of("corner_radius"), number_of("length"));
+          break;
+        case morph::ToolType::Conical: {
+          check_keys(v, at,
+                     {"type", "diameter", "radius", "angle", "cone_length", "length", "tip_diameter",
+                      "tip_radius", "length_offset", "description"});
+          const double radius = radius_or_diameter(v, at, "diameter", "radius", true);
+          double tip = radius_or_diameter(v, at, "tip_diameter", "tip_radius", false);
+          if (std::isnan(tip)) tip = 0.0;
+          const json* angle = find(v, "angle");
+          const json* cone = find(v, "cone_length");
+          if (angle && cone) fail(at, "give 'angle' or 'cone_length', not both");
+          if (!angle && !cone) fail(at, "missing required key 'angle' (or 'cone_length')");
+          double included = 0.0, height = 0.0;
+          if (angle) {
+            included = number(*angle, join_path(at, "angle"));
+            height = std::isfinite(included) && included > 0 && included < 180 && tip < radius
+                         ? morph::cone_height(radius, included, tip)
+                         : 0.0;
+          } else {
+            height = positive(*cone, join_path(at, "cone_length"));
+            if (!(tip < radius))
+              fail(join_path(at, "tip_radius"), "must be less than the radius " + text(radius));
+            included = morph::cone_angle(radius, height, tip);
+          }
+          const double length = find(v, "length") ? number_of("length") : height;
+          tool = morph::conical_tool(radius, included, length, tip);
+          break;
         }
-        break;
+        case morph::ToolType::Tapered:
+        case morph::ToolType::TaperedBall: {
+          check_keys(v, at,
+                     {"type", "tip_diameter", "tip_radius", "diameter", "radius", "angle", "length",
+                      "length_offset", "description"});
+          const double tip = radius_or_diameter(v, at, "tip_diameter", "tip_radius", true);
+          const double length = number_of("length");
+          const double top = radius_or_diameter(v, at, "diameter", "radius", false);
+          const json* angle = find(v, "angle");
+          if (angle && !std::isnan(top))
+            fail(at, "give 'angle' (taper per side) or 'diameter' at the top, not both");
+          if (!angle && std::isnan(top)) fail(at, "missing required key 'angle' (or 'diameter' at the top)");
+          if (type == morph::ToolType::Tapered) {
+            double radius = top;
+            if (angle) {
+              const double a = number(*angle, join_path(at, "angle"));
+              if (!(a > 0 && a < 90))
+                fail(join_path(at, "angle"),
+                     "must be a taper per side between 0 and 90 degrees (exclusive), got " + text(a));
+              radius = tip + length * std::tan(a * M_PI / 180.0);
+            }
+            tool = morph::tapered_tool(tip, radius, length);
+          } else {
+            if (!std::isnan(top) && !(top > tip))
+              fail(join_path(at, by_diameter ? "diameter" : "radius"), "must exceed the tip's");
+            const double a =
+                angle ? number(*angle, join_path(at, "angle")) : morph::tapered_ball_angle(tip, top, length);
+            tool = morph::tapered_ball_tool(tip, a, length);
+          }
+          break;
+        }
+        case morph::ToolType::Spheroid:
+          check_keys(v, at, {"type", "diameter", "radius", "length", "length_offset", "description"});
+          tool = morph::spheroid_tool(radius_or_diameter(v, at, "diameter", "radius", true),
+                                      number_of("length"));
+          break;
+        case morph::ToolType::Apt:
+          check_keys(v, at,
+                     {"type", "diameter", "corner_radius", "e", "f", "alpha", "beta", "height",
+                      "length_offset", "description"});
+          tool = morph::apt_tool(number_of("diameter"), number_of("corner_radius"), number_of("alpha"),
+                                 number_of("beta"), number_of("height"), optional_number("e"),
+                                 optional_number("f"));
+          break;
+      }
+    } catch (const morph::ToolError& e) {
+      // The constructors speak in radii; a tool given by diameters hears about its diameter.
+      std::string field = e.field(), problem = e.problem();
+      if (field == "radius" && by_diameter) field = "diameter", problem += " (as a radius)";
+      if (field == "tip_radius" && find(v, "tip_diameter"))
+        field = "tip_diameter", problem += " (as a radius)";
+      fail(join_path(at, field), problem);
+    }
+    tool.number = tool_number;
+    if (const json* offset = find(v, "length_offset"))
+      tool.length_offset = number(*offset, join_path(at, "length_offset"));
+    if (const json* d = find(v, "description")) tool.description = string(*d, join_path(at, "description"));
+    return tool;
+  }
+
+  /// A LinuxCNC tool table (`file`, in `units`, default the job's) whose tools take their shape
+  /// from `shape` (every tool) or `shapes` (per tool number): a type name or an object with the
+  /// tool keys but the diameter, which the table gives. Z becomes the tool's length offset.
+  void tool_table(const json& v, const std::string& at, morph::Units job_units,
+                  std::map<int, morph::Tool>& tools) const {
+    object(v, at);
+    check_keys(v, at, {"file", "units", "shape", "shapes", "description"});
+    const std::string file = referenced_file(require(v, at, "file"), join_path(at, "file"), "tool table");
+    double scale = 1.0;
+    if (const json* u = find(v, "units")) {
+      const std::string name = string(*u, join_path(at, "units"));
+      if (name != "mm" && name != "inch")
+        fail(join_path(at, "units"), "expected \"mm\" or \"inch\", got \"" + name + "\"");
+      scale = morph::millimetres_per_unit(name == "inch" ? morph::Units::Inch : morph::Units::Millimetre) /
+              morph::millimetres_per_unit(job_units);
+    }
+    std::map<int, ToolTableRow> rows;
+    try {
+      rows = read_tool_table(file);
+    } catch (const morph::InputError& e) {
+      fail(join_path(at, "file"), e.what());
+    } catch (const morph::IoError& e) {
+      fail(join_path(at, "file"), e.what());
+    }
+    const json* shape = find(v, "shape");
+    const json* shapes = find(v, "shapes");
+    if (shapes) {
+      object(*shapes, join_path(at, "shapes"));
+      for (auto it = shapes->begin(); it != shapes->end(); ++it) {
+        const int number = tool_number(json(it.key()), join_path(join_path(at, "shapes"), it.key()));
+        if (!rows.count(number))
+          fail(join_path(join_path(at, "shapes"), it.key()),
+               "tool " + std::to_string(number) + " is not in the tool table '" + file + "'" + listed(rows));
       }
     }
-    if (const json* d = find(v, "description")) string(*d, join_path(at, "description"));
-    return tool;
+    for (const auto& [number, row] : rows) {
+      const std::string row_at = file + ":" + std::to_string(row.line) + " (T" + std::to_string(number) + ")";
+      if (tools.count(number))
+        fail(join_path(at, "file"),
+             row_at + ": tool " + std::to_string(number) + " is also defined in 'tools'");
+      const json* given = shapes ? find(*shapes, std::to_string(number).c_str()) : nullptr;
+      const std::string shape_at =
+          given ? join_path(join_path(at, "shapes"), std::to_string(number)) : join_path(at, "shape");
+      if (!given) given = shape;
+      if (!given)
+        fail(at, row_at +
+                     " has no shape: give 'shape' (every tool) or 'shapes' (by tool number); a LinuxCNC "
+                     "tool table holds diameters and offsets, not shapes");
+      json spec = given->is_string() ? json{{"type", given->get<std::string>()}} : object(*given, shape_at);
+      if (spec.contains("diameter") || spec.contains("radius"))
+        fail(shape_at, "the tool table gives the diameter; leave 'diameter' and 'radius' out here");
+      if (!(row.diameter > 0.0))
+        fail(join_path(at, "file"), row_at + ": D must be greater than 0 for a cutting tool");
+      const bool apt = spec.value("type", "") == "apt";
+      spec[apt ? "diameter" : "radius"] = apt ? scale * row.diameter : 0.5 * scale * row.diameter;
+      morph::Tool tool = this->tool(spec, shape_at + " for " + row_at, number);
+      tool.length_offset = scale * row.z_offset;
+      if (tool.description.empty()) tool.description = row.comment;
+      tools[number] = tool;
+      warn(at, "T" + std::to_string(number) + " from " + fs::path(file).filename().string() + ": diameter " +
+                   text(scale * row.diameter) + ", length offset " + text(tool.length_offset) +
+                   ", shape from the job: " + morph::describe(tool));
+    }
   }
 
   /// The controller's set-up a G-code path runs with: its tool table (the job's tools), work
@@ -482,6 +643,12 @@ class JobParser {
   }
 
  private:
+  static std::string listed(const std::map<int, ToolTableRow>& rows) {
+    std::string list;
+    for (const auto& [number, row] : rows) list += (list.empty() ? "" : ", ") + std::to_string(number);
+    return " (listed: " + list + ")";
+  }
+
   static std::string defined_tools(const std::map<int, morph::Tool>& tools) {
     if (tools.empty()) return " (no tools are defined)";
     std::string list;
@@ -498,6 +665,34 @@ json vector_json(const Eigen::Vector3d& v) {
   return json::array({v.x(), v.y(), v.z()});
 }
 
+json tool_json(const morph::Tool& t) {
+  json tool{{"number", t.number},
+            {"type", morph::to_string(t.type)},
+            {"radius", t.radius},
+            {"diameter", 2.0 * t.radius},
+            {"shape", morph::describe(t)}};
+  if (t.type != morph::ToolType::Sphere) tool["length"] = t.length;
+  if (t.type == morph::ToolType::Bullnose || t.type == morph::ToolType::Apt)
+    tool["corner_radius"] = t.corner_radius;
+  if (t.type == morph::ToolType::Conical || t.type == morph::ToolType::Tapered ||
+      t.type == morph::ToolType::TaperedBall)
+    tool["angle"] = t.angle;
+  if (t.type == morph::ToolType::Conical || t.type == morph::ToolType::Tapered ||
+      t.type == morph::ToolType::TaperedBall)
+    tool["tip_radius"] = t.tip_radius;
+  if (t.type == morph::ToolType::Apt) {
+    tool["e"] = t.apt_e;
+    tool["f"] = t.apt_f;
+    tool["alpha"] = t.apt_alpha;
+    tool["beta"] = t.apt_beta;
+  }
+  if (t.length_offset != 0.0) tool["length_offset"] = t.length_offset;
+  if (!t.description.empty()) tool["description"] = t.description;
+  if (!t.profile.empty()) tool["profile"] = t.profile.describe();
+  tool["generator"] = t.generator_builds();
+  return tool;
+}
+
 json box_json(const Eigen::AlignedBox3d& box) {
   if (box.isEmpty()) return nullptr;
   return {{"min", vector_json(box.min())}, {"max", vector_json(box.max())}};
@@ -511,8 +706,9 @@ morph::Job parse_job(const nlohmann::json& root, const std::string& file) {
   JobParser parser(file, job.warnings);
   parser.object(root, "");
   if (!root.is_object()) parser.fail("", "a job file must hold one JSON object");
-  parser.check_keys(root, "",
-                    {"name", "description", "units", "stock", "tools", "paths", "tolerance", "design"});
+  parser.check_keys(
+      root, "",
+      {"name", "description", "units", "stock", "tools", "tool_table", "paths", "tolerance", "design"});
   if (const json* design = parser.find(root, "design")) parser.design(*design, "design");
 
   job.name = fs::path(file).stem().string();
@@ -534,14 +730,19 @@ morph::Job parse_job(const nlohmann::json& root, const std::string& file) {
 
   job.stock = parser.stock(parser.require(root, "", "stock"), "stock");
 
-  const json& tools = parser.object(parser.require(root, "", "tools"), "tools");
-  if (tools.empty()) parser.fail("tools", "defines no tools; a job needs at least one");
-  for (auto it = tools.begin(); it != tools.end(); ++it) {
-    const std::string at = "tools." + it.key();
-    const int number = parser.tool_number(json(it.key()), at);
-    if (job.tools.count(number)) parser.fail(at, "tool " + std::to_string(number) + " is defined twice");
-    job.tools[number] = parser.tool(it.value(), at, number);
+  const json* table = parser.find(root, "tool_table");
+  const json* tools = table ? parser.find(root, "tools") : &parser.require(root, "", "tools");
+  if (tools) {
+    parser.object(*tools, "tools");
+    if (tools->empty() && !table) parser.fail("tools", "defines no tools; a job needs at least one");
+    for (auto it = tools->begin(); it != tools->end(); ++it) {
+      const std::string at = "tools." + it.key();
+      const int number = parser.tool_number(json(it.key()), at);
+      if (job.tools.count(number)) parser.fail(at, "tool " + std::to_string(number) + " is defined twice");
+      job.tools[number] = parser.tool(it.value(), at, number);
+    }
   }
+  if (table) parser.tool_table(*table, "tool_table", job.units, job.tools);
 
   const json& paths = parser.require(root, "", "paths");
   if (!paths.is_array()) parser.fail("paths", "expected an array of paths, got " + describe_value(paths));
@@ -572,6 +773,14 @@ DesignSpec load_design(const std::string& path) {
 }
 
 morph::Job load_job(const std::string& path) {
+  std::string extension = fs::path(path).extension().string();
+  std::transform(extension.begin(), extension.end(), extension.begin(),
+                 [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+  if (extension == ".camotics") return load_camotics_project(path);
+  if (extension == ".tpl")
+    throw InputError(path +
+                     ": a CAMotics TPL program (JavaScript that generates G-code) is not a job; run it "
+                     "through CAMotics' 'tplang' and give MorphMill the G-code it writes");
   return parse_job_text(morph::read_regular_file(path, "job file", kMaxJobFileBytes), path);
 }
 
@@ -640,17 +849,7 @@ nlohmann::json describe_job(const morph::Job& job) {
   out["stock"] = stock;
 
   json tools = json::array();
-  for (const auto& [number, t] : job.tools) {
-    json tool{{"number", number}, {"type", morph::to_string(t.type)}, {"radius", t.radius}};
-    if (t.type != morph::ToolType::Sphere) tool["length"] = t.length;
-    if (t.type == morph::ToolType::Bullnose) tool["corner_radius"] = t.corner_radius;
-    if (t.type == morph::ToolType::Conical) {
-      tool["angle"] = t.angle;
-      tool["tip_radius"] = t.tip_radius;
-    }
-    tool["supported"] = t.supported();
-    tools.push_back(tool);
-  }
+  for (const auto& [number, t] : job.tools) tools.push_back(tool_json(t));
   out["tools"] = tools;
 
   // Moves by kind, lengths and the bounding box of the tool point along the path (arcs sampled

@@ -5,6 +5,7 @@
 #include <filesystem>
 #include <fstream>
 #include <iterator>
+#include <map>
 #include <sstream>
 
 #include "html.h"
@@ -79,6 +80,32 @@ std::vector<Table> tables(const VerifyOutcome& o) {
                      {"moves", std::to_string(o.job.move_count())},
                      {"tolerance", number(o.tolerance) + " " + u},
                      {"reference voxel", number(o.voxel_size) + " " + u}}});
+  Table tools{"Tools", {"tool", "shape and sizes (" + u + ")", "moves", "length offset"}, {}};
+  std::map<int, std::size_t> moves_by_tool;
+  for (const morph::Move* m : o.job.moves()) ++moves_by_tool[m->tool];
+  for (const auto& [tool_number, tool] : o.job.tools)
+    tools.rows.push_back(
+        {"T" + std::to_string(tool_number), morph::describe(tool),
+         std::to_string(moves_by_tool.count(tool_number) ? moves_by_tool.at(tool_number) : 0),
+         number(tool.length_offset)});
+  result.push_back(tools);
+  Table programs{"Paths (programs in order)", {"#", "path", "moves", "tools used (moves)"}, {}};
+  for (std::size_t i = 0; i < o.job.paths.size(); ++i) {
+    const morph::Path& path = o.job.paths[i];
+    std::map<int, std::size_t> used;
+    for (const morph::Move& m : path.moves) ++used[m.tool];
+    std::string list;
+    for (const auto& [t, n] : used) list += (list.empty() ? "" : ", ") + fmt::format("T{} ({})", t, n);
+    programs.rows.push_back({std::to_string(i + 1), path.name.empty() ? path.source : path.name,
+                             std::to_string(path.moves.size()), list.empty() ? "-" : list});
+  }
+  result.push_back(programs);
+  if (!o.job.warnings.empty()) {
+    Table warnings{"Warnings", {"file", "line", "warning"}, {}};
+    for (const morph::Warning& w : o.job.warnings)
+      warnings.rows.push_back({w.file, w.line > 0 ? std::to_string(w.line) : "-", w.message});
+    result.push_back(warnings);
+  }
   Table stages{"Stages", {"stage", "seconds", "peak memory (MiB)"}, {}};
   for (const auto& s : o.stages)
     stages.rows.push_back({s.name, fmt::format("{:.2f}", s.seconds), fmt::format("{:.0f}", s.peak_rss_mib)});
@@ -181,6 +208,20 @@ std::vector<Table> tables(const VerifyOutcome& o) {
            r.nearest_move < 0 ? "-" : fmt::format("move {} (line {})", r.nearest_move, r.nearest_line)});
     }
     result.push_back(design);
+  }
+  if (!o.generator_skipped.empty()) {
+    result.push_back(
+        {"Verdict",
+         {"check", "holds", "measured", "bound"},
+         {{"generator: not run (" + o.generator_skipped + ")",
+           o.reference_only_requested ? "-" : "NOT CHECKED", "-", "-"},
+          {fmt::format(
+               "reference within sqrt(3) * voxel of the exact surface over the {} samples where the surface "
+               "is resolvable at this voxel size ({} left out; over all samples: {})",
+               o.reference_resolvable_samples, o.unresolvable_samples,
+               number(o.reference_to_exact.stats.max_abs)),
+           yes_no(o.reference_converges), number(o.reference_resolvable_max), number(o.reference_bound)}}});
+    return result;
   }
   result.push_back(
       {"Verdict",
@@ -295,6 +336,20 @@ nlohmann::json outcome_to_json(const VerifyOutcome& o) {
     j["design"] = comparison_to_json(o.design, o.job);
     j["design"]["path"] = o.design_path;
   }
+  for (const auto& [n, tool] : o.job.tools)
+    j["tools"].push_back({{"number", n},
+                          {"type", morph::to_string(tool.type)},
+                          {"shape", morph::describe(tool)},
+                          {"diameter", 2.0 * tool.radius},
+                          {"length_offset", tool.length_offset},
+                          {"generator_builds", tool.generator_builds()}});
+  if (!o.generator_skipped.empty())
+    j["reference_check"] = {{"generator_skipped", o.generator_skipped},
+                            {"reference_only_requested", o.reference_only_requested},
+                            {"resolvable_max", o.reference_resolvable_max},
+                            {"resolvable_samples", o.reference_resolvable_samples},
+                            {"bound", o.reference_bound},
+                            {"converges", o.reference_converges}};
   j["verdict"] = {{"holds", o.verdict()},
                   {"generator_within_tolerance", o.generator_within_tolerance},
                   {"sides_agree", o.sides_agree},
@@ -311,7 +366,12 @@ void write_reports(const VerifyOutcome& o, const std::string& out_dir,
                    const std::vector<std::pair<std::string, std::string>>& pictures) {
   const fs::path dir(out_dir);
   const std::vector<Table> all = tables(o);
-  const std::string verdict = o.verdict() ? "HOLDS" : "DOES NOT HOLD";
+  const std::string verdict =
+      !o.generator_skipped.empty()
+          ? std::string(o.verdict() ? "HOLDS for the reference alone" : "NOT VERIFIED") +
+                " (generator not run: " + o.generator_skipped + "; reference against the exact surface " +
+                (o.reference_converges ? "holds" : "DOES NOT HOLD") + ")"
+          : std::string(o.verdict() ? "HOLDS" : "DOES NOT HOLD");
   {
     std::ofstream md(dir / "report.md");
     md << "# MorphMill verification: " << o.job.name << "\n\n**Verdict: " << verdict << "**\n\n"

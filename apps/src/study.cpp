@@ -220,7 +220,16 @@ void evaluate_setting(const morph::Job& job, const SettingKey& key, const StudyS
 }
 
 morph::Job scaled_tools(morph::Job job, double scale) {
-  for (auto& [number, tool] : job.tools) tool.radius *= scale;
+  for (auto& [number, tool] : job.tools) {
+    if (tool.type == morph::ToolType::Sphere)
+      tool = morph::sphere_tool(tool.radius * scale);
+    else if (tool.type == morph::ToolType::BallEnd)
+      tool = morph::ball_tool(tool.radius * scale, tool.length);
+    else
+      throw morph::InputError("a tool-radius study scales sphere and ballend tools only; tool " +
+                              std::to_string(number) + " is " + morph::describe(tool));
+    tool.number = number;
+  }
   job.name += fmt::format(" (tool radius x{})", scale);
   return job;
 }
@@ -563,11 +572,22 @@ morph::Job make_zigzag_job(const ZigzagSpec& spec) {
   job.tolerance = spec.tolerance;
   job.stock.type = morph::StockType::Box;
   job.stock.box = Eigen::AlignedBox3d(spec.stock_min, spec.stock_max);
+  const morph::ToolType type = morph::tool_type_from_string(spec.tool_type, where + ": tool.type");
   morph::Tool tool;
+  try {
+    if (type == morph::ToolType::Sphere)
+      tool = morph::sphere_tool(spec.tool_radius);
+    else if (type == morph::ToolType::BallEnd)
+      tool = morph::ball_tool(spec.tool_radius, spec.tool_length);
+    else if (type == morph::ToolType::Flat)
+      tool = morph::flat_tool(spec.tool_radius, spec.tool_length);
+    else
+      throw morph::InputError(where + ": tool.type: a zigzag takes a sphere, ballend or flat tool, got '" +
+                              spec.tool_type + "' (give other shapes in a job file)");
+  } catch (const morph::ToolError& e) {
+    throw morph::InputError(where + ": tool." + e.what());
+  }
   tool.number = 1;
-  tool.type = morph::tool_type_from_string(spec.tool_type, where + ": tool.type");
-  tool.radius = spec.tool_radius;
-  tool.length = spec.tool_length;
   job.tools[1] = tool;
   const double lowest = spec.stock_max.z() - spec.depth;
   const double z = tool.type == morph::ToolType::Sphere ? lowest + tool.radius : lowest;

@@ -213,6 +213,75 @@ double auto_voxel_size(const morph::Job& job) {
   return std::max(smallest_radius / 6.0, floor_for_memory);
 }
 
+std::string first_move_the_generator_cannot_build(const morph::Job& job) {
+  for (const morph::Path& path : job.paths)
+    for (const morph::Move& move : path.moves) {
+      const morph::Tool& tool = job.tool_of(move);
+      if (!tool.generator_builds())
+        return "the move at line " + std::to_string(move.line) + " of " + path.source + " uses tool " +
+               std::to_string(move.tool) + " (" + morph::describe(tool) +
+               "), which the generator cannot build yet";
+    }
+  return "";
+}
+
+namespace {
+
+// The reference alone, against the exact surface: what verify can still check when the generator
+// is not run. Judged where the surface is resolvable at the voxel size, as the agreement is.
+Evaluation evaluate_reference_only(const morph::Job& job, const vdb_ref::ReferenceOptions& reference_options,
+                                   const EvaluateOptions& options, StageClock& clock,
+                                   Evaluation& evaluation) {
+  VerifyOutcome& out = evaluation.outcome;
+  vdb_ref::ReferenceResult reference =
+      clock.run("reference (OpenVDB)", [&] { return vdb_ref::compute_reference(job, reference_options); });
+  out.reference_triangles = reference.mesh.triangle_count();
+  out.reference_active_voxels = reference.stats.active_voxels;
+  out.reference_topology = morph::topology_report(reference.mesh);
+  for (const auto& piece : reference.pieces)
+    out.reference_pieces.push_back({piece.volume, piece.area, piece.bounds});
+  const morph::ErosionField field(job);
+  clock.run("deviation (Embree)", [&] {
+    raytest::DeviationOptions deviation;
+    deviation.sampling.face_samples = options.face_samples;
+    deviation.sampling.seed = options.seed;
+    deviation.stats.tolerance = out.tolerance;
+    const raytest::DistanceField exact = [&](const Eigen::Vector3d& p) { return field.value(p); };
+    out.reference_to_exact = raytest::measure_against_field(reference.mesh, exact, deviation);
+  });
+  out.reference_bound = std::sqrt(3.0) * out.voxel_size;
+  std::vector<Eigen::AlignedBox3d> boxes(reference.mesh.triangle_count());
+  for (std::size_t t = 0; t < boxes.size(); ++t)
+    for (std::uint32_t v : reference.mesh.triangles[t]) boxes[t].extend(reference.mesh.vertices[v]);
+  const morph::AabbTree triangles(std::move(boxes));
+  const std::vector<bool> resolvable =
+      resolvable_samples(out.reference_to_exact.samples, reference.mesh, triangles, 2.0 * out.voxel_size);
+  WorstPlace worst;
+  worst.against = "exact surface (largest resolvable, decides the reference's check)";
+  for (std::size_t i = 0; i < resolvable.size(); ++i) {
+    const double value = out.reference_to_exact.values[i];
+    if (std::isnan(value)) continue;
+    if (!resolvable[i]) {
+      ++out.unresolvable_samples;
+      continue;
+    }
+    ++out.reference_resolvable_samples;
+    if (std::abs(value) > out.reference_resolvable_max) {
+      out.reference_resolvable_max = std::abs(value);
+      worst.position = out.reference_to_exact.samples[i].position;
+      worst.deviation = value;
+    }
+  }
+  if (out.reference_resolvable_samples > 0) out.worst.push_back(worst);
+  out.reference_converges =
+      out.reference_resolvable_samples > 0 && out.reference_resolvable_max <= out.reference_bound;
+  evaluation.reference_mesh = std::move(reference.mesh);
+  evaluation.reference_stats = reference.stats;
+  return std::move(evaluation);
+}
+
+}  // namespace
+
 Evaluation evaluate_job(const morph::Job& job, const EvaluateOptions& options) {
   Evaluation evaluation;
   VerifyOutcome& out = evaluation.outcome;
@@ -228,6 +297,12 @@ Evaluation evaluate_job(const morph::Job& job, const EvaluateOptions& options) {
   reference_options.vdb_output_path = options.vdb_output_path;
   reference_options.memory_cap_bytes = options.reference_memory_cap_bytes;
   vdb_ref::estimate_reference_memory(job, reference_options);  // bad input fails before long work
+
+  out.reference_only_requested = options.reference_only;
+  out.generator_skipped = options.reference_only ? std::string("--reference-only was given")
+                                                 : first_move_the_generator_cannot_build(job);
+  if (!out.generator_skipped.empty())
+    return evaluate_reference_only(job, reference_options, options, clock, evaluation);
 
   morph::ErodeOptions erode_options;
   erode_options.tolerance = out.tolerance;
@@ -369,66 +444,87 @@ VerifyOutcome run_verify(const VerifyOptions& options) {
   evaluate.seed = options.seed;
   evaluate.progress = options.progress;
   evaluate.vdb_output_path = (dir / "reference.vdb").string();
+  evaluate.reference_only = options.reference_only;
   Evaluation evaluation = evaluate_job(job, evaluate);
   VerifyOutcome out = std::move(evaluation.outcome);
   out.stages.insert(out.stages.begin(), load_stage.begin(), load_stage.end());
   const morph::TriangleMesh& morph_mesh = evaluation.morph_mesh;
   const morph::TriangleMesh& reference_mesh = evaluation.reference_mesh;
-  write_mesh(morph_mesh, (dir / "morph.ply").string());
+  const bool generator_ran = out.generator_skipped.empty();
+  if (generator_ran) {
+    write_mesh(morph_mesh, (dir / "morph.ply").string());
+    out.files.push_back("morph.ply");
+  }
   write_mesh(reference_mesh, (dir / "reference.ply").string());
-  out.files.insert(out.files.end(), {"morph.ply", "reference.ply", "reference.vdb"});
+  out.files.insert(out.files.end(), {"reference.ply", "reference.vdb"});
 
   const morph::ErosionField field(out.job);
   StageClock picture_clock(out.stages);
-  picture_clock.run("pictures", [&] {
-    const int w = options.image_width, h = options.image_height;
-    // The generator's vertices lie on the exact surface; its error is inside its triangles, so they
-    // are refined until a feature of a few hundredths of the part shows (capped at 4M triangles).
-    Eigen::AlignedBox3d box;
-    for (const auto& v : morph_mesh.vertices) box.extend(v);
-    const raytest::RefinedMesh refined =
-        raytest::refine_long_edges(morph_mesh, std::max(box.diagonal().norm() / 300.0, 1e-9), 4'000'000);
-    const morph::TriangleMesh& morph_display = refined.mesh;
-    out.region_resolution = refined.max_edge;
-    std::vector<double> morph_exact(morph_display.vertex_count()),
-        reference_exact(reference_mesh.vertex_count());
-    morph::for_each_index(morph::ExecutionPolicy::Parallel, 0, morph_exact.size(),
-                          [&](std::size_t i) { morph_exact[i] = field.value(morph_display.vertices[i]); });
-    morph::for_each_index(morph::ExecutionPolicy::Parallel, 0, reference_exact.size(), [&](std::size_t i) {
-      reference_exact[i] = field.value(reference_mesh.vertices[i]);
+  if (!generator_ran) {
+    picture_clock.run("pictures", [&] {
+      std::vector<double> reference_exact(reference_mesh.vertex_count());
+      morph::for_each_index(morph::ExecutionPolicy::Parallel, 0, reference_exact.size(), [&](std::size_t i) {
+        reference_exact[i] = field.value(reference_mesh.vertices[i]);
+      });
+      write_heatmap(reference_mesh, "deviation_exact", reference_exact, dir / "reference_vs_exact.ply",
+                    dir / "reference_vs_exact.png", unit, options.image_width, options.image_height);
+      raytest::RenderOptions plain;
+      plain.width = options.image_width;
+      plain.height = options.image_height;
+      raytest::write_png(raytest::render_mesh(reference_mesh, plain), (dir / "reference.png").string());
+      out.files.insert(out.files.end(),
+                       {"reference_vs_exact.ply", "reference.png", "reference_vs_exact.png"});
     });
-    const raytest::SurfaceQuery reference_query(reference_mesh);
-    const auto morph_reference =
-        raytest::vertex_deviation(morph_display, reference_query, raytest::DeviationMode::Signed);
-    const raytest::ToleranceBand exact_band{-out.tolerance, out.tolerance};
-    const raytest::ToleranceBand reference_band{-out.agreement_bound, out.agreement_bound};
-    auto keep_regions = [&](const std::vector<double>& values, const raytest::ToleranceBand& band,
-                            const std::string& against) {
-      const auto regions = raytest::find_regions(morph_display, values, band);
-      for (std::size_t i = 0; i < regions.size() && i < 10; ++i)
-        out.regions.push_back({against, band, regions[i]});
-      return regions.size();
-    };
-    out.exact_regions = keep_regions(morph_exact, exact_band, "exact surface");
-    out.reference_regions = keep_regions(morph_reference, reference_band, "reference");
-    write_heatmap(morph_display, "deviation_exact", morph_exact, dir / "morph_vs_exact.ply",
-                  dir / "morph_vs_exact.png", unit, w, h, out.tolerance);
-    write_heatmap(morph_display, "deviation_reference", morph_reference, dir / "morph_vs_reference.ply",
-                  dir / "morph_vs_reference.png", unit, w, h, out.agreement_bound);
-    write_heatmap(reference_mesh, "deviation_exact", reference_exact, dir / "reference_vs_exact.ply",
-                  dir / "reference_vs_exact.png", unit, w, h, out.agreement_bound);
-    raytest::RenderOptions plain;
-    plain.width = w;
-    plain.height = h;
-    raytest::write_png(raytest::render_mesh(morph_mesh, plain), (dir / "morph.png").string());
-    raytest::write_png(raytest::render_mesh(reference_mesh, plain), (dir / "reference.png").string());
-    out.files.insert(
-        out.files.end(),
-        {"morph_vs_exact.ply", "morph_vs_reference.ply", "reference_vs_exact.ply", "morph.png",
-         "reference.png", "morph_vs_exact.png", "morph_vs_reference.png", "reference_vs_exact.png"});
-  });
+  } else
+    picture_clock.run("pictures", [&] {
+      const int w = options.image_width, h = options.image_height;
+      // The generator's vertices lie on the exact surface; its error is inside its triangles, so they
+      // are refined until a feature of a few hundredths of the part shows (capped at 4M triangles).
+      Eigen::AlignedBox3d box;
+      for (const auto& v : morph_mesh.vertices) box.extend(v);
+      const raytest::RefinedMesh refined =
+          raytest::refine_long_edges(morph_mesh, std::max(box.diagonal().norm() / 300.0, 1e-9), 4'000'000);
+      const morph::TriangleMesh& morph_display = refined.mesh;
+      out.region_resolution = refined.max_edge;
+      std::vector<double> morph_exact(morph_display.vertex_count()),
+          reference_exact(reference_mesh.vertex_count());
+      morph::for_each_index(morph::ExecutionPolicy::Parallel, 0, morph_exact.size(),
+                            [&](std::size_t i) { morph_exact[i] = field.value(morph_display.vertices[i]); });
+      morph::for_each_index(morph::ExecutionPolicy::Parallel, 0, reference_exact.size(), [&](std::size_t i) {
+        reference_exact[i] = field.value(reference_mesh.vertices[i]);
+      });
+      const raytest::SurfaceQuery reference_query(reference_mesh);
+      const auto morph_reference =
+          raytest::vertex_deviation(morph_display, reference_query, raytest::DeviationMode::Signed);
+      const raytest::ToleranceBand exact_band{-out.tolerance, out.tolerance};
+      const raytest::ToleranceBand reference_band{-out.agreement_bound, out.agreement_bound};
+      auto keep_regions = [&](const std::vector<double>& values, const raytest::ToleranceBand& band,
+                              const std::string& against) {
+        const auto regions = raytest::find_regions(morph_display, values, band);
+        for (std::size_t i = 0; i < regions.size() && i < 10; ++i)
+          out.regions.push_back({against, band, regions[i]});
+        return regions.size();
+      };
+      out.exact_regions = keep_regions(morph_exact, exact_band, "exact surface");
+      out.reference_regions = keep_regions(morph_reference, reference_band, "reference");
+      write_heatmap(morph_display, "deviation_exact", morph_exact, dir / "morph_vs_exact.ply",
+                    dir / "morph_vs_exact.png", unit, w, h, out.tolerance);
+      write_heatmap(morph_display, "deviation_reference", morph_reference, dir / "morph_vs_reference.ply",
+                    dir / "morph_vs_reference.png", unit, w, h, out.agreement_bound);
+      write_heatmap(reference_mesh, "deviation_exact", reference_exact, dir / "reference_vs_exact.ply",
+                    dir / "reference_vs_exact.png", unit, w, h, out.agreement_bound);
+      raytest::RenderOptions plain;
+      plain.width = w;
+      plain.height = h;
+      raytest::write_png(raytest::render_mesh(morph_mesh, plain), (dir / "morph.png").string());
+      raytest::write_png(raytest::render_mesh(reference_mesh, plain), (dir / "reference.png").string());
+      out.files.insert(
+          out.files.end(),
+          {"morph_vs_exact.ply", "morph_vs_reference.ply", "reference_vs_exact.ply", "morph.png",
+           "reference.png", "morph_vs_exact.png", "morph_vs_reference.png", "reference_vs_exact.png"});
+    });
 
-  if (!design_spec.path.empty()) {
+  if (generator_ran && !design_spec.path.empty()) {
     picture_clock.run("design comparison", [&] {
       CompareOptions compare;
       compare.band = default_band(out.job, design_spec.low, design_spec.high);
@@ -451,12 +547,16 @@ VerifyOutcome run_verify(const VerifyOptions& options) {
     if (!json) throw morph::IoError((dir / "deviation.json").string() + ": cannot write");
   }
   out.files.push_back("deviation.json");
-  std::vector<std::pair<std::string, std::string>> pictures{
-      {"Generator (morph)", "morph.png"},
-      {"Reference (OpenVDB)", "reference.png"},
-      {"Generator against the exact surface", "morph_vs_exact.png"},
-      {"Generator against the reference", "morph_vs_reference.png"},
-      {"Reference against the exact surface", "reference_vs_exact.png"}};
+  std::vector<std::pair<std::string, std::string>> pictures;
+  if (generator_ran)
+    pictures = {{"Generator (morph)", "morph.png"},
+                {"Reference (OpenVDB)", "reference.png"},
+                {"Generator against the exact surface", "morph_vs_exact.png"},
+                {"Generator against the reference", "morph_vs_reference.png"},
+                {"Reference against the exact surface", "reference_vs_exact.png"}};
+  else
+    pictures = {{"Reference (OpenVDB)", "reference.png"},
+                {"Reference against the exact surface", "reference_vs_exact.png"}};
   if (!out.design_path.empty())
     pictures.push_back({"Machined result against the design", "machined_vs_design.png"});
   write_reports(out, options.out_dir, pictures);

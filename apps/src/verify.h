@@ -24,6 +24,9 @@ struct VerifyOptions {
   std::size_t face_samples = 100000;  ///< area-uniform samples per surface, on top of every vertex
   std::uint64_t seed = 1;
   int image_width = 640, image_height = 480;
+  /// Check only the reference against the exact surface (the generator is not run). Without it,
+  /// a job with a tool the generator cannot build yet runs the same way but its verdict fails.
+  bool reference_only = false;
   morph::Progress* progress = nullptr;
 };
 
@@ -90,7 +93,21 @@ struct VerifyOutcome {
   std::string design_path;
   DesignComparison design;
   bool design_within_band() const { return design_path.empty() || design.within_band(); }
+  /// Why the generator was not run ("" when it was): --reference-only, or the first move whose
+  /// tool it cannot build yet, named with the tool.
+  std::string generator_skipped;
+  bool reference_only_requested = false;
+  /// Reference against the exact surface (judged when the generator is not run): the largest
+  /// deviation over the samples where the surface is resolvable at the voxel size, its bound
+  /// sqrt(3) * voxel, and whether it holds.
+  double reference_resolvable_max = 0.0, reference_bound = 0.0;
+  std::size_t reference_resolvable_samples = 0;
+  bool reference_converges = false;
+  /// The whole verdict: the generator's checks and the design's band; with the generator skipped,
+  /// the reference's check if only that was asked for (--reference-only), otherwise false (not
+  /// what verify promises).
   bool verdict() const {
+    if (!generator_skipped.empty()) return reference_only_requested && reference_converges;
     return generator_within_tolerance && sides_agree && pieces_match && design_within_band();
   }
   std::vector<std::string> files;  ///< written into out_dir, relative names
@@ -104,6 +121,7 @@ struct EvaluateOptions {
   std::uint64_t seed = 1;
   morph::Progress* progress = nullptr;
   std::string vdb_output_path;  ///< if not empty, the reference level set is also written there
+  bool reference_only = false;  ///< see VerifyOptions::reference_only
   std::size_t reference_memory_cap_bytes = std::size_t(8)
                                            << 30;  ///< vdb_ref::ReferenceOptions::memory_cap_bytes
   /// When true, each stage's peak_rss_mib is the peak resident memory during that stage alone
@@ -126,6 +144,10 @@ struct Evaluation {
 /// Throws what erode / compute_reference throw (InputError for bad options, LimitError when the
 /// reference would exceed its memory cap).
 Evaluation evaluate_job(const morph::Job& job, const EvaluateOptions& options);
+
+/// The first move whose tool the generator cannot build yet, as a sentence naming the move and
+/// the tool ("" if it can build them all).
+std::string first_move_the_generator_cannot_build(const morph::Job& job);
 
 /// Voxel size for a job when none is given: a sixth of the smallest tool radius, bounded below
 /// so the reference stays within memory on large stock.

@@ -2451,11 +2451,18 @@ constexpr double kResolutionFactor = 1e6;
 void check_job(const Job& job, double tolerance) {
   if (!(tolerance > 0.0) || !std::isfinite(tolerance))
     throw InputError(job.file + ": tolerance must be positive, got " + std::to_string(tolerance));
+  for (const Path& path : job.paths)
+    for (const Move& move : path.moves) {
+      const Tool& tool = job.tool_of(move);
+      if (!tool.generator_builds())
+        throw InputError(job.file + ": the move at line " + std::to_string(move.line) +
+                         (path.source.empty() ? std::string() : " of " + path.source) + " uses tool " +
+                         std::to_string(move.tool) + " (" + describe(tool) +
+                         "), which the generator cannot build yet (sphere and ballend only); 'morphmill "
+                         "reference' and 'morphmill verify' handle every tool");
+    }
   for (const auto& [number, tool] : job.tools) {
-    if (!tool.supported())
-      throw InputError(job.file + ": tool " + std::to_string(number) + " is of type '" +
-                       to_string(tool.type) +
-                       "', which the generator does not support (sphere and ballend only)");
+    if (!tool.generator_builds()) continue;
     if (!(tool.radius > 0.0))
       throw InputError(job.file + ": tool " + std::to_string(number) + " needs a positive radius");
     if (tool.type == ToolType::BallEnd && !(tool.length >= 0.0))

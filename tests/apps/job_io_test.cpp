@@ -116,7 +116,7 @@ TEST_F(JobIo, DescribeSlotsJob) {
   EXPECT_EQ(d["stock"]["volume"].get<double>(), 100.0 * 60.0 * 20.0);
   ASSERT_EQ(d["tools"].size(), 1u);
   EXPECT_EQ(d["tools"][0]["type"], "ballend");
-  EXPECT_EQ(d["tools"][0]["supported"], true);
+  EXPECT_EQ(d["tools"][0]["generator"], true);
   EXPECT_EQ(d["moves"]["total"], 8);
   EXPECT_EQ(d["moves"]["by_kind"]["rapid"], 1);
   EXPECT_EQ(d["moves"]["by_kind"]["linear"], 5);
@@ -218,16 +218,19 @@ TEST_F(JobIo, EveryToolType) {
   EXPECT_EQ(job.tools.at(5).angle, 90.0);
   EXPECT_EQ(job.tools.at(5).tip_radius, 0.1);
   EXPECT_EQ(job.tools.at(6).tip_radius, 0.0);
-  // Reserved types parse; the commands that compute check supported().
-  EXPECT_TRUE(job.tools.at(1).supported());
-  EXPECT_TRUE(job.tools.at(2).supported());
-  EXPECT_FALSE(job.tools.at(3).supported());
-  EXPECT_FALSE(job.tools.at(4).supported());
-  EXPECT_FALSE(job.tools.at(5).supported());
+  // Every shape parses into a profile; the generator builds spheres and ball ends only.
+  EXPECT_TRUE(job.tools.at(1).generator_builds());
+  EXPECT_TRUE(job.tools.at(2).generator_builds());
+  EXPECT_FALSE(job.tools.at(3).generator_builds());
+  EXPECT_FALSE(job.tools.at(4).generator_builds());
+  EXPECT_FALSE(job.tools.at(5).generator_builds());
+  for (const auto& [number, tool] : job.tools) EXPECT_FALSE(tool.profile.empty()) << number;
+  EXPECT_EQ(job.tools.at(1).description, "the paper's B");
   for (const auto& [number, tool] : job.tools) EXPECT_EQ(tool.number, number);
   const json d = morphmill::describe_job(job);
   EXPECT_EQ(d["tools"][3]["corner_radius"], 1.0);
-  EXPECT_EQ(d["tools"][4]["supported"], false);
+  EXPECT_EQ(d["tools"][4]["generator"], false);
+  EXPECT_EQ(d["tools"][3]["shape"], "bullnose diameter 8, corner radius 1, length 30");
 }
 
 TEST_F(JobIo, PolylineKeys) {
@@ -425,9 +428,10 @@ TEST_F(JobIo, ToolErrors) {
   expect_error(j, "tools.1: missing required key 'type'");
   j["tools"] = {{"1", {{"type", "drill"}, {"radius", 1}}}};
   expect_error(
-      j, "tools.1.type: unknown tool type 'drill' (expected sphere, ballend, flat, bullnose or conical)");
+      j, "tools.1.type: unknown tool type 'drill' (expected sphere, ball/ballend, flat, bullnose, vbit/conical, "
+         "tapered/snubnose, tapered_ball, spheroid or apt)");
   j["tools"] = {{"1", {{"type", "sphere"}}}};
-  expect_error(j, "tools.1: missing required key 'radius'");
+  expect_error(j, "tools.1: missing required key 'diameter' (or 'radius')");
   j["tools"] = {{"1", {{"type", "sphere"}, {"radius", -3}}}};
   expect_error(j, "tools.1.radius: must be greater than 0, got -3");
   j["tools"] = {{"1", {{"type", "ballend"}, {"radius", 3}}}};
@@ -439,10 +443,10 @@ TEST_F(JobIo, ToolErrors) {
   j["tools"] = {{"1", {{"type", "bullnose"}, {"radius", 3}, {"length", 10}, {"corner_radius", 4}}}};
   expect_error(j, "tools.1.corner_radius: must not exceed the radius 3");
   j["tools"] = {{"1", {{"type", "conical"}, {"radius", 3}, {"length", 10}, {"angle", 180}}}};
-  expect_error(j, "tools.1.angle: must be between 0 and 180 degrees");
+  expect_error(j, "tools.1.angle: must be an included angle between 0 and 180 degrees (exclusive), got 180");
   j["tools"] = {
       {"1", {{"type", "conical"}, {"radius", 3}, {"length", 10}, {"angle", 90}, {"tip_radius", 3}}}};
-  expect_error(j, "tools.1.tip_radius: must be at least 0 and less than the radius 3");
+  expect_error(j, "tools.1.tip_radius: must be less than the radius 3, got 3");
   j["tools"] = {{"1", {{"type", "sphere"}, {"radius", 1}, {"description", 7}}}};
   expect_error(j, "tools.1.description: expected a string");
 }

@@ -74,11 +74,12 @@ TEST(ReferenceInput, RejectsAGridOverTheMemoryCapBeforeComputing) {
   EXPECT_LT(vdb_ref::estimate_reference_memory(groove_job(), options_with_voxel(0.5)), std::size_t(1) << 30);
 }
 
-TEST(ReferenceInput, RejectsUnsupportedToolsNamingThem) {
+TEST(ReferenceInput, RejectsToolsWithoutAProfileNamingThem) {
   morph::Job job = groove_job();
-  job.tools[1].type = morph::ToolType::Flat;
+  job.tools[1].type = morph::ToolType::Flat;  // assembled field by field: no profile to rasterise
   const std::string message = message_of<morph::InputError>(job, options_with_voxel(1.0));
   EXPECT_NE(message.find("flat"), std::string::npos) << message;
+  EXPECT_NE(message.find("profile"), std::string::npos) << message;
 }
 
 TEST(ReferenceInput, ParsesVoxelListsAndNamesOutputs) {

@@ -121,10 +121,10 @@ void validate_job(const morph::Job& job) {
   }
   for (const morph::Move* move : job.moves()) {
     const morph::Tool& tool = job.tool_of(*move);
-    if (!tool.supported())
-      throw morph::InputError("reference: tool " + std::to_string(tool.number) + " is a '" +
+    if (!tool.generator_builds() && tool.profile.empty())
+      throw morph::InputError("reference: tool " + std::to_string(move->tool) + " ('" +
                               morph::to_string(tool.type) +
-                              "' tool; the level-set reference supports only sphere and ballend tools");
+                              "') has no profile; build it with the constructors of morph/tool.h");
     if (!(tool.radius > 0.0) || !std::isfinite(tool.radius) || !(tool.length >= 0.0) ||
         !std::isfinite(tool.length))
       throw morph::InputError("reference: tool " + std::to_string(tool.number) +
@@ -198,8 +198,11 @@ std::vector<SweepPiece> sweep_pieces(const morph::Job& job, double chord_toleran
 double swept_area_estimate(const morph::Tool& tool, const morph::Move& move,
                            const Eigen::AlignedBox3d& clip) {
   if (!morph::swept_bounds(tool, move).intersects(clip)) return 0.0;
-  const Eigen::AlignedBox3d grown(clip.min() - Eigen::Vector3d::Constant(tool.radius + tool.length),
-                                  clip.max() + Eigen::Vector3d::Constant(tool.radius + tool.length));
+  const morph::ToolExtent extent = morph::tool_extent(tool);
+  const double reach =
+      tool.generator_builds() ? tool.radius + tool.length : extent.radius + extent.below + extent.above;
+  const Eigen::AlignedBox3d grown(clip.min() - Eigen::Vector3d::Constant(reach),
+                                  clip.max() + Eigen::Vector3d::Constant(reach));
   double length = 0.0;
   if (move.is_arc()) {
     const std::vector<double> ts = morph::chord_parameters(move, 0.01 * tool.radius);
@@ -210,12 +213,21 @@ double swept_area_estimate(const morph::Tool& tool, const morph::Move& move,
   }
   const double r = tool.radius;
   if (tool.type == morph::ToolType::Sphere) return 2.0 * M_PI * r * length + 4.0 * M_PI * r * r;
-  // Ball end: half circle, the two walls and the top across the path, plus the whole tool; only
-  // the part of the body below the top of the clip box counts.
-  const double lowest_centre = std::min(move.start.z(), move.end.z()) + r;
-  const double body = std::clamp(clip.max().z() - lowest_centre, 0.0, tool.length);
-  const double top = body < tool.length ? 0.0 : 2.0 * r;
-  return (M_PI * r + 2.0 * body + top) * length + 4.0 * M_PI * r * r + 2.0 * M_PI * r * body;
+  if (tool.type == morph::ToolType::BallEnd) {
+    // Half circle, the two walls and the top across the path, plus the whole tool; only the part
+    // of the body below the top of the clip box counts.
+    const double lowest_centre = std::min(move.start.z(), move.end.z()) + r;
+    const double body = std::clamp(clip.max().z() - lowest_centre, 0.0, tool.length);
+    const double top = body < tool.length ? 0.0 : 2.0 * r;
+    return (M_PI * r + 2.0 * body + top) * length + 4.0 * M_PI * r * r + 2.0 * M_PI * r * body;
+  }
+  // Across the path: the tool's outline (at most the half circle or flat bottom, the two walls
+  // and the top), plus the whole tool; only the part of the tool below the top of the clip box
+  // counts. The ball end's half circle bounds any bottom's outline: pi r >= 2 r.
+  const double lowest = std::min(move.start.z(), move.end.z()) - extent.below;
+  const double wall = std::clamp(clip.max().z() - lowest, 0.0, extent.below + extent.above);
+  const double top = lowest + extent.below + extent.above > clip.max().z() ? 0.0 : 2.0 * r;
+  return (M_PI * r + 2.0 * wall + top) * length + 4.0 * M_PI * r * r + 2.0 * M_PI * r * wall;
 }
 
 // Voxels of the leaf nodes that cover `box` grown by `margin` (0 for an empty box).

@@ -1,6 +1,7 @@
 #include "straight_sweep.h"
 
 #include <morph/convex_minimum.h>
+#include <morph/sweep_distance.h>
 
 #include <algorithm>
 #include <cmath>
@@ -19,7 +20,14 @@ StraightSweep::StraightSweep(const morph::Tool& tool, const Eigen::Vector3d& a, 
       centre_(ball_end_ ? Eigen::Vector3d(a + Eigen::Vector3d(0, 0, tool.radius)) : a),
       lowest_centre_z_(std::min(centre_.z(), centre_.z() + d_.z())),
       body_top_z_(std::max(centre_.z(), centre_.z() + d_.z()) + length_),
-      hh_(d_.x() * d_.x() + d_.y() * d_.y()) {}
+      hh_(d_.x() * d_.x() + d_.y() * d_.y()) {
+  if (tool.generator_builds()) return;
+  general_ = &tool;
+  const morph::ToolExtent e = morph::tool_extent(tool);
+  const double half = 0.5 * (e.below + e.above);
+  centre_ = a + Eigen::Vector3d(0, 0, half - e.below);
+  bounding_radius_ = std::hypot(e.radius, half);
+}
 
 double StraightSweep::distance(const Eigen::Vector3d& p) const {
   return distance_within(p, -std::numeric_limits<double>::infinity(),
@@ -29,6 +37,12 @@ double StraightSweep::distance(const Eigen::Vector3d& p) const {
 double StraightSweep::distance_within(const Eigen::Vector3d& p, double floor, double ceiling) const {
   const Eigen::Vector3d pc = p - centre_;
   const double t = dd_ > 0.0 ? std::clamp(pc.dot(d_) / dd_, 0.0, 1.0) : 0.0;
+  if (general_) {
+    // The sweep of the tool's bounding ball contains the tool's sweep: its distance is a lower bound.
+    const double bound = (pc - t * d_).norm() - bounding_radius_;
+    if (bound >= ceiling) return bound;
+    return morph::swept_signed_distance(*general_, a_, b_, p);
+  }
   const double ball = (pc - t * d_).norm() - radius_;
   if (!ball_end_) return ball;
   // Below every ball centre the body's nearest part is its bottom disc, inside the ball.

@@ -1,6 +1,8 @@
 #pragma once
-// The exact signed distance to the volume a sphere or ball-end tool sweeps along one straight
-// segment, with the segment's constants computed once. Same value as
+// The exact signed distance to the volume a tool sweeps along one straight segment, with the
+// segment's constants computed once. Every other tool shape takes the general 1-D convex search
+// of morph::swept_signed_distance, skipped where the sweep of the tool's bounding ball is
+// already beyond the caller's ceiling. Same value as
 // morph::swept_signed_distance(tool, a, b, p) (to the rounding of its 1-D search), but the
 // ball-end body's search runs only where a lower bound says the body could beat the tip's capsule,
 // and then a closed-form candidate is tried first. The reference evaluates this hundreds of
@@ -13,8 +15,7 @@ namespace vdb_ref::detail {
 
 class StraightSweep {
  public:
-  /// `tool` must be a Sphere or BallEnd (the reference validates this first); a and b are tool
-  /// points in job units.
+  /// `tool` must outlive this (the job owns it); a and b are tool points in job units.
   StraightSweep(const morph::Tool& tool, const Eigen::Vector3d& a, const Eigen::Vector3d& b);
 
   /// Signed distance from p to the swept volume, job units, negative inside. 1-Lipschitz in p
@@ -32,13 +33,16 @@ class StraightSweep {
  private:
   double body_distance(const Eigen::Vector3d& p) const;
 
+  const morph::Tool* general_ = nullptr;  // set for the shapes without a closed form here
+  double bounding_radius_ = 0.0;           // general: radius of a ball about centre_ holding the tool
   bool ball_end_ = false;
   double radius_ = 0.0;
   double length_ = 0.0;
   Eigen::Vector3d a_, b_;
   Eigen::Vector3d d_;       // b - a
   double dd_ = 0.0;         // |d|^2
-  Eigen::Vector3d centre_;  // sphere: a; ball end: a + radius * z (the tip ball's centre)
+  Eigen::Vector3d centre_;  // sphere: a; ball end: a + radius * z (the tip ball's centre);
+                            // general: the middle of the tool's axis at a
   double lowest_centre_z_ = 0.0;
   double body_top_z_ = 0.0;  // highest point of the body sweep
   double hh_ = 0.0;          // |horizontal part of d|^2
