@@ -467,7 +467,8 @@ VerifyOutcome run_verify(const VerifyOptions& options) {
         reference_exact[i] = field.value(reference_mesh.vertices[i]);
       });
       write_heatmap(reference_mesh, "deviation_exact", reference_exact, dir / "reference_vs_exact.ply",
-                    dir / "reference_vs_exact.png", unit, options.image_width, options.image_height);
+                    dir / "reference_vs_exact.png", unit, options.image_width, options.image_height,
+                    out.reference_bound > 0 ? out.reference_bound : out.tolerance);
       raytest::RenderOptions plain;
       plain.width = options.image_width;
       plain.height = options.image_height;
