@@ -2,6 +2,7 @@
 
 #include <fmt/format.h>
 #include <morph/exceptions.h>
+#include <morph/file_io.h>
 #include <morph/parallel.h>
 #include <morph/sweep_distance.h>
 #include <morphmill/job_io.h>
@@ -28,25 +29,9 @@ namespace fs = std::filesystem;
 
 namespace {
 
-/// Temporary file beside the target, checked, renamed over it: the old file or the new, whole.
+/// A reader (or a kill) sees the old file or the new one, never a part.
 void write_text(const fs::path& path, const std::string& text) {
-  const fs::path temporary = path.string() + ".tmp-" + std::to_string(::getpid());
-  {
-    std::ofstream out(temporary, std::ios::binary | std::ios::trunc);
-    out << text;
-    out.flush();
-    if (!out) {
-      std::error_code ignored;
-      fs::remove(temporary, ignored);
-      throw morph::IoError(path.string() + ": cannot write");
-    }
-  }
-  std::error_code error;
-  fs::rename(temporary, path, error);
-  if (error) {
-    fs::remove(temporary, error);
-    throw morph::IoError(path.string() + ": cannot write: " + error.message());
-  }
+  morph::write_file_atomically(path.string(), text);
 }
 
 // --- study file parsing ------------------------------------------------------------------------
