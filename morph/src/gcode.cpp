@@ -129,9 +129,15 @@ GcodeResult Interpreter::run(std::string_view text) {
     }
     if (!is_blank(line)) seen_content = true;
     try {
-      if (++blocks_executed_ > options_.max_blocks)
-        fail("the program has executed " + std::to_string(options_.max_blocks) +
-             " lines (GcodeOptions::max_blocks): an endless loop?");
+      // Only control flow can run a line again, so only lines run again count towards the bound:
+      // a long straight program (or a file of blank lines) is bounded by its size already.
+      if (line_ <= furthest_line_) {
+        if (++blocks_repeated_ > options_.max_blocks)
+          fail("the program has run lines again " + std::to_string(options_.max_blocks) +
+               " times (GcodeOptions::max_blocks): an endless loop?");
+      } else {
+        furthest_line_ = line_;
+      }
       if (o_line)
         execute_o_word(o_index);
       else

@@ -132,9 +132,10 @@ class Interpreter {
   };
   std::vector<Call> calls_;
   std::vector<Loop> loops_;
-  std::size_t blocks_executed_ = 0;
-  bool returned_value_ = false;  ///< #<_value_returned>
-  double return_value_ = 0.0;    ///< #<_value>
+  std::size_t blocks_repeated_ = 0;  ///< lines run again by control flow
+  int furthest_line_ = 0;            ///< the furthest line run so far
+  bool returned_value_ = false;      ///< #<_value_returned>
+  double return_value_ = 0.0;        ///< #<_value>
   bool ended_ = false;
   int ended_after_line_ = 0;
   std::string end_code_;

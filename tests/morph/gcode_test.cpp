@@ -732,6 +732,12 @@ TEST(GcodeControlFlow, EndlessLoopsAndRecursionAreBoundedWithAClearError) {
   const std::string long_run =
       error_of("G21 F100\n#1=0\no1 while [#1 LT 1000]\n#1=[#1+1]\no1 endwhile\nM2\n", options);
   EXPECT_NE(long_run.find("max_blocks"), std::string::npos) << long_run;
+  // Lines run once do not count: a straight program longer than the bound is read whole (the G0
+  // only sets the start, each G1 is a move).
+  std::string straight = "G21 F100\nG0 X0 Y0 Z0\n";
+  for (int i = 0; i < 600; ++i) straight += i % 2 ? "\n" : "G1 X" + std::to_string(i + 1) + "\n";
+  std::istringstream straight_in(straight + "M2\n");
+  EXPECT_EQ(morph::parse_gcode(straight_in, "straight.ngc", options).path.moves.size(), 300u);
   const std::string recursion = error_of("o<r> sub\no<r> call\no<r> endsub\no<r> call\nM2\n");
   EXPECT_EQ(recursion.rfind("test.ngc:2: ", 0), 0u) << recursion;
   EXPECT_NE(recursion.find("nested deeper than 10"), std::string::npos) << recursion;

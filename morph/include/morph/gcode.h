@@ -50,7 +50,7 @@ struct GcodeOptions {
   // ---- bounds that keep a runaway program from hanging or exhausting memory ----
   int max_call_depth = 10;                      ///< nested O-word calls (LinuxCNC's limit)
   std::size_t max_loop_iterations = 1'000'000;  ///< per while/do/repeat loop entry
-  std::size_t max_blocks = 100'000'000;         ///< lines executed in all
+  std::size_t max_blocks = 100'000'000;         ///< lines run again by loops, calls and jumps
   std::size_t max_moves = 20'000'000;           ///< moves produced in all
 };
 
