@@ -9,7 +9,13 @@
 #include <tbb/global_control.h>
 #include <tbb/task_group.h>
 
+#include <fcntl.h>
+#include <unistd.h>
+
+#include <cerrno>
+#include <cstring>
 #include <exception>
+#include <filesystem>
 #include <iomanip>
 #include <iostream>
 #include <memory>
@@ -33,6 +39,29 @@ struct ErodeCommandOptions {
   double memory_cap_gib = 0.0;
 };
 
+// Whether `path` can take the output is known before the long work: a missing or read-only
+// directory, a directory or a symbolic-link loop at the path is refused up front (exit 2), also
+// when the surface turns out unsound and is not written. Only a full device shows at the write.
+void check_output_path(const std::string& path) {
+  namespace fs = std::filesystem;
+  std::error_code error;
+  const fs::file_status status = fs::status(path, error);
+  if (error && error != std::errc::no_such_file_or_directory)
+    throw morph::IoError(path + ": cannot write: " + error.message());
+  if (fs::is_directory(status)) throw morph::IoError(path + ": cannot write: it is a directory");
+  fs::path directory = fs::path(path).parent_path();
+  if (directory.empty()) directory = ".";
+  if (!fs::is_directory(directory, error))
+    throw morph::IoError(path + ": cannot write: no directory '" + directory.string() + "'");
+  // The output goes through a temporary file beside it: creating one is the test that tells.
+  const std::string probe = (directory / (".morphmill-probe-" + std::to_string(::getpid()))).string();
+  const int fd = ::open(probe.c_str(), O_WRONLY | O_CREAT | O_EXCL, 0600);
+  if (fd < 0)
+    throw morph::IoError(path + ": cannot write into '" + directory.string() + "': " + std::strerror(errno));
+  ::close(fd);
+  ::unlink(probe.c_str());
+}
+
 void run_erode(const ErodeCommandOptions& options) {
   if (options.tolerance < 0.0)
     throw morph::InputError("--tolerance: must be > 0 (or 0 for the job's tolerance)");
@@ -41,6 +70,7 @@ void run_erode(const ErodeCommandOptions& options) {
   if (options.threads > 0) threads.emplace(tbb::global_control::max_allowed_parallelism, options.threads);
   const morph::Job job = load_job(options.job_path);
   report_job_warnings(job);
+  check_output_path(options.mesh_path);
   TerminalProgress progress;
   morph::ErodeOptions erode_options;
   erode_options.tolerance = options.tolerance;

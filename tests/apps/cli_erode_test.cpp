@@ -77,3 +77,20 @@ TEST_F(CliErode, TheExitCodeAndTheFileFollowTheSurfacesSoundness) {
 }
 
 }  // namespace
+
+namespace {
+
+// The output's place is checked before the long work, so a bad one is bad input (exit 2) even
+// when the surface would not have been written.
+TEST_F(CliErode, AnOutputThatCannotBeWrittenIsRefusedUpFront) {
+  std::filesystem::create_directory(path("dir.ply"));
+  for (const std::string& out :
+       {std::string("/nonexistent/x.ply"), path("dir.ply"), std::string("/proc/x.ply")}) {
+    const auto r = morphmill("erode '" + kData + "/jobs/through_slots.json' -o '" + out + "'");
+    EXPECT_EQ(r.exit_code, 2) << out << ": " << r.output;
+    EXPECT_NE(r.output.find("cannot write"), std::string::npos) << r.output;
+    EXPECT_EQ(r.output.find("patches kept"), std::string::npos) << "refused only after eroding: " << r.output;
+  }
+}
+
+}  // namespace
