@@ -21,6 +21,20 @@ TriangleMesh unit_cube() {
   return box(Eigen::Vector3d::Zero(), Eigen::Vector3d::Ones());
 }
 
+// The unit cube and the cube (1,1,1)-(2,2,2), the second's corner (1,1,1) (its vertex 0) welded
+// to the first cube's vertex 7: 15 vertices, 24 triangles.
+TriangleMesh cubes_welded_at_a_corner() {
+  TriangleMesh mesh = unit_cube();
+  const TriangleMesh other = box({1, 1, 1}, {2, 2, 2});
+  for (std::size_t i = 1; i < 8; ++i) mesh.vertices.push_back(other.vertices[i]);
+  for (const Triangle& t : other.triangles) {
+    Triangle w;
+    for (int k = 0; k < 3; ++k) w[k] = t[k] == 0 ? 7 : t[k] + 7;
+    mesh.triangles.push_back(w);
+  }
+  return mesh;
+}
+
 // Corner tetrahedron (0,0,0), e_x, e_y, e_z wound outward: volume 1/6.
 TriangleMesh tetrahedron() {
   TriangleMesh mesh;
@@ -162,16 +176,7 @@ TEST(Topology, BowTieVertex) {
 }
 
 TEST(Topology, TwoCubesTouchingAtACornerMakeANonManifoldVertex) {
-  TriangleMesh mesh = unit_cube();
-  TriangleMesh other = box({1, 1, 1}, {2, 2, 2});
-  // Weld the second cube's corner (1,1,1) (its vertex 0) to the first cube's vertex 7.
-  const std::uint32_t offset = 8;
-  for (std::size_t i = 1; i < 8; ++i) mesh.vertices.push_back(other.vertices[i]);
-  for (const Triangle& t : other.triangles) {
-    Triangle w;
-    for (int k = 0; k < 3; ++k) w[k] = t[k] == 0 ? 7 : t[k] + offset - 1;
-    mesh.triangles.push_back(w);
-  }
+  const TriangleMesh mesh = cubes_welded_at_a_corner();
   const morph::TopologyReport r = morph::topology_report(mesh);
   EXPECT_EQ(r.vertices, 15u);
   EXPECT_EQ(r.non_manifold_vertices, 1u);
@@ -265,15 +270,7 @@ TEST(TopologyPieces, GenusOfEachPiece) {
 // Two cubes welded at one corner: each piece counts the shared vertex, and neither is a closed
 // manifold (the pinch belongs to both).
 TEST(TopologyPieces, APinchSpoilsBothPieces) {
-  TriangleMesh mesh = unit_cube();
-  TriangleMesh other = box({1, 1, 1}, {2, 2, 2});
-  for (std::size_t i = 1; i < 8; ++i) mesh.vertices.push_back(other.vertices[i]);
-  for (const Triangle& t : other.triangles) {
-    Triangle w;
-    for (int k = 0; k < 3; ++k) w[k] = t[k] == 0 ? 7 : t[k] + 7;
-    mesh.triangles.push_back(w);
-  }
-  const morph::TopologyReport r = morph::topology_report(mesh);
+  const morph::TopologyReport r = morph::topology_report(cubes_welded_at_a_corner());
   ASSERT_EQ(r.pieces.size(), 2u);
   for (const morph::PieceTopology& piece : r.pieces) {
     EXPECT_EQ(piece.euler_characteristic, 8 - 18 + 12);
