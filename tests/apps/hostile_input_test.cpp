@@ -113,9 +113,11 @@ TEST_F(HostileInput, PlyTagsOutsideInt32AreRefused) {
 TEST_F(HostileInput, PlyNanVertexIndexIsRefused) {
   // The PLY fuzzer's find: float vertex indices holding NaN passed both range comparisons and
   // were cast to an integer (UBSan: -nan is outside the range of unsigned int).
-  write_text("nan.ply",
-             "ply\nformat ascii 1.0\nelement vertex 3\nproperty double x\nproperty double y\nproperty double z\n"
-             "element face 1\nproperty list uchar float vertex_indices\nend_header\n0 0 0\n1 0 0\n0 1 0\n3 0 1 nan\n");
+  write_text(
+      "nan.ply",
+      "ply\nformat ascii 1.0\nelement vertex 3\nproperty double x\nproperty double y\nproperty double z\n"
+      "element face 1\nproperty list uchar float vertex_indices\nend_header\n0 0 0\n1 0 0\n0 1 0\n3 0 1 "
+      "nan\n");
   expect_refusal(morphmill("mesh-info nan.ply"), "nan.ply", {"refers to vertex nan"});
 }
 
@@ -159,6 +161,26 @@ TEST_F(HostileInput, BlankLinesReserveNoMoves) {
   const Run r = morphmill("info blank.json --json");
   ASSERT_EQ(r.exit_code, 0) << r.err;
   EXPECT_NE(r.out.find("\"total\": 0"), std::string::npos) << r.out;
+}
+
+TEST_F(HostileInput, AVeryLongLineIsReadAndItsErrorsDoNotRepeatIt) {
+  // gen_gcode_big.py oneline at 4 MB: "G1 X1 (" + 4 MB + ")" on line 3. Its program sets no feed
+  // rate, so LinuxCNC refuses the G1 (issue 20); the message names the file, the line and the
+  // problem, and does not repeat the 4 MB line.
+  const std::string program = "G21 G90 G17\nG0 X0 Y0 Z25\nG1 X1 (" + std::string(4 << 20, 'x') + ")\nG1 X2\n";
+  write_text("oneline.nc", program);
+  write_text("oneline.json", box_job("oneline.nc"));
+  const Run refused = morphmill("info oneline.json --json");
+  expect_refusal(refused, "oneline.nc:3:", {"no feed rate"});
+  EXPECT_LT(refused.err.size(), 1000u);
+  // With a feed rate the same line makes its move: 2 linear moves up to (2, 0, 25).
+  write_text("oneline_feed.nc", "F600\n" + program);
+  write_text("oneline_feed.json", box_job("oneline_feed.nc"));
+  const Run read = morphmill("info oneline_feed.json --json");
+  ASSERT_EQ(read.exit_code, 0) << read.err;
+  const nlohmann::json info = nlohmann::json::parse(read.out);
+  EXPECT_EQ(info["moves"]["by_kind"]["linear"], 2);
+  EXPECT_EQ(info["bounds"]["max"], nlohmann::json::parse("[2, 0, 25]"));
 }
 
 TEST_F(HostileInput, UnwritableOutputsAreExit2NamingThemEveryTime) {
