@@ -445,6 +445,8 @@ void Interpreter::execute_block() {
     if (codes.motion == 800) {
       motion_ = Motion::None;
       if (axis_words && !axes_taken) fail("axis words with G80 (cancel canned cycle), which has no motion");
+    } else if (codes.motion == 330) {
+      motion_ = Motion::Synchronized;
     } else if (codes.motion <= 30) {
       motion_ = codes.motion == 0    ? Motion::Rapid
                 : codes.motion == 10 ? Motion::Linear
@@ -476,6 +478,16 @@ void Interpreter::execute_block() {
         note_missing_units();
         if (motion_ == Motion::Linear) require_feed("G1");
         straight(motion_ == Motion::Rapid ? MoveKind::Rapid : MoveKind::Linear, codes.g53);
+      }
+      break;
+    case Motion::Synchronized:
+      // G33: a straight feed whose speed follows the spindle, K per turn (LinuxCNC needs both).
+      used_ |= kAxisBits | bit('k');
+      if (moves) {
+        note_missing_units();
+        if (!block_.has('k')) fail("G33 needs K (the distance per spindle turn)");
+        if (spindle_direction_ == 0) fail("G33 with the spindle not turning (M3 or M4 first)");
+        straight(MoveKind::Linear, false);
       }
       break;
     case Motion::ArcClockwise:

@@ -1,6 +1,6 @@
 // Numbers, parameter references and expressions, with LinuxCNC's rules: binary operators of five
 // precedence levels (** ; * / MOD ; + - ; EQ NE GT GE LT LE ; AND OR XOR), left to right within a
-// level; EQ/NE/LE/GE compare within 1e-6; angles in degrees; MOD is never negative.
+// level; EQ/NE compare within 1e-4, the others exactly; angles in degrees; MOD is never negative.
 #include <charconv>
 #include <cmath>
 
@@ -9,7 +9,7 @@
 namespace morph::gcode {
 namespace {
 
-constexpr double kEqualTolerance = 1e-6;  // LinuxCNC's TOLERANCE_EQUAL
+constexpr double kEqualTolerance = 1e-4;  // LinuxCNC's TOLERANCE_EQUAL (measured with rs274 2.9)
 constexpr double kDegree = M_PI / 180.0;
 
 enum class Op { None, Power, Times, Divide, Mod, Plus, Minus, Eq, Ne, Gt, Ge, Lt, Le, And, Or, Xor };
@@ -59,11 +59,11 @@ double apply(Op op, double a, double b) {
     case Op::Gt:
       return a > b ? 1.0 : 0.0;
     case Op::Ge:
-      return (std::abs(a - b) < kEqualTolerance || a >= b) ? 1.0 : 0.0;
+      return a >= b ? 1.0 : 0.0;
     case Op::Lt:
       return a < b ? 1.0 : 0.0;
     case Op::Le:
-      return (std::abs(a - b) < kEqualTolerance || a <= b) ? 1.0 : 0.0;
+      return a <= b ? 1.0 : 0.0;
     case Op::And:
       return (a == 0.0 || b == 0.0) ? 0.0 : 1.0;
     case Op::Or:

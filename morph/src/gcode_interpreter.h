@@ -28,7 +28,8 @@ struct PlaneAxes {
 };
 PlaneAxes axes_of(Plane plane);
 
-enum class Motion { None, Rapid, Linear, ArcClockwise, ArcCounterClockwise, Cycle };
+/// Synchronized: G33, a straight feed locked to the spindle (its path is a straight line).
+enum class Motion { None, Rapid, Linear, ArcClockwise, ArcCounterClockwise, Synchronized, Cycle };
 enum class FeedMode { PerMinute, InverseTime, PerRevolution };
 
 constexpr char kAxisLetters[3] = {'x', 'y', 'z'};

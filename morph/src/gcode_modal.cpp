@@ -48,6 +48,7 @@ LineCodes Interpreter::sort_g_codes() {
       case 10:
       case 20:
       case 30:
+      case 330:
       case 730:
       case 740:
       case 810:
@@ -147,7 +148,6 @@ LineCodes Interpreter::sort_g_codes() {
         fail("lathe diameter mode (G7) is not supported");
       case 160:
         fail("polar coordinates (G16) are not supported");
-      case 330:
       case 331:
       case 760:
         fail("threading (" + code_name('G', g) + ") is not supported");
@@ -540,6 +540,7 @@ std::optional<double> Interpreter::live_parameter(int number, std::string_view n
                           : motion_ == Motion::Linear              ? 10
                           : motion_ == Motion::ArcClockwise        ? 20
                           : motion_ == Motion::ArcCounterClockwise ? 30
+                          : motion_ == Motion::Synchronized        ? 330
                           : motion_ == Motion::Cycle               ? cycle_code_
                                                                    : 800;
   const std::pair<const char*, double> values[] = {

@@ -353,6 +353,33 @@ TEST(GcodeTools, ToolChangesSetTheMoveTool) {
   EXPECT_EQ(parse("T2 M6\nG21 F100 G0 X0 Y0 Z0\nG1 X1\n", options).tools_used, (std::set<int>{2}));
 }
 
+TEST(GcodeModes, ComparisonsAreExactButEqualityIsWithinATenThousandth) {
+  // As rs274 (LinuxCNC 2.9) evaluates them: [0.1 + 0.2] LE 0.3 is 0 (the sum is 0.30000000000000004),
+  // 1 EQ 1.00009 is 1, 0 EQ 0.0001 is 0, 0.3 GE 0.30000001 is 0, 0.3 NE 0.30000001 is 0.
+  const GcodeResult r = parse(
+      "G21 F100 G0 X0 Y0 Z0\nG1 X[1 + [[0.1 + 0.2] LE 0.3]]\nG1 Y[1 + [1 EQ 1.00009]]\n"
+      "G1 Z[1 + [0 EQ 0.0001]]\nG1 X[3 + [0.3 GE 0.30000001]]\nG1 Y[3 + [0.3 NE 0.30000001]]\n");
+  ASSERT_EQ(r.path.moves.size(), 5u);
+  EXPECT_EQ(r.path.moves[0].end, Vector3d(1, 0, 0));
+  EXPECT_EQ(r.path.moves[1].end, Vector3d(1, 2, 0));
+  EXPECT_EQ(r.path.moves[2].end, Vector3d(1, 2, 1));
+  EXPECT_EQ(r.path.moves[3].end, Vector3d(3, 2, 1));
+  EXPECT_EQ(r.path.moves[4].end, Vector3d(3, 3, 1));
+}
+
+TEST(GcodeModes, SpindleSynchronizedMotionIsAStraightFeed) {
+  // G33 (LinuxCNC: K per spindle turn, spindle turning, no F needed): a straight line, modal.
+  const GcodeResult r = parse("G21 G0 X0 Y0 Z0\nS500 M3\nG33 Z-5 K1.5\nX2 Z-6 K1.5\nG0 Z5\n");
+  ASSERT_EQ(r.path.moves.size(), 3u);
+  EXPECT_EQ(r.path.moves[0].kind, MoveKind::Linear);
+  EXPECT_EQ(r.path.moves[0].end, Vector3d(0, 0, -5));
+  EXPECT_EQ(r.path.moves[1].kind, MoveKind::Linear);
+  EXPECT_EQ(r.path.moves[1].start, Vector3d(0, 0, -5));
+  EXPECT_EQ(r.path.moves[1].end, Vector3d(2, 0, -6));
+  EXPECT_EQ(r.path.moves[2].kind, MoveKind::Rapid);
+  EXPECT_EQ(r.word_counts.at("G33"), 1);
+}
+
 TEST(GcodeStart, MovesStartOnceXyzAreKnown) {
   const GcodeResult r = parse("G21 F100\nG0 Z20\nG0 X1\nG0 Y2\nG1 Z0\n");
   ASSERT_EQ(r.path.moves.size(), 1u);
@@ -473,7 +500,9 @@ TEST(GcodeErrors, EveryErrorNamesFileAndLine) {
       {"G10 L5 P1 X0", "G10 needs L1"},
       {"G43 H1.5", "H must be an integer"},
       {"G38.2 Z-5 F10", "probing"},
-      {"G33 Z-1 K1", "threading"},
+      {"G33 Z-1 K1", "spindle not turning"},
+      {"M3 S100 G33 Z-1", "G33 needs K"},
+      {"G33.1 Z-1 K1", "threading"},
       {"G68 X0 Y0 R45", "rotation"},
       {"G51 X2", "scaling"},
       {"G16", "polar"},
