@@ -13,10 +13,10 @@ out=${2:-out/demo}
 # name | job | verify options
 examples=(
   "through_slots|data/jobs/through_slots.json|"
-  "heart|data/camotics/heart/heart.camotics|--reference-only --voxel 0.4"
-  "slant_test|data/camotics/slant_test/slant_test.camotics|--reference-only --voxel 0.25"
-  "vcarve|data/camotics/vcarve/vcarve.camotics|--reference-only --voxel 0.1"
-  "flower_mold|data/camotics/flower_mold/flower_mold.camotics|--reference-only --voxel 0.4"
+  "heart|data/camotics/heart/heart.camotics|--reference-only --voxel 0.8 --samples 20000"
+  "slant_test|data/camotics/slant_test/slant_test.camotics|--reference-only --voxel 0.25 --samples 20000"
+  "vcarve|data/camotics/vcarve/vcarve.camotics|--reference-only --voxel 0.2 --samples 20000"
+  "flower_mold|data/camotics/flower_mold/flower_mold.camotics|--reference-only --voxel 0.6 --samples 20000"
 )
 
 status=0
