@@ -2429,7 +2429,9 @@ double stock_face_distance(const Patch& p, const Vector3d& x) {
 // segments with their capsules and bounds, the patches, and the tessellation cells of the patch
 // grids (a cell is two triangles at most, with their share of vertices, edge uses and seams).
 constexpr double kBytesFixed = 35.0 * (1 << 20);
-constexpr double kBytesPerStockTriangle = 400.0;
+// A mesh stock's triangle is also a patch of its own; 1000 + 400 bytes per triangle was measured on
+// a 1M-triangle sphere stock (hostile reproducer sphere_5m_erode at a fifth of its size).
+constexpr double kBytesPerStockTriangle = 1000.0;
 constexpr double kBytesPerSegment = 600.0;
 constexpr double kBytesPerPatch = 400.0;
 constexpr double kBytesPerGridCell = 100.0;
@@ -2503,7 +2505,6 @@ ErodeResult erode(const Job& job, const ErodeOptions& options) {
   Context ctx;
   ctx.job = &job;
   ctx.stock_box = bounds(job.stock);
-  if (job.stock.type == StockType::Mesh) ctx.stock_mesh.emplace(job.stock.mesh);
   const double scale = std::max(1.0, ctx.stock_box.sizes().maxCoeff());
   ctx.tie = 1e-11 * scale;
   ctx.trim_tolerance = tolerance;
@@ -2523,12 +2524,16 @@ ErodeResult erode(const Job& job, const ErodeOptions& options) {
   double segment_estimate = 0.0;
   for (const Path& path : job.paths)
     for (const Move& move : path.moves) segment_estimate += chord_count(move, arc_chord);
-  const double stock_bytes = job.stock.type == StockType::Mesh
-                                 ? kBytesPerStockTriangle * double(job.stock.mesh.triangles.size())
-                                 : 0.0;
+  const double stock_triangles =
+      job.stock.type == StockType::Mesh ? double(job.stock.mesh.triangles.size()) : 0.0;
+  const double stock_bytes = kBytesPerStockTriangle * stock_triangles;
   check_memory_estimate(
-      options, tolerance, kBytesFixed + stock_bytes + segment_estimate * kBytesPerSegment,
-      std::to_string(std::llround(segment_estimate)) + " segments after splitting arcs into chords");
+      options, tolerance,
+      kBytesFixed + stock_bytes + stock_triangles * kBytesPerPatch + segment_estimate * kBytesPerSegment,
+      std::to_string(std::llround(segment_estimate)) + " segments after splitting arcs into chords, " +
+          std::to_string(std::llround(stock_triangles)) + " stock triangles");
+  // Only now the stock's own structures, the largest allocation for a big mesh stock.
+  if (job.stock.type == StockType::Mesh) ctx.stock_mesh.emplace(job.stock.mesh);
 
   // Segments, chained.
   const std::vector<const Move*> moves = job.moves();

@@ -3,6 +3,7 @@
 // estimate makes: --memory-cap below it, and the hostile reproducers that used to run out of
 // memory (tolerance 1e-6, a P1000000 circle).
 #include <gtest/gtest.h>
+#include <morphmill/mesh_io.h>
 #include <sys/resource.h>
 #include <sys/wait.h>
 #include <unistd.h>
@@ -12,6 +13,7 @@
 #include <string>
 
 #include "apps/command_support.h"
+#include "common/test_meshes.h"
 
 namespace {
 
@@ -56,9 +58,9 @@ class ErodeEstimate : public ::testing::TestWithParam<const char*> {};
 
 TEST_P(ErodeEstimate, IsWithinAFactorOfTwoOfTheMeasuredPeak) {
   const auto dir = morphmill_test::scratch_dir("erode_estimate", GetParam());
-  const Measured m = run_measured(
-      "erode '" + kData + "/jobs/" + GetParam() + ".json' -o '" + (dir / "out.ply").string() + "' --allow-open",
-      dir);
+  const Measured m = run_measured("erode '" + kData + "/jobs/" + GetParam() + ".json' -o '" +
+                                      (dir / "out.ply").string() + "' --allow-open",
+                                  dir);
   // 1 is today's generator leaving a surface that is not a sound solid (written with --allow-open):
   // the run is whole either way, and so is its peak.
   ASSERT_TRUE(m.exit_code == 0 || m.exit_code == 1) << m.err;
@@ -97,6 +99,21 @@ TEST_F(ErodeRefusal, ATinyToleranceIsRefusedByTheEstimate) {
   EXPECT_NE(r.err.find("slots.json"), std::string::npos) << r.err;
   EXPECT_NE(r.err.find("MiB"), std::string::npos) << r.err;
   EXPECT_LT(r.peak_bytes, 500.0 * (1 << 20));
+}
+
+TEST_F(ErodeRefusal, ALargeMeshStockIsRefusedBeforeItsStructuresAreBuilt) {
+  // sphere_5m_erode of the hostile reproducers, a 25th of the size: the stock's own structures and
+  // patches (1.4 KB a triangle) used to be built before the estimate, and ran out of memory.
+  morphmill::write_mesh(morphmill_test::torus(30.0, 10.0, 500, 200), path("torus.ply"));
+  write_text(
+      "torus.json",
+      R"({"stock":{"type":"mesh","path":"torus.ply"},"tools":{"1":{"type":"ballend","radius":3,"length":40}},"paths":[{"tool":1,"polyline":[[-45,0,5],[45,0,5]]}]})");
+  const auto r = run_measured("erode torus.json -o out.ply --memory-cap 0.2", dir_);
+  EXPECT_EQ(r.exit_code, 2) << r.err;
+  EXPECT_NE(r.err.find("torus.json"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("200000 stock triangles"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("over the memory cap"), std::string::npos) << r.err;
+  EXPECT_LT(r.peak_bytes, 150.0 * (1 << 20));
 }
 
 TEST_F(ErodeRefusal, AMillionTurnCircleIsRefused) {
