@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: Apache-2.0
 # The README's two commands: `make demo` and `make test`. Each installs what is missing first.
 BUILD_DIR ?= build
 ASAN_DIR ?= build-asan

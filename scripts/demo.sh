@@ -1,4 +1,5 @@
 #!/usr/bin/env bash
+# SPDX-License-Identifier: Apache-2.0
 # make demo: verifies the bundled multi-piece job (a block cut by through-slots into three pieces).
 set -euo pipefail
 bin=${1:-build/apps/morphmill}

@@ -1,4 +1,5 @@
 #!/usr/bin/env bash
+# SPDX-License-Identifier: Apache-2.0
 # Installs MorphMill's build and test dependencies from Debian's packages. Idempotent: installs
 # only what is missing, and runs apt-get update only when something is.
 set -euo pipefail

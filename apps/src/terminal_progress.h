@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // Progress on a terminal for long stages; when stderr is not a terminal (logs, CI, pipes), one
 // plain line every ten seconds of a stage.
