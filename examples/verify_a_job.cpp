@@ -19,7 +19,7 @@ int main(int argc, char** argv) {
     const double voxel = argc > 2 ? std::stod(argv[2]) : morphmill::default_voxel_size(job);
 
     const morphmill::ErodeReport part = morphmill::erode(job);
-    std::printf("generator: %zu triangles, %d piece(s), volume %.4f, valid %s\n",
+    std::printf("generator: %zu triangles, %zu piece(s), volume %.4f, valid %s\n",
                 part.mesh.triangle_count(), part.topology.components, part.topology.volume,
                 part.valid() ? "yes" : "no");
 
