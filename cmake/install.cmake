@@ -27,7 +27,7 @@ add_custom_target(morphmill_manpage ALL DEPENDS ${CMAKE_CURRENT_BINARY_DIR}/morp
 install(FILES ${CMAKE_CURRENT_BINARY_DIR}/morphmill.1 DESTINATION ${CMAKE_INSTALL_MANDIR}/man1 COMPONENT runtime)
 install(FILES ${PROJECT_SOURCE_DIR}/LICENSE ${PROJECT_SOURCE_DIR}/NOTICE
               ${PROJECT_SOURCE_DIR}/LICENSES/LGPL-3.0-or-later.txt ${PROJECT_SOURCE_DIR}/LICENSES/GPL-3.0-or-later.txt
-        DESTINATION ${CMAKE_INSTALL_DOCDIR} COMPONENT runtime)
+        DESTINATION ${CMAKE_INSTALL_DATAROOTDIR}/doc/morphmill COMPONENT runtime)
 
 install(TARGETS morph vdb_ref raytest planar_ref morphmill_app
         EXPORT MorphMillTargets

@@ -49,9 +49,15 @@ int main() {
 
   std::printf("generator volume %.4f, reference volume %.4f, expected %.4f, hausdorff %.4f\n",
               topology.volume, reference.volume(), expected, deviation.hausdorff);
-  const bool ok = topology.closed_manifold() && std::abs(topology.volume - expected) < 0.05 &&
-                  std::abs(reference.volume() - expected) < 2.0 && deviation.hausdorff < 0.25 &&
-                  reference.pieces.size() == 1;
+  // The generator is within its tolerance of the exact surface, flat but for the groove's half
+  // cylinder (area pi * 2 * 20); the reference cuts sharp edges (the block's 160 mm, the groove
+  // rims' 40 mm) by about a voxel; the two agree within tolerance + sqrt(3) * voxel (as verify).
+  const double generator_bound = erode_options.tolerance * pi * radius * 20.0;
+  const double reference_bound = reference_options.voxel_size * reference_options.voxel_size * 200.0;
+  const double agreement_bound = erode_options.tolerance + std::sqrt(3.0) * reference_options.voxel_size;
+  const bool ok = topology.closed_manifold() && std::abs(topology.volume - expected) <= generator_bound &&
+                  std::abs(reference.volume() - expected) <= reference_bound &&
+                  deviation.hausdorff <= agreement_bound && reference.pieces.size() == 1;
   std::puts(ok ? "consumer: ok" : "consumer: WRONG");
   return ok ? 0 : 1;
 }
