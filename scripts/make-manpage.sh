@@ -62,7 +62,7 @@ trap 'rm -f "$tmp"' EXIT
   echo ".SH EXAMPLES"
   echo ".nf"
   echo "morphmill info job.json"
-  echo "morphmill verify job.json \\-\\-out out/job"
+  echo "morphmill verify job.json \\-o out/job"
   echo "morphmill erode job.json \\-o out/part.ply"
   echo "morphmill deviation out/part.ply out/ref.ply \\-\\-heatmap out/heat.ply"
   echo ".fi"
