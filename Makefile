@@ -31,7 +31,7 @@ test-slurm: build
 	bash scripts/slurm-local.sh install || echo "test-slurm: Slurm packages not installed (above); the test says whether it can run"
 	cd $(BUILD_DIR) && MORPHMILL_SLURM_TEST=1 ctest --output-on-failure -L slurm
 
-# Builds only the program (not the tests and benchmarks), then verifies the bundled job into out/demo.
+# Builds only the program (not the tests and benchmarks), then verifies the bundled examples into out/demo.
 demo: configure
 	cmake --build $(BUILD_DIR) -j $(JOBS) --target morphmill
 	bash scripts/demo.sh $(BUILD_DIR)/apps/morphmill $(DEMO_OUT)
