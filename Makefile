@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: Apache-2.0
 # The README's two commands: `make demo` and `make test`. Each installs what is missing first.
 BUILD_DIR ?= build
 ASAN_DIR ?= build-asan
@@ -30,7 +31,9 @@ test-slurm: build
 	bash scripts/slurm-local.sh install || echo "test-slurm: Slurm packages not installed (above); the test says whether it can run"
 	cd $(BUILD_DIR) && MORPHMILL_SLURM_TEST=1 ctest --output-on-failure -L slurm
 
-demo: build
+# Builds only the program (not the tests and benchmarks), then verifies the bundled examples into out/demo.
+demo: configure
+	cmake --build $(BUILD_DIR) -j $(JOBS) --target morphmill
 	bash scripts/demo.sh $(BUILD_DIR)/apps/morphmill $(DEMO_OUT)
 
 bench: build

@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: Apache-2.0
 # Writes OUTPUT: `#define MORPHMILL_SOURCE_COMMIT "<commit>"`, the git commit of SOURCE_DIR with
 # "-modified" when tracked files differ from it, or "unknown" outside a git checkout (or without
 # git). Run at every build (not at configure time) so a new commit is never reported as an old

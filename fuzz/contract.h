@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // The error contract every harness checks: bad input may only end in the exceptions that
 // morphmill turns into exit 2. Anything else escapes LLVMFuzzerTestOneInput and libFuzzer

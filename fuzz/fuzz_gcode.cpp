@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // G-code programs through morph's reader with the default options.
 #include <morph/gcode.h>
 

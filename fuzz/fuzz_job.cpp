@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Job files: JSON syntax, nesting, numbers, every key's checks (G-code and mesh paths resolve
 // relative to the working directory, which `make fuzz` sets to a scratch directory).
 #include <morphmill/job_io.h>

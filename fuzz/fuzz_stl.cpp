@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // STL meshes through morphmill's reader (the format follows the name's extension).
 #include <morphmill/mesh_io.h>
 

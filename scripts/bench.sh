@@ -1,4 +1,5 @@
 #!/usr/bin/env bash
+# SPDX-License-Identifier: Apache-2.0
 # Runs every Google Benchmark executable the build produced.
 set -euo pipefail
 build=${1:-build}

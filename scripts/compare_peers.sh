@@ -1,4 +1,5 @@
 #!/bin/bash
+# SPDX-License-Identifier: Apache-2.0
 # Side-by-side comparison of `morphmill deviation` with the peers a user would pick instead
 # (CloudCompare C2M, MeshLab Hausdorff Distance, Open3D RaycastingScene), on the UV-sphere pair
 # of ../shared/peers: D (r = 1.01, 998k triangles) against C (r = 1, 199k triangles).

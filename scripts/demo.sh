@@ -1,4 +1,5 @@
 #!/usr/bin/env bash
+# SPDX-License-Identifier: Apache-2.0
 # make demo: verifies the bundled examples, each into its own directory under OUT (default
 # out/demo): the multi-piece job (a block cut by through-slots into three pieces, generator and
 # reference) and the four CAMotics projects of data/camotics/ (heart: two programs, a ball nose and

@@ -1,4 +1,5 @@
 #!/usr/bin/env bash
+# SPDX-License-Identifier: Apache-2.0
 # Builds the libFuzzer harnesses (fuzz/) with clang and runs each for SECONDS seconds.
 # Usage: scripts/fuzz.sh [SECONDS (default 60)] [TARGET ...]   (targets: job gcode ply stl obj)
 # Corpora grow in build-fuzz/corpus/<target>/ (seeded from data/ and fuzz/seeds/, which holds the

@@ -1,4 +1,5 @@
 #!/usr/bin/env bash
+# SPDX-License-Identifier: Apache-2.0
 # Installs MorphMill's build and test dependencies from Debian's packages. Idempotent: installs
 # only what is missing, and runs apt-get update only when something is.
 set -euo pipefail
@@ -15,6 +16,7 @@ packages=(
   chromium
   libplplot-dev plplot-driver-cairo
   libpolyclipping-dev
+  pybind11-dev python3-dev python3-numpy
 )
 # Optional extras for reports and browser checks are added by callers via MORPHMILL_EXTRA_PACKAGES.
 if [[ -n "${MORPHMILL_EXTRA_PACKAGES:-}" ]]; then

@@ -1,4 +1,5 @@
 #!/usr/bin/env bash
+# SPDX-License-Identifier: Apache-2.0
 # The `slurm` test (ctest -L slurm): docs/stress.md's Slurm recipe, as written there, on a real
 # one-node Slurm (scripts/slurm-local.sh), against a single-process run of the same campaign:
 #   1. the recipe runs and its merge equals the single-process campaign;

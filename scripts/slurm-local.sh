@@ -1,4 +1,5 @@
 #!/usr/bin/env bash
+# SPDX-License-Identifier: Apache-2.0
 # A one-node Slurm on this machine, from Debian's packages (munge, slurmctld, slurmd,
 # slurm-client), without systemd: every daemon runs in the foreground under this script's control,
 # its state, sockets and logs in STATE_DIR, and is stopped by its PID.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #include "build_info.h"
 
 #include <morphmill_source_commit.h>

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // What this build of morphmill is: its version and the source commit it was built from.
 #include <string>

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // What every morphmill command shares on its command line: -q/--quiet, -v/--verbose, --threads,
 // the -o/--output spelling, suggestions for mistyped commands and options, and the bash

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // morphmill compare: the machined result (the generator's exact surface) against the design model.
 #include <fmt/format.h>
 #include <morph/erode.h>

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // morphmill deviation / render: the Embree measurement (raytest) on mesh files.
 #include <fmt/format.h>
 #include <morph/exceptions.h>

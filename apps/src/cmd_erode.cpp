@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // morphmill erode: the paper's secondary 3D model of the job's erosion (morph::erode), written as
 // a mesh with per-face provenance, with a short summary of what was produced.
 #include <morph/erode.h>

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // morphmill info JOB: the job as understood; morphmill mesh-info MESH: the topology report.
 #include <fmt/format.h>
 #include <morph/exceptions.h>

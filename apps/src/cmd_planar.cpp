@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // morphmill erode2d and verify2d: the paper's two-dimensional model (docs/planar.md).
 #include <fmt/format.h>
 #include <morph/planar_erosion.h>

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // morphmill reference: the OpenVDB level-set reference of a job's erosion, at one or more voxel
 // sizes (a convergence study), with its mesh, optional VDB grid and stats.
 #include <morph/exceptions.h>

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // Each command group registers its subcommands on the root app; main() dispatches and maps
 // exceptions to exit codes (see exit_codes below).

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // Design comparison (`morphmill compare`, and `verify` when the job names a design): the machined
 // result, i.e. the generator's exact surface, against the design model the program was written

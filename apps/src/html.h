@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // Small pieces shared by the self-contained HTML reports of verify and study.
 #include <filesystem>

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Job files (docs/job-format.md). Every error names the job file and the JSON path of the value
 // at fault; unknown keys are warnings so that a misspelt optional key is never silently ignored.
 #include <fmt/format.h>

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Every command that reads a job says what the job's warnings are (a misspelt key is never
 // silently ignored), and `--strict` makes any warning a refusal.
 #include <morph/exceptions.h>

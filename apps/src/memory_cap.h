@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // --memory-cap: how much memory a command may plan to use, checked against an estimate made
 // from the job alone before any long computation starts.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Mesh files. Every file is read whole through morph::read_regular_file (regular files only,
 // length checked) and written through morph::write_file_atomically (temporary file, checked,
 // renamed). STL and OBJ are read by the checked readers of stl_obj_readers.cpp and written by

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // DXF for the planar model: LINE, ARC, CIRCLE and LWPOLYLINE (with bulges) read from the ENTITIES
 // section, open pieces chained end to end; results written as R12 LINE and ARC entities.
 #include <fmt/format.h>

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Planar job files (docs/planar.md): a stock made of shapes, a disc tool and a trajectory made of
 // polylines, arcs, circles, plunges, G-code feed moves below a cutting height, SVG or DXF drawings.
 // Every error names the job file and the JSON path, or the drawing and its element.

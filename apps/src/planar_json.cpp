@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Planar results as JSON (loops of curves with provenance, pieces, area, perimeter) and the one
 // entry point that writes a result by its file extension.
 #include <fmt/format.h>

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // SVG for the planar model: reading outlines and trajectories from <path> and the basic shapes,
 // writing pictures whose arcs stay exact (the path 'A' command). SVG draws y downwards; the
 // planar model's y goes up, so y is flipped both ways.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // morphmill verify2d: the exact planar erosion against the Clipper reference, with pictures and a
 // report.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // verify's outputs for people: report.md and a self-contained report.html, plus the JSON.
 #include <fmt/format.h>
 #include <morph/exceptions.h>

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Exact self-intersection test of a triangle mesh: a bounding-volume hierarchy finds the pairs
 // whose boxes overlap, and each pair is decided by CGAL's filtered exact predicates. Pairs lying in
 // one axis-aligned plane (a stock face and its cuts: the common case, and one where every 3D

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Checked STL and OBJ readers (see stl_obj_readers.h for why they are not OpenMesh's).
 #include "stl_obj_readers.h"
 

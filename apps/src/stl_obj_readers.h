@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // Checked readers for STL and OBJ, from bytes already read through morph::read_regular_file.
 // OpenMesh's readers cannot be made safe from outside: its STL type check loops forever on

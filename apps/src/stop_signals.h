@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // Clean stops of long commands (stress, study): while a StopOnSignals lives, SIGINT and SIGTERM
 // only record the signal; the command polls stop_signal() between units of work (cases,

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // `morphmill stress`: runs the generator, the reference and the deviation measurement on many
 // random cases (stress_cases.h), checks invariants on each, writes every failing case as a job

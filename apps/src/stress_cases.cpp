@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // The stress case generators. Each family builds a job whose result is known by construction
 // (piece count, and the volume when no pass enters the stock) and that probes one way the
 // generator can break: pieces split off or freed, pieces removed whole, self-crossing paths,

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // Random jobs built to break the generator: `morphmill stress` draws one per case index.
 // Every case is a job file (JSON, docs/job-format.md) plus, for mesh stock, the stock mesh, and

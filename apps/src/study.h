@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // `morphmill study`: one-at-a-time parameter sweeps over jobs (generator tolerance, reference
 // voxel size, tool radius, step-over of generated zigzag jobs), with a convergence table (CSV,

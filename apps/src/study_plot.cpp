@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Charts of `morphmill study` through PLplot's cairo PNG driver ("pngcairo", headless).
 #include <morph/exceptions.h>
 #include <plplot.h>

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // Progress on a terminal for long stages, with the time left at the pace so far; when stderr is
 // not a terminal (logs, CI, pipes), plain timestamped lines: every ten seconds of a stage, and its

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // CAMotics projects and LinuxCNC tool tables (docs/camotics.md, docs/job-format.md). CAMotics'
 // tool geometry (its ToolSweep) and automatic workpiece (its Workpiece::update) are matched as
 // they are described in ../shared/camotics/README.md and CAMotics' documentation.

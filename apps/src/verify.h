@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // `morphmill verify`: the generator, the reference and the deviation measurement on one job,
 // with a verdict and a report a person reads.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #include "edge_uses.h"
 
 #include "huge_pages.h"

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // Private to morph: the directed uses of every undirected edge of a mesh, sorted so that the uses
 // of one edge lie together; what the topology report, the generator's clean-up and its repair

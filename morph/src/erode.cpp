@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // The paper's secondary 3D model: trimmed parametric patches built from the ordered tool
 // positions (side sweeps, front sweeps, stock faces), see morph/erode.h and docs/generator.md.
 #include <morph/aabb_tree.h>

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Local repair of the few defects the seam work leaves. A cluster of bad edges marks a place
 // where several trimmed patches meet at a singular point (two equal tools crossing at the same
 // depth touch tangentially at the bottom; a corner of one path lies on another pass) and the

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // Private to the generator: replacing small defects left by the seam work (a few open or
 // non-manifold edges where a tool's contact with another sweep is singular or tangent) with a

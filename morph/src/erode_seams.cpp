@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Joining trimmed patches: both sides of a trimming curve carry vertices lying on the exact curve
 // (placed by root finding), but each side samples it at its own grid edges. Splitting every
 // boundary edge at the other side's vertices makes the two vertex sequences identical, as in a

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // Private to the generator: joining independently trimmed patches along their shared curves.
 #include <morph/mesh.h>

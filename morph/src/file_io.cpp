@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Whole-file reading and writing with every failure named (see file_io.h for the contract).
 #include <fcntl.h>
 #include <morph/exceptions.h>

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // RS-274/NGC reader, LinuxCNC's interpreter being the reference for meaning. This file is the
 // line loop: reading lines, the program end, O-word control flow, and the order in which one
 // block's words take effect. What is supported and where MorphMill differs: docs/gcode.md.

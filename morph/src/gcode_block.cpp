@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Lexing one line into a Block (numbers and expressions are in gcode_expression.cpp).
 #include "gcode_block.h"
 

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // Reading one line of G-code into a Block: lexing, numbers, expressions `[...]`, parameter
 // references and assignments, O-words and comments. Values are evaluated while the line is read,

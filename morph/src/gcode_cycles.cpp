@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Canned cycles G73, G74, G81-G87, G89 expanded into the straight moves LinuxCNC's interpreter
 // makes (its convert_cycle_*): the preliminary moves to the R plane, L repeats (stepping by X/Y
 // in G91), G98/G99 retract, in all three planes. Cycle arithmetic is in program units and the

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Numbers, parameter references and expressions, with LinuxCNC's rules: binary operators of five
 // precedence levels (** ; * / MOD ; + - ; EQ NE GT GE LT LE ; AND OR XOR), left to right within a
 // level; EQ/NE compare within 1e-4, the others exactly; angles in degrees; MOD is never negative.

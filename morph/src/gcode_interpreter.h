@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // The G-code interpreter's state and stages. One Interpreter reads one program:
 //   gcode.cpp          the line loop: program end, '%', O-word control flow, block order

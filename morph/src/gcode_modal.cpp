@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Codes that set modes and machine state: LinuxCNC's modal groups, units, tools and tool length
 // offsets, coordinate systems (G54..G59.3, G10 L2/L20), G92/G52 offsets, M codes, and the live
 // parameters (#5400.., #<_x>, ...) that read this state.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Motion: programmed targets through the coordinate systems, straight moves, arcs and helices,
 // G28/G30 and their stored positions, and the emitted moves (tool tip in job units).
 #include <algorithm>

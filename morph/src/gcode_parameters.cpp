@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Numbered and named parameters with LinuxCNC's scoping rules (docs/gcode.md, "Parameters").
 #include "gcode_parameters.h"
 

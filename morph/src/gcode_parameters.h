@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // The G-code reader's parameters: LinuxCNC's numbered parameters #1-#5602, named local and global
 // parameters, the subroutine frames that keep #1-#30 and named locals per call, and the LinuxCNC

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // One pass over the program text: the O-word lines and how their blocks pair up.
 #include "gcode_program.h"
 

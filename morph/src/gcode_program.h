@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // The program as lines, and where its O-words are: one pass over the text finds every O-word
 // line and pairs sub/endsub, if/elseif/else/endif, while/endwhile, do/while, repeat/endrepeat,

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // Private to morph: large arrays backed by 2 MiB pages where the system offers them.
 //

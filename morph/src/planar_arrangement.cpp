@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // The arrangement behind planar::erode, dilate and classical_erosion: candidate curves split at
 // all their mutual intersections, pieces classified at their midpoints, kept pieces linked.
 #include <morph/exceptions.h>

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // A uniform grid over bounding boxes: each box is listed in every cell it overlaps, so pairs of
 // overlapping boxes are found cell by cell instead of all against all.

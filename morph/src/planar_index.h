@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // A region's curves in a uniform grid: the nearest boundary point and inside/outside for many
 // query points.

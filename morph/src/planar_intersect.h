@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // Intersections of two planar curves (segments and circular arcs), the arrangement's one
 // numerical decision about where curves meet. Crossing, tangent and overlapping curves are all

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // Linking the kept pieces of the planar arrangement into closed loops.
 #include <morph/planar_region.h>

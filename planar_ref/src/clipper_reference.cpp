@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #include <morph/exceptions.h>
 #include <planar_ref/clipper_reference.h>
 

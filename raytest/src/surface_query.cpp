@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #include <embree3/rtcore.h>
 #include <morph/exceptions.h>
 #include <morph/mesh_distance.h>

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // The bundled jobs (data/jobs/*.json), eroded as `morphmill erode` does: each a closed manifold of
 // the pieces it is built to leave, within its tolerance of the exact surface.
 #include <gtest/gtest.h>

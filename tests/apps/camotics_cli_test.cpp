@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // The CAMotics projects from the command line, as a machinist runs them: `erode` says which move
 // and tool the generator cannot build yet (exit 2), `verify` still checks the reference against
 // the exact surface and its exit code tells the truth (1 "NOT VERIFIED" unless --reference-only),

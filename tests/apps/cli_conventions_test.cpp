@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // What every command shares on its command line (apps/src/cli_conventions.h): -o/--output with
 // --out still accepted, --json [FILE], -q/-v/--threads everywhere, suggestions for typos, the
 // bash completion, and progress lines with timestamps when stderr is not a terminal.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // `morphmill erode` and `mesh-info` on what makes a surface a solid: closed, oriented, 2-manifold
 // and free of self-intersections, or exit 1 and no file (unless --allow-open).
 #include <gtest/gtest.h>

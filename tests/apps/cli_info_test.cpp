@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // `morphmill info` and `morphmill mesh-info` run as a user runs them: exit codes and messages.
 #include <gtest/gtest.h>
 #include <morphmill/mesh_io.h>

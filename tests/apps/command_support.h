@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // Running the morphmill binary from tests: exit code and combined output.
 #include <gtest/gtest.h>

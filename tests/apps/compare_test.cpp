@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // `morphmill compare` on the bundled design_gouge_excess job: a slot program with a plunge 0.8 mm
 // too deep at X30 (G-code line 8, back up on line 9) and an end 0.3 mm short of the design's X50
 // (line 10, retract on line 11), against the

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // erode's up-front memory estimate against the measured peak (the child's ru_maxrss) of the
 // morphmill binary on the bundled jobs: within a factor of 2 either way. And the refusals the
 // estimate makes: --memory-cap below it, and the hostile reproducers that used to run out of

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // The reproducers of ../shared/repro/hostile/ as regression tests, run through the morphmill
 // binary as a user runs them: each hostile input ends in exit 2 with a message naming the file
 // and the problem (or a correct result), never a signal, a hang or exit 3. The inputs are built

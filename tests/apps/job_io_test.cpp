@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Job files: every key, the defaults, the warnings, and every error path (each message must name
 // the file and the JSON path of the value at fault).
 #include <gtest/gtest.h>

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Mesh file round trips (every format, binary and ASCII), what each format keeps, and the errors.
 #include <gtest/gtest.h>
 #include <morph/exceptions.h>

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Planar jobs, drawings and the erode2d / verify2d commands: bundled jobs as built, round trips,
 // and bad input named by file and element.
 #include <gtest/gtest.h>

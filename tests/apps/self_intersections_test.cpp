@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // The exact self-intersection test against meshes whose crossings are known by construction:
 // what triangles share by index is not a crossing, what they share beyond it is.
 #include <gtest/gtest.h>

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // `morphmill stress`: deterministic case generators whose known piece counts agree with the
 // OpenVDB reference, shards that partition a campaign, merges that add up, and a CI-sized campaign
 // through the real binary.

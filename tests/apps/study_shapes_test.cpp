@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // `morphmill study` per tool shape: the OpenVDB reference converges to the exact surface (first
 // order in the voxel size at least) for every tool of revolution, and a setting whose tool the
 // generator cannot build yet says so instead of reporting zeros for it. The small case runs by

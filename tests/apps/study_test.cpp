@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // `morphmill study`: the least-squares order on synthetic data, the zigzag job builder, the study
 // file checks, PLplot pictures, and a small study through the binary.
 #include <gtest/gtest.h>

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Tools from the job to the report: one bundled job per shape (the reference against the exact
 // surface), LinuxCNC tool tables, the four CAMotics example projects (data/camotics/) and the
 // messages for bad tool definitions, each naming its field.

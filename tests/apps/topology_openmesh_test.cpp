@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Cross-check: morph's topology report (plain index arithmetic) against OpenMesh's half-edge view
 // of the same mesh.
 //

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // End-to-end checks of `morphmill verify`: the verdict and files on a job with a closed form, the
 // report opened in a real browser (headless Chromium), and exit code 2 for broken input.
 #include <gtest/gtest.h>

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Speed of the exact self-intersection test (morphmill::find_self_intersections) on the
 // generator's surface of bear.nc (1.33M triangles), threaded and on one thread, beside the
 // topology report that `erode` computes with it.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Speed of the surface generator (morph::erode): raster finishing jobs of 1k, 10k and 100k moves
 // over the same 100 x 100 x 20 mm stock at tolerance 0.01 mm, and the real program bear.nc.
 // Counters: output triangles, triangles per second, seconds per move.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // G-code reader throughput. Run: bench_morph --benchmark_filter=Gcode
 // Reports lines/s (items_per_second) and bytes/s; the file is read into memory once, so this is
 // the parse alone (lexing, modal state, move construction), not the disk.

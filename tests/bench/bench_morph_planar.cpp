@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // The planar erosion's speed on large trajectories. Run: bench_morph --benchmark_filter=Planar
 // Reports moves/s (items_per_second) and the result's size; the issue asks for a 10^5-move job in
 // seconds.

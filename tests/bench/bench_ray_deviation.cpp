@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Embree deviation measurement: closest-point queries per second and a one-sided deviation of a
 // 1M-triangle sphere against a 200k-triangle one (the pair of the peer comparison, built in code).
 #include <benchmark/benchmark.h>

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // The level-set reference of one slot job at voxel sizes 0.4, 0.2 and 0.1: active voxels, memory
 // and time should grow like surface area / voxel^2 (x4 per halving), not like volume (x8). And a
 // real program: LinuxCNC's 3D_Chips.ngc (4.7k moves of a 10 mm ball end, data/jobs/chips.json) at

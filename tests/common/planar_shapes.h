@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // Planar stocks and trajectories as the tests build them (job units).
 #include <morph/planar_dilation.h>

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // Meshes with known topology and geometry, shared by the morph and apps tests.
 #include <morph/mesh.h>

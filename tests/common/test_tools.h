@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // Tools as the tests build them: tool number 1, sizes in job units.
 #include <morph/tool.h>

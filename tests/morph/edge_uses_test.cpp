@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // The generator's private edge bookkeeping (morph/src/edge_uses.h) and its large arrays
 // (morph/src/huge_pages.h), against meshes whose edges and components are known.
 #include <gtest/gtest.h>

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Tests of the generator's local repair (morph/src/erode_repair.h, private to morph) against an
 // exact field: holes cut into closed meshes of solids whose signed distance is known.
 #include <gtest/gtest.h>

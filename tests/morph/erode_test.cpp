@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Tests of the surface generator (morph/erode.h) against the exact field of morph/sweep_distance.h.
 #include <gtest/gtest.h>
 #include <morph/erode.h>

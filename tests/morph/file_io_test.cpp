@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // The guarded file path: regular files only (refused by name, without blocking), sizes capped
 // before anything is allocated, and atomic, checked writes. Reproducers of
 // ../shared/repro/hostile/ (FIFOs, /dev/zero, directories, /dev/full, unwritable places).

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // The conformance suite: small programs per feature under data/gcode/conformance/, each motion
 // line carrying the tool-tip positions LinuxCNC makes there, written by hand from its documentation
 // as a comment:

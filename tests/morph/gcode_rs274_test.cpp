@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // The optional comparison with LinuxCNC's own interpreter: where Debian's linuxcnc-uspace is
 // installed, its standalone `rs274` runs every G-code program under data/ and MorphMill reads the
 // same program; both must refuse it, or both must make the same moves (kind, end point, arc

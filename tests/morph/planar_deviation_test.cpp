@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // The planar deviation against closed forms: offset squares and circles.
 #include <gtest/gtest.h>
 #include <morph/planar_deviation.h>

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // The planar erosion against hand-computed closed forms and built-in degenerate cases.
 #include <gtest/gtest.h>
 #include <morph/exceptions.h>

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Planar curves and regions: exact areas, lengths, containment and the input checks.
 #include <gtest/gtest.h>
 #include <morph/exceptions.h>

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // The tie between the planar model and the 3D generator: a ball-end tool's body above its tip
 // hemisphere is a vertical cylinder, so for level moves at tip height z0 the 3D result's section at
 // any height z0 + r < z < stock top is the planar erosion by a disc of radius r. This test cuts the

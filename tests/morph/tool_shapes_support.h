@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // Every tool shape of morph/tool.h once, in sizes like real cutters (mm), for generator 2's
 // per-shape tests.

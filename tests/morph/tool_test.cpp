@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Every tool shape against closed forms: distances at chosen points, the profile's distance
 // against a dense sampling of its boundary, volumes of the tool and of single sweeps (Cavalieri
 // for straight moves, Pappus for a full circle) against quasi-Monte Carlo integration of the

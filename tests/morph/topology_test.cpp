@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Topology report against meshes whose counts are known in closed form.
 #include <gtest/gtest.h>
 #include <morph/exceptions.h>

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // The Clipper reference against the exact planar erosion: agreement within the chord tolerance,
 // and convergence as the tolerance shrinks.
 #include <gtest/gtest.h>

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // Meshes with closed-form geometry for the raytest suites.
 #include <morph/mesh.h>

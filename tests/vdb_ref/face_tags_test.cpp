@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Face provenance of the reference against a brute-force evaluation of its rule with morph's exact
 // sweep distances: every face is tagged with the move whose sweep is nearest its centroid (the
 // earliest of moves tied within 1e-9) when that sweep is within the centroid's stock distance.

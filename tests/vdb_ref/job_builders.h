@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // Jobs built in code for the vdb_ref tests and benchmarks, with their closed-form truths.
 #include <morph/job.h>

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // The reference's contract besides accuracy: errors before long work, provenance tags,
 // determinism across thread counts, progress stages and interruption, voxel-size helpers.
 #include <gtest/gtest.h>

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // The level-set reference against closed-form truth: removed volumes and areas of straight
 // sphere and ball-end passes, smooth internal voids (a diagonal capsule and a torus from an arc),
 // surface distance to the exact erosion field, and piece counts of jobs that split.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // The reference's fast per-segment sweep distance against morph's exact one, and its pruned leaf
 // sampling against plain sampling of the same functions.
 #include <gtest/gtest.h>

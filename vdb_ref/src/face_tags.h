@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // Provenance of the reference's faces: the move whose sweep a face lies on, found through a
 // bounding-volume hierarchy of the moves' sweeps searched only as far as the face can be from

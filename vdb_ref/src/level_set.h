@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // Internal interface between the geometry code of vdb_ref and its single OpenVDB translation unit
 // (level_set_openvdb.cpp). No OpenVDB type appears here, so only that one file pays for OpenVDB's

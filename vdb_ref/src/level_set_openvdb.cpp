@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // The only translation unit of MorphMill that includes OpenVDB (its headers cost ~50 s and ~2 GB
 // to compile); everything else talks to it through level_set.h.
 #include <morph/exceptions.h>

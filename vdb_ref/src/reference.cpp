@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Orchestration of the level-set reference: validation, the up-front memory estimate, the sparse
 // sampling of the stock and sweeps, and the face provenance. The OpenVDB work itself is behind
 // LevelSetPipeline (level_set_openvdb.cpp).

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // Sparse narrow-band sampling of signed distance functions on the voxel grid, culled per block so
 // that only leaf nodes near the zero set are ever sampled (work ~ surface area / voxel^2).

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #include "straight_sweep.h"
 
 #include <morph/convex_minimum.h>

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // The exact signed distance to the volume a tool sweeps along one straight segment, with the
 // segment's constants computed once. Every other tool shape takes the general 1-D convex search

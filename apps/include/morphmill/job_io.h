@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 /// \file job_io.h
 /// Jobs as JSON files (docs/job-format.md): parsing with messages that name the file and the

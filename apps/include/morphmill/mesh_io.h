@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 /// \file mesh_io.h
 /// Mesh files: binary/ASCII PLY (face tags, vertex scalars and colours kept), STL (binary and

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 /// \file planar_io.h
 /// The planar model's files: planar jobs (JSON, docs/planar.md), shapes read from SVG paths and

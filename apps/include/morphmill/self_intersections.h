@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 /// \file self_intersections.h
 /// Pairs of triangles of a mesh that intersect beyond the vertices and edges they share, decided

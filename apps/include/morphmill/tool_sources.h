@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 /// \file tool_sources.h
 /// Jobs and tools from other programs' files: CAMotics projects (`.camotics`) read as whole jobs,

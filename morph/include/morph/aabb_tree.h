@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 /// \file aabb_tree.h
 /// A static bounding-volume hierarchy over axis-aligned boxes: the spatial index that keeps

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 /// \file convex_minimum.h
 /// The pieces every exact tool-sweep distance is built from (the generator's, the reference's):

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 /// \file convex_polytope.h
 /// A convex polytope as generator 2 holds it: shared vertices and planar convex facets, each a

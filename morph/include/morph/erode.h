@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 /// \file erode.h
 /// The paper's secondary three-dimensional model: the boundary of the regularized partial erosion

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 /// \file exceptions.h
 /// The errors MorphMill's libraries throw. Only apps/ catches them and turns them into exit codes.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 /// \file file_io.h
 /// The one guarded way MorphMill reads and writes whole files.

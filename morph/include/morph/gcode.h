@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 /// \file gcode.h
 /// Reader for RS-274/NGC G-code as LinuxCNC's interpreter runs it (3-axis milling): expressions

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 /// \file job.h
 /// A milling job: stock, tools, ordered paths and the tolerance, all in the job's units.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 /// \file mesh.h
 /// The exchange type between morph, vdb_ref and raytest: a plain indexed triangle mesh with a

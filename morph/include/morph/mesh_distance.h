@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 /// \file mesh_distance.h
 /// Exact signed distance to a closed triangle mesh (closest point over a bounding-volume

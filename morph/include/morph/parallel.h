@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 /// \file parallel.h
 /// Sequential or parallel execution, chosen by the caller (results are identical either way).

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 /// \file path.h
 /// The ordered trajectory model: moves that keep their kind and source line.

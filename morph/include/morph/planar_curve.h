@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 /// \file planar_curve.h
 /// The boundary elements of the paper's two-dimensional model: line segments and circular arcs,

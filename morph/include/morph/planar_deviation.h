@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 /// \file planar_deviation.h
 /// The deviation between two planar results (for example the exact erosion and a polygon

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 /// \file planar_dilation.h
 /// The paper's two-dimensional dilation of a trajectory by a disc (section 3, figures 9-11),

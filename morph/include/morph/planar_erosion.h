@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 /// \file planar_erosion.h
 /// The paper's regularized partial erosion in two dimensions, exact: X \ (T (+) B) for a stock

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 /// \file planar_region.h
 /// Planar regions bounded by closed loops of line segments and circular arcs: any number of

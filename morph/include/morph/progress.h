@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 /// \file progress.h
 /// Progress reporting and interruption for long computations (the OpenVDB interrupter idea).

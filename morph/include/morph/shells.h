@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 /// \file shells.h
 /// Shells of a closed stock mesh that lie inside or across one another. Each shell of a stock

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 /// \file sweep_distance.h
 /// Exact truth: the signed distance to the volume a tool sweeps along a move, and to the

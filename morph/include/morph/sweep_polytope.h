@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 /// \file sweep_polytope.h
 /// The volume a convex tool polytope sweeps along a straight move: the convex polytope

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 /// \file tool.h
 /// Tools (the structuring element B): solids of revolution about +z, cutting with their lower

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 /// \file tool_polytope.h
 /// Generator 2's tool: a convex polytope within a given Hausdorff distance of the exact tool of

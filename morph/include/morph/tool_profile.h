@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 /// \file tool_profile.h
 /// The shape of every tool: a convex profile in the half-plane (r, h) -- r the distance from the

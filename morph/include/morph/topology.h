@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 /// \file topology.h
 /// Topology report of an indexed triangle mesh: what `morphmill mesh-info` prints and what the

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 /// \file clipper_reference.h
 /// An independent reference for the planar model: the same regularized partial erosion computed

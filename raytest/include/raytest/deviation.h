@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 /// \file deviation.h
 /// Deviation between two surfaces (or a surface and an exact field): one-sided and two-sided

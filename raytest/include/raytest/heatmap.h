@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 /// \file heatmap.h
 /// Colour maps for per-vertex scalars: viridis (perceptually uniform, for unsigned values) and

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 /// \file regions.h
 /// Out-of-band places of a signed deviation merged into regions: one row per connected gouge or

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 /// \file render.h
 /// Pictures of a mesh by casting rays at it (Embree): headlight + ambient shading, optionally

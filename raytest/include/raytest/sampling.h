@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 /// \file sampling.h
 /// Metro-style surface samples: every vertex, points uniform along the edges, and points

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 /// \file surface_query.h
 /// Closest-point, signed-distance and ray queries against a triangle mesh, accelerated by Embree

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 /// \file reference.h
 /// The OpenVDB level-set reference of a job's erosion X \ (T (+) B): an independent computation
