@@ -15,6 +15,7 @@ packages=(
   chromium
   libplplot-dev plplot-driver-cairo
   libpolyclipping-dev
+  libssl-dev libcairo2-dev libjs-three
 )
 # Optional extras for reports and browser checks are added by callers via MORPHMILL_EXTRA_PACKAGES.
 if [[ -n "${MORPHMILL_EXTRA_PACKAGES:-}" ]]; then
