@@ -134,7 +134,7 @@ void register_compare_command(CLI::App& app) {
       "gouge / within / excess against the band; out-of-band points are merged into regions with their\n"
       "area, largest depth, location, the moves whose faces they lie on and the move that came nearest.\n"
       "Exit code 0 when everything is within the band, 1 when not, 2 for bad input.\n"
-      "Example: morphmill compare data/jobs/design_gouge_excess.json --out out/compare");
+      "Example: morphmill compare data/jobs/design_gouge_excess.json --output out/compare");
   compare->add_option("job", args->job_path, "Job file (JSON, see docs/job-format.md)")
       ->required()
       ->check(CLI::ExistingFile);
@@ -155,7 +155,7 @@ void register_compare_command(CLI::App& app) {
   compare->add_option("--samples", args->face_samples, "Area-uniform samples per surface for the statistics")
       ->capture_default_str();
   compare->add_option("--seed", args->seed, "Seed of the surface sampling")->capture_default_str();
-  compare->add_option("--out,-o", args->out_dir,
+  compare->add_option("-o,--output", args->out_dir,
                       "Directory for compare.json and machined_vs_design.ply/.vtp");
   compare->callback([args] { run_compare(*args); });
 }

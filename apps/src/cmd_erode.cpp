@@ -8,6 +8,7 @@
 #include <morphmill/self_intersections.h>
 #include <tbb/global_control.h>
 #include <tbb/task_group.h>
+#include <nlohmann/json.hpp>
 
 #include <fcntl.h>
 #include <unistd.h>
@@ -21,6 +22,7 @@
 #include <memory>
 #include <optional>
 
+#include "cli_conventions.h"
 #include "commands.h"
 #include "memory_cap.h"
 #include "provenance.h"
@@ -38,7 +40,47 @@ struct ErodeCommandOptions {
   bool ascii = false;
   bool allow_open = false;
   double memory_cap_gib = 0.0;
+  std::string json_path;
+  CLI::Option* json_option = nullptr;
 };
+
+nlohmann::json summary_json(const ErodeCommandOptions& options, const morph::Job& job, double tolerance,
+                            const morph::ErodeResult& result, const morph::TopologyReport& topology,
+                            const SelfIntersections& crossings, bool written) {
+  const morph::ErodeStats& s = result.stats;
+  nlohmann::json pairs = nlohmann::json::array();
+  for (const auto& [a, b] : crossings.first_pairs) pairs.push_back({a, b});
+  return {{"job", options.job_path},
+          {"name", job.name},
+          {"units", morph::to_string(job.units)},
+          {"tolerance", tolerance},
+          {"moves", s.moves},
+          {"moves_touching_stock", s.moves_touching_stock},
+          {"segments", s.segments},
+          {"patches", s.patches},
+          {"patches_kept", s.patches_kept},
+          {"triangles", result.mesh.triangle_count()},
+          {"pieces", topology.components},
+          {"closed_manifold", topology.closed_manifold()},
+          {"boundary_edges", topology.boundary_edges},
+          {"non_manifold_edges", topology.non_manifold_edges},
+          {"non_manifold_vertices", topology.non_manifold_vertices},
+          {"self_intersecting_pairs", crossings.pairs},
+          {"first_self_intersecting_pairs", pairs},
+          {"volume", topology.volume},
+          {"fallbacks",
+           {{"seam_splits", s.seam_splits},
+            {"corner_holes", s.corner_holes},
+            {"defects_repaired", s.defects_repaired},
+            {"flat_components_removed", s.flat_components_removed}}},
+          {"seconds",
+           {{"setup", s.seconds_setup},
+            {"trim", s.seconds_trim},
+            {"assemble", s.seconds_assemble},
+            {"total", s.seconds_total}}},
+          {"estimated_bytes", s.estimated_bytes},
+          {"output", written ? nlohmann::json(options.mesh_path) : nlohmann::json(nullptr)}};
+}
 
 // Whether `path` can take the output is known before the long work: a missing or read-only
 // directory, a directory or a symbolic-link loop at the path is refused up front (exit 2), also
@@ -104,26 +146,35 @@ void run_erode(const ErodeCommandOptions& options) {
     write_mesh(result.mesh, options.mesh_path, write_options, provenance_lines(provenance));
   }
   const morph::ErodeStats& s = result.stats;
-  std::cout << "erode " << (job.name.empty() ? options.job_path : job.name) << " at tolerance "
-            << (options.tolerance > 0.0 ? options.tolerance : job.tolerance) << ": " << s.moves << " moves ("
-            << s.moves_touching_stock << " touching the stock), " << s.patches_kept << " of " << s.patches
-            << " patches kept\n"
-            << "  " << result.mesh.triangle_count() << " triangles, " << topology.components << " piece(s), "
-            << "closed manifold: " << (topology.closed_manifold() ? "yes" : "no");
-  if (!topology.closed_manifold())
-    std::cout << " (" << topology.boundary_edges << " boundary, " << topology.non_manifold_edges
-              << " non-manifold edges, " << topology.non_manifold_vertices << " non-manifold vertices)";
-  std::cout << ", self-intersections: " << crossings.pairs << " pairs";
-  if (!crossings.first_pairs.empty())
-    std::cout << " (first: triangles " << crossings.first_pairs[0].first << " and "
-              << crossings.first_pairs[0].second << ")";
-  std::cout << ", volume " << std::setprecision(10) << topology.volume << '\n'
-            << std::fixed << std::setprecision(2) << "  " << s.seconds_total << " s (setup "
-            << s.seconds_setup << ", trim " << s.seconds_trim << ", assemble " << s.seconds_assemble
-            << ") -> " << (valid || options.allow_open ? options.mesh_path : "not written") << '\n'
-            << "  memory: estimated " << describe_bytes(s.estimated_bytes) << " up front (" << s.segments
-            << " segments, " << s.patches << " patches, " << std::setprecision(0) << s.grid_cells
-            << " grid cells)\n";
+  const bool json_on_stdout =
+      options.json_option->count() > 0 && (options.json_path.empty() || options.json_path == "-");
+  if (!json_on_stdout) {
+    std::cout << "erode " << (job.name.empty() ? options.job_path : job.name) << " at tolerance "
+              << (options.tolerance > 0.0 ? options.tolerance : job.tolerance) << ": " << s.moves
+              << " moves (" << s.moves_touching_stock << " touching the stock), " << s.patches_kept << " of "
+              << s.patches << " patches kept\n"
+              << "  " << result.mesh.triangle_count() << " triangles, " << topology.components
+              << " piece(s), "
+              << "closed manifold: " << (topology.closed_manifold() ? "yes" : "no");
+    if (!topology.closed_manifold())
+      std::cout << " (" << topology.boundary_edges << " boundary, " << topology.non_manifold_edges
+                << " non-manifold edges, " << topology.non_manifold_vertices << " non-manifold vertices)";
+    std::cout << ", self-intersections: " << crossings.pairs << " pairs";
+    if (!crossings.first_pairs.empty())
+      std::cout << " (first: triangles " << crossings.first_pairs[0].first << " and "
+                << crossings.first_pairs[0].second << ")";
+    std::cout << ", volume " << std::setprecision(10) << topology.volume << '\n'
+              << std::fixed << std::setprecision(2) << "  " << s.seconds_total << " s (setup "
+              << s.seconds_setup << ", trim " << s.seconds_trim << ", assemble " << s.seconds_assemble
+              << ") -> " << (valid || options.allow_open ? options.mesh_path : "not written") << '\n'
+              << "  memory: estimated " << describe_bytes(s.estimated_bytes) << " up front (" << s.segments
+              << " segments, " << s.patches << " patches, " << std::setprecision(0) << s.grid_cells
+              << " grid cells)\n";
+  }
+  if (options.json_option->count() > 0)
+    write_json(summary_json(options, job, options.tolerance > 0.0 ? options.tolerance : job.tolerance, result,
+                            topology, crossings, valid || options.allow_open),
+               options.json_path);
   if (!valid) {
     std::cerr << "erode: the surface is not a closed, oriented 2-manifold free of self-intersections; "
               << (options.allow_open ? "written anyway (--allow-open)"
@@ -147,7 +198,7 @@ void register_erode_command(CLI::App& app) {
       "(exact predicates); 1 when it is not (nothing is written unless --allow-open); 2 bad input.\n"
       "Example: morphmill erode data/jobs/through_slots.json -o out/part.ply --tolerance 0.01");
   command->add_option("job", options->job_path, "Job file (JSON, see docs/job-format.md)")->required();
-  command->add_option("--out,-o", options->mesh_path, "Output mesh (PLY keeps the face provenance)")
+  command->add_option("-o,--output", options->mesh_path, "Output mesh (PLY keeps the face provenance)")
       ->required();
   command->add_option("--tolerance", options->tolerance,
                       "Largest distance from the exact surface, job units (default: the job's tolerance)");
@@ -157,6 +208,7 @@ void register_erode_command(CLI::App& app) {
                     "Write the surface even when it is not a closed, oriented 2-manifold free of\n"
                     "self-intersections (the exit code is still 1)");
   add_memory_cap_option(command, options->memory_cap_gib);
+  options->json_option = add_json_option(*command, options->json_path, "the summary (also when exit 1)");
   command->callback([options] { run_erode(*options); });
 }
 

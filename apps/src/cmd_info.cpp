@@ -12,6 +12,8 @@
 #include <memory>
 #include <nlohmann/json.hpp>
 
+#include "cli_conventions.h"
+
 #include "commands.h"
 
 namespace morphmill {
@@ -205,7 +207,8 @@ void print_mesh_report(const json& r, std::ostream& out) {
 
 struct InfoOptions {
   std::string path;
-  bool json = false;
+  std::string json_path;  // --json FILE ('-' or no value: standard output)
+  CLI::Option* json_option = nullptr;
   bool moves = false;
   std::string format = "text";
   // G-code read directly (not through a job):
@@ -280,6 +283,13 @@ void print_moves(const json& d, std::ostream& out) {
                        w["message"].get<std::string>());
 }
 
+// `info --json job.json`: --json takes an optional file, so it took the job; without another
+// argument that is what the user meant (the summary goes to standard output).
+void take_job_from_json_option(InfoOptions& o, const std::string& what = "a job file") {
+  if (o.path.empty() && !o.json_path.empty() && o.json_path != "-") std::swap(o.path, o.json_path);
+  if (o.path.empty()) throw morph::InputError(what + " is required (see --help)");
+}
+
 json read_moves(const InfoOptions& o) {
   if (is_job_file(o.path)) {
     const morph::Job job = load_job(o.path);
@@ -314,10 +324,8 @@ void register_info_commands(CLI::App& app) {
       "  morphmill info --moves data/gcode/conformance/cycles.ngc --format json --start 0,0,0\n"
       "Job format: docs/job-format.md; G-code: docs/gcode.md");
   info->add_option("job", job_options->path,
-                   "Job file (JSON, see docs/job-format.md), or with --moves a G-code file")
-      ->required();
-  info->add_flag("--json", job_options->json,
-                 "Print the summary as JSON instead of a table (same as --format json)");
+                   "Job file (JSON, see docs/job-format.md), or with --moves a G-code file");
+  job_options->json_option = add_json_option(*info, job_options->json_path, "the summary");
   info->add_option("--format", job_options->format, "Output format")->check(CLI::IsMember({"text", "json"}));
   info->add_flag(
       "--moves", job_options->moves,
@@ -338,11 +346,12 @@ void register_info_commands(CLI::App& app) {
   info->add_flag("!--no-block-delete", job_options->block_delete,
                  "G-code file only: run lines starting with '/' (block delete switch off)");
   info->callback([job_options] {
-    const bool as_json = job_options->json || job_options->format == "json";
+    take_job_from_json_option(*job_options);
+    const bool as_json = job_options->json_option->count() > 0 || job_options->format == "json";
     if (job_options->moves) {
       const json moves = read_moves(*job_options);
       if (as_json)
-        std::cout << moves.dump(2) << '\n';
+        write_json(moves, job_options->json_path);
       else
         print_moves(moves, std::cout);
       return;
@@ -350,7 +359,7 @@ void register_info_commands(CLI::App& app) {
     const morph::Job job = load_job(job_options->path);
     const json description = describe_job(job);
     if (as_json)
-      std::cout << description.dump(2) << '\n';
+      write_json(description, job_options->json_path);
     else
       print_job(description, std::cout);
     report_job_warnings(job, false);
@@ -366,12 +375,13 @@ void register_info_commands(CLI::App& app) {
       "A mesh is a valid stock or result when it is a closed manifold. Exit code 0 when the file was\n"
       "read (whatever the report says), 2 when it cannot be read.");
   mesh_info->footer("Example: morphmill mesh-info data/meshes/cube.stl --json\nFormats: docs/mesh-io.md");
-  mesh_info->add_option("mesh", mesh_options->path, "Mesh file (.ply, .stl or .obj)")->required();
-  mesh_info->add_flag("--json", mesh_options->json, "Print the report as JSON instead of a table");
+  mesh_info->add_option("mesh", mesh_options->path, "Mesh file (.ply, .stl or .obj)");
+  mesh_options->json_option = add_json_option(*mesh_info, mesh_options->json_path, "the report");
   mesh_info->callback([mesh_options] {
+    take_job_from_json_option(*mesh_options, "a mesh file");
     const json report = mesh_report_json(read_mesh(mesh_options->path), mesh_options->path);
-    if (mesh_options->json)
-      std::cout << report.dump(2) << '\n';
+    if (mesh_options->json_option->count() > 0)
+      write_json(report, mesh_options->json_path);
     else
       print_mesh_report(report, std::cout);
   });

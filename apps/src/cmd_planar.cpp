@@ -75,7 +75,7 @@ void register_planar_commands(CLI::App& app) {
       ".svg (picture with exact arcs), .dxf (LINE and ARC entities), .json (loops, pieces, areas).\n"
       "Example: morphmill erode2d data/planar/figure13.json -o out/figure13.svg");
   e->add_option("job", erode->job_path, "Planar job file (JSON, see docs/planar.md)")->required();
-  e->add_option("--out,-o", erode->out_path, "Output: .svg, .dxf or .json")->required();
+  e->add_option("-o,--output", erode->out_path, "Output: .svg, .dxf or .json")->required();
   e->add_option("--dilation", erode->dilation_path, "Also write the dilation T + B (.svg, .dxf or .json)");
   e->add_flag("--classical", erode->classical,
               "Write the classical erosion X - B instead (paper eq. 2-3: the contour a tool centre follows\n"
@@ -94,7 +94,7 @@ void register_planar_commands(CLI::App& app) {
       "Exit code 0 when the verdict holds, 1 when it does not, 2 for bad input.\n"
       "Example: morphmill verify2d data/planar/sheet.json -o out/sheet");
   v->add_option("job", verify->job_path, "Planar job file (JSON, see docs/planar.md)")->required();
-  v->add_option("--out,-o", verify->out_dir, "Directory for the pictures, result files and report")
+  v->add_option("-o,--output", verify->out_dir, "Directory for the pictures, result files and report")
       ->required();
   v->add_option("--tolerance", verify->tolerance, "Reference chord tolerance, job units (default: the job's)")
       ->check(CLI::PositiveNumber);

@@ -151,7 +151,7 @@ void register_reference_command(CLI::App& app) {
       ->add_option("--voxel", options->voxels,
                    "Voxel size(s) in job units, comma separated (e.g. 0.2 or 0.4,0.2,0.1)")
       ->required();
-  command->add_option("--out,-o", options->mesh_path, "Output mesh (PLY keeps the face provenance)")
+  command->add_option("-o,--output", options->mesh_path, "Output mesh (PLY keeps the face provenance)")
       ->required();
   command->add_option("--vdb", options->vdb_path, "Also write the erosion level set as an OpenVDB file");
   command->add_option("--json", options->json_path,

@@ -84,18 +84,18 @@ void register_stress_command(CLI::App& app) {
       "'morphmill stress --resume DIR' runs only the cases not finished.\n"
       "Exit code 0 when every case ran and passed, 1 when any invariant fails, 2 for bad input,\n"
       "4 when stopped before every case ran. See docs/stress.md.\n"
-      "Example: morphmill stress --cases 1000 --seed 7 --out out/stress --shard 3/16");
+      "Example: morphmill stress --cases 1000 --seed 7 --output out/stress --shard 3/16");
   command->add_option("--cases,-n", options->cases, "Cases of the campaign (indices 0..N-1)")
       ->capture_default_str();
   command->add_option("--seed,-s", options->seed, "Campaign seed: same seed, same cases")
       ->capture_default_str();
-  command->add_option("--out,-o", options->out_dir, "Output directory (a new run replaces what is there)");
+  command->add_option("-o,--output", options->out_dir, "Output directory (a new run replaces what is there)");
   command->add_option("--shard", *shard, "Run only the cases k with k mod n == i (i/n)")
       ->capture_default_str();
   command
       ->add_option("--resume", *resume_dir,
-                   "Continue the campaign in DIR (or in --out): keep its finished cases, run the others.\n"
-                   "Options not given are the campaign's; options given must equal them. With --out and\n"
+                   "Continue the campaign in DIR (or in --output): keep its finished cases, run the others.\n"
+                   "Options not given are the campaign's; options given must equal them. With --output and\n"
                    "the options, starts the campaign if DIR holds none (for a requeued batch task)")
       ->expected(0, 1);
   command->add_option("--threads,-j", options->threads, "Worker threads (0: all cores)")
@@ -117,11 +117,11 @@ void register_stress_command(CLI::App& app) {
     run.resume = command->count("--resume") > 0;
     if (run.resume && !resume_dir->empty()) {
       if (!run.out_dir.empty() && std::filesystem::path(run.out_dir) != std::filesystem::path(*resume_dir))
-        throw morph::InputError("--resume " + *resume_dir + " and --out " + run.out_dir +
+        throw morph::InputError("--resume " + *resume_dir + " and --output " + run.out_dir +
                                 " name different directories");
       run.out_dir = *resume_dir;
     }
-    if (run.out_dir.empty()) throw morph::InputError("--out DIR (or --resume DIR) is required");
+    if (run.out_dir.empty()) throw morph::InputError("--output DIR (or --resume DIR) is required");
     if (run.resume) take_recorded_options(*command, run.out_dir, run, shard_text);
     std::tie(run.shard_index, run.shard_count) = stress::parse_shard(shard_text);
     TerminalProgress progress;
@@ -143,13 +143,13 @@ void register_stress_command(CLI::App& app) {
       "stress-merge",
       "Combine the shard directories of one stress campaign into one summary. Refuses shards of different\n"
       "campaigns (naming the option, version or commit that differs) and, unless --partial, a campaign\n"
-      "with shards or cases missing (naming them). --out must be new, empty or a previous merge (replaced\n"
+      "with shards or cases missing (naming them). --output must be new, empty or a previous merge (replaced\n"
       "whole).\n"
       "Exit code 0 when every case ran and none fails, 1 when a merged case fails, 2 for bad input,\n"
       "4 when cases are missing (refused, or merged with --partial).\n"
-      "Example: morphmill stress-merge out/stress_* --out out/stress");
+      "Example: morphmill stress-merge out/stress_* --output out/stress");
   merge->add_option("dirs", *dirs, "Shard output directories")->required()->check(CLI::ExistingDirectory);
-  merge->add_option("--out,-o", *merged_out, "Output directory")->required();
+  merge->add_option("-o,--output", *merged_out, "Output directory")->required();
   merge->add_flag("--partial", *partial,
                   "Merge an incomplete campaign: the summary says 'partial: K of N cases, missing ...'");
   merge->callback([dirs, merged_out, partial] {

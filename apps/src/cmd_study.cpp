@@ -17,14 +17,14 @@ void register_study_command(CLI::App& app) {
       "setting and a self-contained report.html. Study file format: docs/study.md.\n"
       "SIGINT/SIGTERM stop after the setting in flight, write the table of what ran and exit 4;\n"
       "--resume then evaluates only the settings left.\n"
-      "Example: morphmill study data/studies/convergence.json --out out/convergence");
+      "Example: morphmill study data/studies/convergence.json --output out/convergence");
   command->add_option("study", options->study_path, "Study file (JSON)")
       ->required()
       ->check(CLI::ExistingFile);
-  command->add_option("--out,-o", options->out_dir, "Output directory")->required();
+  command->add_option("-o,--output", options->out_dir, "Output directory")->required();
   command->add_flag(
       "--resume", options->resume,
-      "Keep the settings a stopped run already evaluated in --out (settings/), evaluate the others");
+      "Keep the settings a stopped run already evaluated in --output (settings/), evaluate the others");
   command->callback([options] {
     TerminalProgress progress;
     study::StudyOptions run = *options;
@@ -39,7 +39,7 @@ void register_study_command(CLI::App& app) {
       std::cout << "study " << result.spec.name << ": " << result.stopped << " after " << result.evaluated
                 << " of " << result.settings
                 << " setting(s): INCOMPLETE\n  table of what ran: " << run.out_dir
-                << "/study.csv, study.json\n  continue with: morphmill study " << run.study_path << " --out "
+                << "/study.csv, study.json\n  continue with: morphmill study " << run.study_path << " --output "
                 << run.out_dir << " --resume\n";
       throw CampaignIncomplete();
     }

@@ -21,14 +21,14 @@ void register_verify_command(CLI::App& app) {
       "reference checked against the exact surface; its verdict holds only with --reference-only.\n"
       "Jobs may be JSON job files or CAMotics projects (.camotics).\n"
       "Exit code 0 when the verdict holds, 1 when it does not, 2 for bad input.\n"
-      "Example: morphmill verify data/jobs/through_slots.json --out out/slots");
+      "Example: morphmill verify data/jobs/through_slots.json --output out/slots");
   verify
       ->add_option("job", options->job_path,
                    "Job file (JSON, see docs/job-format.md) or CAMotics project (.camotics)")
       ->required()
       ->check(CLI::ExistingFile);
   verify
-      ->add_option("--out,-o", options->out_dir,
+      ->add_option("-o,--output", options->out_dir,
                    "Directory for morph.ply, reference.ply/.vdb, heatmaps, report.html")
       ->required();
   verify

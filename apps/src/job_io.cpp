@@ -523,6 +523,7 @@ class JobParser {
     for (const auto& [number, tool] : tools) {
       morph::GcodeTool entry;
       entry.diameter = 2.0 * tool.radius;
+      entry.length_offset = tool.length_offset;  // what G43 H<number> applies
       options.tools[number] = entry;
     }
     if (const json* f = find(v, "var_file"))

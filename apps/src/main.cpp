@@ -6,6 +6,7 @@
 #include <malloc.h>
 #endif
 
+#include "cli_conventions.h"
 #include "commands.h"
 #include "provenance.h"
 
@@ -36,10 +37,20 @@ int main(int argc, char** argv) {
   morphmill::register_stress_command(app);
   morphmill::register_study_command(app);
   morphmill::register_planar_commands(app);
+  morphmill::register_completion_command(app);
+  morphmill::add_global_options(app);
+  // Every command's own work runs in its callback, after this: the thread cap applies to it.
+  app.parse_complete_callback(morphmill::apply_global_thread_limit);
+  const std::vector<std::string> arguments = morphmill::normalized_arguments(argc, argv);
   try {
-    app.parse(argc, argv);
+    // CLI11 takes the arguments last first.
+    app.parse(std::vector<std::string>(arguments.rbegin(), arguments.rend()));
   } catch (const CLI::ParseError& e) {
     const int code = app.exit(e);
+    if (code != 0) {
+      const std::string suggestion = morphmill::suggestion_for(app, arguments);
+      if (!suggestion.empty()) std::cerr << "morphmill: " << suggestion << '\n';
+    }
     return code == 0 ? morphmill::kExitOk : morphmill::kExitBadInput;
   } catch (const morphmill::VerdictFailed&) {
     return morphmill::kExitVerdictFails;

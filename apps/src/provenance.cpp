@@ -3,7 +3,7 @@
 #include <fmt/format.h>
 #include <morph/exceptions.h>
 #include <openssl/evp.h>
-#include <tbb/info.h>
+#include <tbb/global_control.h>
 #include <unistd.h>
 
 #include <array>
@@ -116,7 +116,9 @@ Provenance make_provenance(const std::vector<std::string>& input_paths, nlohmann
   p.options = std::move(options);
   p.units = units;
   p.machine = host_name();
-  p.threads = static_cast<unsigned>(tbb::info::default_concurrency());
+  // The limit --threads set, else the machine's.
+  p.threads = static_cast<unsigned>(
+      tbb::global_control::active_value(tbb::global_control::max_allowed_parallelism));
   p.date_utc = utc_now_iso8601();
   return p;
 }

@@ -494,7 +494,7 @@ std::string summary_markdown(const Summary& s) {
 
   if (failed > 0) {
     md << "\n## Failing cases\n\nEach is in failures/ as a job file; `morphmill verify failures/CASE.json "
-          "--out OUT "
+          "--output OUT "
           "--voxel V` reproduces it (V is in the job's description).\n\n"
           "| case | family | variant | pieces expected / generator / reference | failed invariants | error "
           "|\n"
@@ -570,7 +570,7 @@ std::vector<CaseResult> prepare_shard_dir(const StressOptions& options, const nl
   // A run replaces a stress output; anything else (a typo naming a home directory) is left alone.
   if (fs::is_directory(dir, error) && !fs::is_empty(dir, error) && !fs::exists(dir / "campaign.json") &&
       !fs::exists(dir / "summary.json"))
-    throw morph::InputError("--out " + options.out_dir +
+    throw morph::InputError("--output " + options.out_dir +
                             " is not empty and not the output of `morphmill stress`: give a new directory");
   // A refused resume leaves everything as it was: checked before anything is removed.
   const fs::path recorded_file = dir / "campaign.json";
@@ -757,10 +757,10 @@ Summary merge_stress(const std::vector<std::string>& shard_dirs, const std::stri
   for (const auto& dir : shard_dirs) {
     std::error_code error;
     if (fs::exists(out) && fs::equivalent(fs::path(dir), out, error))
-      throw morph::InputError("--out " + out_dir + " is one of the shard directories");
+      throw morph::InputError("--output " + out_dir + " is one of the shard directories");
   }
   if (!replaceable_merge_output(out))
-    throw morph::InputError("--out " + out_dir +
+    throw morph::InputError("--output " + out_dir +
                             " is not empty and not a previous merge: refusing to replace it (give a new "
                             "directory)");
   std::vector<ShardRun> shards;

@@ -992,7 +992,7 @@ StressCase make_case(std::uint64_t seed, std::size_t index) {
   c.job["name"] = fmt::format("stress_{}_{}", seed, case_name(index));
   c.job["description"] = fmt::format(
       "morphmill stress case {} of seed {} (family {}: {}); expected pieces {}{}. Reproduce with: morphmill "
-      "verify {}.json --out OUT --voxel {}",
+      "verify {}.json --output OUT --voxel {}",
       index, seed, c.family, c.variant, c.expected_pieces,
       c.expected_volume ? fmt::format(", expected volume {:.9g}", *c.expected_volume) : std::string(),
       case_name(index), c.voxel_size);

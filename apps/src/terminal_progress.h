@@ -1,6 +1,7 @@
 #pragma once
-// Progress on a terminal for long stages; when stderr is not a terminal (logs, CI, pipes), one
-// plain line every ten seconds of a stage.
+// Progress on a terminal for long stages, with the time left at the pace so far; when stderr is
+// not a terminal (logs, CI, pipes), plain timestamped lines: every ten seconds of a stage, and its
+// end when it took a second or more. -q/--quiet silences both.
 #include <morph/progress.h>
 
 #include <atomic>
@@ -12,7 +13,7 @@ namespace morphmill {
 
 class TerminalProgress : public morph::Progress {
  public:
-  /// `enabled` defaults to whether stderr is a terminal.
+  /// `enabled` (the bar) defaults to whether stderr is a terminal and --quiet was not given.
   TerminalProgress();
   explicit TerminalProgress(bool enabled);
   ~TerminalProgress() override;
@@ -23,6 +24,7 @@ class TerminalProgress : public morph::Progress {
 
  private:
   void draw(bool final_line);
+  void log_line(bool finished);
 
   bool enabled_;
   bool log_lines_ = false;

@@ -147,6 +147,7 @@ GcodeResult Interpreter::run(std::string_view text) {
     }
   }
   result_.line_count = static_cast<std::size_t>(next_line_ - 1);
+  settle_touch_off();
   if (ended_after_line_ != 0)
     result_.warnings.push_back(
         Warning{name_, ended_after_line_, "lines after the program end (" + end_code_ + ") are ignored"});

@@ -69,6 +69,7 @@ class Interpreter {
   void set_tool_table();
   void set_work_offsets(int l);
   void update_tip_shift();
+  void settle_touch_off();
   double length_of(int tool, const char* word) const;
   struct ModalState {
     Units units;
@@ -150,8 +151,14 @@ class Interpreter {
   int system_ = 1;
   std::array<bool, 2> home_known_{false, false};  ///< G28, G30 stored positions given
   std::map<int, GcodeTool> table_;                ///< the controller's table (G10 L1 edits it)
-  bool length_warned_ = false;
-  double physical_length_ = 0.0;  ///< the tool table's length of the tool in the spindle
+  double physical_length_ = 0.0;                  ///< the tool table's length of the tool in the spindle
+  bool length_compensation_used_ = false;         ///< a G43, G43.1 or G43.2 ran
+  /// Where a tool began to move with no length offset in effect (settle_touch_off warns).
+  struct UncompensatedTool {
+    int line, tool;
+    double length;
+  };
+  std::vector<UncompensatedTool> uncompensated_;
 
   Motion motion_ = Motion::None;
   int cycle_code_ = 0;

@@ -1,6 +1,7 @@
 // Codes that set modes and machine state: LinuxCNC's modal groups, units, tools and tool length
 // offsets, coordinate systems (G54..G59.3, G10 L2/L20), G92/G52 offsets, M codes, and the live
 // parameters (#5400.., #<_x>, ...) that read this state.
+#include <algorithm>
 #include <cmath>
 #include <cstring>
 
@@ -326,6 +327,7 @@ void Interpreter::set_length_offset(int code10) {
       if (block_.has(kAxisLetters[a])) offset[a] = block_.get(kAxisLetters[a]) * scale_;
     used_ |= kAxisBits;
   }
+  if (code10 != 490) length_compensation_used_ = true;
   // The machine does not move: the same machine position now has other program coordinates.
   position_ += length_offset_ - offset;
   length_offset_ = offset;
@@ -337,6 +339,47 @@ void Interpreter::update_tip_shift() {
   const double physical = it == options_.tools.end() ? 0.0 : it->second.length_offset;
   tip_shift_ = length_offset_ - Eigen::Vector3d(0.0, 0.0, physical);
   physical_length_ = physical;
+}
+
+void Interpreter::settle_touch_off() {
+  const std::vector<Move>& moves = result_.path.moves;
+  if (moves.empty()) return;
+  // LinuxCNC moves the gauge line; the tip is the physical tool's length below it. A program that
+  // uses G43 expects the work offsets measured from the gauge line, and gets the tip there. One
+  // that never does was set up as shops without tool length offsets do: Z touched off with the
+  // tool that cuts first, so its tip is at the programmed point. Another tool of another length
+  // is then that much lower or higher, as on the machine.
+  double reference = 0.0;
+  int reference_tool = 0;
+  if (!length_compensation_used_) {
+    const auto cutting =
+        std::find_if(moves.begin(), moves.end(), [](const Move& m) { return m.kind != MoveKind::Rapid; });
+    reference_tool = (cutting == moves.end() ? moves.front() : *cutting).tool;
+    const auto it = options_.tools.find(reference_tool);
+    reference = it == options_.tools.end() ? 0.0 : it->second.length_offset;
+  }
+  if (reference != 0.0)
+    for (Move& move : result_.path.moves) {
+      move.start.z() += reference;
+      move.end.z() += reference;
+      move.center.z() += reference;
+    }
+  for (const UncompensatedTool& u : uncompensated_) {
+    const double lower = u.length - reference;
+    if (lower == 0.0) continue;
+    std::string message =
+        "tool " + std::to_string(u.tool) + " is " + format_number(u.length) + " long in the tool table";
+    if (length_compensation_used_)
+      message += " but no G43 is in effect";
+    else
+      message += ", tool " + std::to_string(reference_tool) +
+                 " (the first to cut, taken as the tool Z was touched off with) " + format_number(reference) +
+                 ", and the program never uses G43";
+    message += ": its tip runs " + format_number(std::abs(lower)) + (lower > 0 ? " below" : " above") +
+               " the programmed point";
+    result_.warnings.push_back(Warning{name_, u.line, message});
+    if (length_compensation_used_) break;  // once, at the first such move
+  }
 }
 
 void Interpreter::select_system(int index) {

@@ -76,11 +76,8 @@ void Interpreter::emit(Move move) {
   if (result_.path.moves.size() >= options_.max_moves)
     fail("the program has made " + std::to_string(options_.max_moves) + " moves (GcodeOptions::max_moves)");
   if (move.tool == options_.initial_tool) result_.tools_used.insert(move.tool);
-  if (physical_length_ != 0.0 && length_offset_.z() == 0.0 && !length_warned_) {
-    length_warned_ = true;
-    warn("tool " + std::to_string(current_tool_) + " is " + format_number(physical_length_) +
-         " long in the tool table but no G43 is in effect: its tip runs that far below the programmed point");
-  }
+  if (length_offset_.isZero() && (uncompensated_.empty() || uncompensated_.back().tool != move.tool))
+    uncompensated_.push_back({move.line, move.tool, physical_length_});
   result_.path.moves.push_back(std::move(move));
 }
 

@@ -292,6 +292,29 @@ TEST_F(JobIo, GcodeMachineSetUpKeys) {
   expect_error(j, "paths[0].tool_change_on_t: expected true or false");
 }
 
+TEST_F(JobIo, GcodeToolLengthOffsetsComeFromTheJobsTools) {
+  // Tool 1 is 25 long, tool 2 31.5 (the tool table's Z): G43 H applies them to the gauge line.
+  json j = minimal();
+  j["tools"]["1"]["length_offset"] = 25.0;
+  j["tools"]["2"] = json::parse(R"({"type": "sphere", "radius": 2, "length_offset": 31.5})");
+  write_text("g43.nc",
+             "G21 G90 F100\nG0 X0 Y0 Z10\nG43 H1\nG1 Z-1\nT2 M6\nG43 H2\nG1 X5 Z-1\nG43 H1\nG1 X6 Z-1\nM2\n");
+  j["paths"] = json::parse(R"([{"tool": 1, "gcode": "g43.nc"}])");
+  const morph::Job job = parse(j);
+  const morph::Path& p = job.paths[0];
+  ASSERT_EQ(p.moves.size(), 3u);
+  EXPECT_EQ(p.moves[0].start, Eigen::Vector3d(0, 0, -15));  // gauge line at 10, tip 25 below
+  EXPECT_EQ(p.moves[0].end, Eigen::Vector3d(0, 0, -1));     // with G43 H1 Z-1 is the tip
+  EXPECT_EQ(p.moves[1].end, Eigen::Vector3d(5, 0, -1));     // tool 2 with its own offset
+  EXPECT_EQ(p.moves[2].end, Eigen::Vector3d(6, 0, -7.5));   // tool 2 with tool 1's offset: 6.5 lower
+  // The same tools, a program without G43: the tip is at the programmed point, not 25 lower.
+  write_text("plain.nc", "G21 G90 F100\nG0 X0 Y0 Z10\nG1 Z-1\nM2\n");
+  j["paths"][0]["gcode"] = "plain.nc";
+  const morph::Job plain = parse(j);
+  ASSERT_EQ(plain.paths[0].moves.size(), 1u);
+  EXPECT_EQ(plain.paths[0].moves[0].end, Eigen::Vector3d(0, 0, -1));
+}
+
 TEST_F(JobIo, UnknownKeysAreWarningsWithSuggestions) {
   json j = minimal();
   j["tolerence"] = 0.1;
@@ -428,8 +451,9 @@ TEST_F(JobIo, ToolErrors) {
   expect_error(j, "tools.1: missing required key 'type'");
   j["tools"] = {{"1", {{"type", "drill"}, {"radius", 1}}}};
   expect_error(
-      j, "tools.1.type: unknown tool type 'drill' (expected sphere, ball/ballend, flat, bullnose, vbit/conical, "
-         "tapered/snubnose, tapered_ball, spheroid or apt)");
+      j,
+      "tools.1.type: unknown tool type 'drill' (expected sphere, ball/ballend, flat, bullnose, vbit/conical, "
+      "tapered/snubnose, tapered_ball, spheroid or apt)");
   j["tools"] = {{"1", {{"type", "sphere"}}}};
   expect_error(j, "tools.1: missing required key 'diameter' (or 'radius')");
   j["tools"] = {{"1", {{"type", "sphere"}, {"radius", -3}}}};

@@ -778,6 +778,45 @@ TEST(GcodeTools, ToolLengthOffsetsFromTheTableMoveTheTipAsOnTheMachine) {
             std::string::npos);
 }
 
+TEST(GcodeTools, AProgramThatNeverUsesG43IsTouchedOffWithTheToolThatCutsFirst) {
+  GcodeOptions options;
+  options.initial_tool = 1;
+  options.tools[1].length_offset = 50.0;
+  options.tools[2].length_offset = 30.0;
+  // One tool, no G43: its tip is at the programmed point, not 50 lower.
+  const GcodeResult one = parse("G21 F100 G0 X0 Y0 Z10\nG1 Z-1\nG1 X5\n", options);
+  ASSERT_EQ(one.path.moves.size(), 2u);
+  EXPECT_EQ(one.path.moves[0].start, Vector3d(0, 0, 10));
+  EXPECT_EQ(one.path.moves[0].end, Vector3d(0, 0, -1));
+  EXPECT_EQ(one.path.moves[1].end, Vector3d(5, 0, -1));
+  EXPECT_TRUE(one.warnings.empty());
+  // A second tool 20 shorter, still no G43: the same gauge line puts its tip 20 higher, as on the
+  // machine; warned where it starts to move.
+  const GcodeResult two = parse("G21 F100 G0 X0 Y0 Z10\nG1 Z-1\nT2 M6\nG1 X5\nG0 Z10\n", options);
+  ASSERT_EQ(two.path.moves.size(), 3u);
+  EXPECT_EQ(two.path.moves[0].end, Vector3d(0, 0, -1));
+  EXPECT_EQ(two.path.moves[1].start, Vector3d(0, 0, 19));
+  EXPECT_EQ(two.path.moves[1].end, Vector3d(5, 0, 19));
+  EXPECT_EQ(two.path.moves[2].end, Vector3d(5, 0, 30));
+  EXPECT_TRUE(has_warning(two, 4, "its tip runs 20 above the programmed point"));
+  EXPECT_FALSE(has_warning(two, 2, "tip runs"));
+  // Rapids before the first cut do not choose the tool: tool 0 (length 0) rapids, tool 1 cuts.
+  options.initial_tool = 0;
+  const GcodeResult first = parse("G21 F100 G0 X0 Y0 Z10\nG0 Z5\nT1 M6\nG1 Z-1\n", options);
+  ASSERT_EQ(first.path.moves.size(), 2u);
+  EXPECT_EQ(first.path.moves[0].end, Vector3d(0, 0, 55));  // tool 0's "tip" is the gauge line
+  EXPECT_EQ(first.path.moves[1].end, Vector3d(0, 0, -1));
+  // The same cut with G43 H1: the work offsets are from the gauge line and the tip is at Z-1.
+  const GcodeResult compensated = parse("G21 F100 G0 X0 Y0 Z10\nT1 M6\nG43 H1\nG1 Z-1\n", options);
+  ASSERT_EQ(compensated.path.moves.size(), 1u);
+  EXPECT_EQ(compensated.path.moves[0].start, Vector3d(0, 0, -40));  // gauge at 10, tip 50 below
+  EXPECT_EQ(compensated.path.moves[0].end, Vector3d(0, 0, -1));
+  // G43.1 with the tool's own length is the same offset; G43.1 with less leaves the tip lower.
+  const GcodeResult dynamic = parse("G21 F100 G0 X0 Y0 Z10\nT1 M6\nG43.1 Z45\nG1 Z-1\n", options);
+  ASSERT_EQ(dynamic.path.moves.size(), 1u);
+  EXPECT_EQ(dynamic.path.moves[0].end, Vector3d(0, 0, -6));
+}
+
 TEST(GcodeMachineSetup, WorkOffsetsAndVarFile) {
   const std::string var = testing::TempDir() + "gcode_setup.var";
   {

@@ -1,0 +1,37 @@
+#pragma once
+/// \file tool_polytope.h
+/// Generator 2's tool: a convex polytope within a given Hausdorff distance of the exact tool of
+/// revolution (tool_profile.h), built once per tool and translated along the path.
+///
+/// The meridian profile is replaced by a polygon whose chords keep within the budget (arcs and
+/// ellipses subdivided, lines kept whole), revolved into rings of one common set of angles
+/// 2πk/N anchored to the global frame (so every placement of the tool has parallel facets).
+/// Such a ring set has known facets: between consecutive rings, one planar trapezoid per sector
+/// (the profile is convex, so they are the hull's facets), flat N-gons or apex fans at the ends.
+/// The inscribed polytope lies inside the tool; it is pushed out by half its own sagitta (each
+/// chord's line offset by half the chord's sagitta, ring radii scaled by 2 / (1 + cos(π/N))), so
+/// it straddles the exact surface and its error is about half the sagitta both ways.
+#include <morph/convex_polytope.h>
+#include <morph/tool_profile.h>
+
+#include <Eigen/Core>
+#include <vector>
+
+namespace morph {
+
+struct ToolPolytope {
+  /// The polytope with the tool point at the origin (tool axis +z).
+  ConvexPolytope polytope;
+  int sectors = 0;  ///< N: vertices per ring
+  /// The straddling meridian polygon (r, z above the tool point), from the axis at the bottom
+  /// to the axis at the top, before the rings' radial scaling.
+  std::vector<Eigen::Vector2d> meridian;
+};
+
+/// The tool polytope of `profile` within `max_deviation` (job units, > 0) of the exact tool
+/// surface in both directions. Throws InputError for an empty profile or a deviation that is
+/// not positive and finite, LimitError when it would need more than 2^16 sectors or meridian
+/// points.
+ToolPolytope tool_polytope(const ToolProfile& profile, double max_deviation);
+
+}  // namespace morph

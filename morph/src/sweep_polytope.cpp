@@ -1,0 +1,149 @@
+#include <morph/exceptions.h>
+#include <morph/sweep_polytope.h>
+
+#include <algorithm>
+#include <cmath>
+#include <unordered_map>
+
+namespace morph {
+
+namespace {
+
+using Eigen::Vector2d;
+using Eigen::Vector3d;
+
+// A facet is parallel to the motion when |n·v| is within rounding of zero (n unit).
+constexpr double kParallel = 1e-12;
+
+std::uint64_t edge_key(int from, int to) {
+  return (static_cast<std::uint64_t>(static_cast<std::uint32_t>(from)) << 32) |
+         static_cast<std::uint32_t>(to);
+}
+
+double cross(const Vector2d& o, const Vector2d& a, const Vector2d& b) {
+  return (a.x() - o.x()) * (b.y() - o.y()) - (a.y() - o.y()) * (b.x() - o.x());
+}
+
+// Vertex ids of the convex hull (counter-clockwise about `normal`, collinear points dropped) of
+// the facet's loop at the start (ids as in the tool) and at the end (ids + tool_size).
+std::vector<int> swept_face(const ConvexPolytope& tool, const PolytopeFacet& facet, const Vector3d& motion) {
+  const Vector3d& n = facet.normal;
+  const Vector3d e1 = n.unitOrthogonal(), e2 = n.cross(e1);
+  const int tool_size = static_cast<int>(tool.vertices.size());
+  struct Point {
+    Vector2d p;
+    int id;
+  };
+  std::vector<Point> points;
+  for (int v : facet.loop) {
+    const Vector3d& x = tool.vertices[v];
+    points.push_back({{x.dot(e1), x.dot(e2)}, v});
+    points.push_back({{(x + motion).dot(e1), (x + motion).dot(e2)}, v + tool_size});
+  }
+  std::sort(points.begin(), points.end(), [](const Point& a, const Point& b) {
+    return a.p.x() < b.p.x() || (a.p.x() == b.p.x() && a.p.y() < b.p.y());
+  });
+  double extent = 0.0;
+  for (const Point& q : points) extent = std::max(extent, q.p.cwiseAbs().maxCoeff());
+  const double flat = 1e-13 * extent * extent;
+  // Andrew's monotone chain.
+  std::vector<Point> hull(2 * points.size());
+  std::size_t k = 0;
+  for (const Point& q : points) {
+    while (k >= 2 && cross(hull[k - 2].p, hull[k - 1].p, q.p) <= flat) --k;
+    hull[k++] = q;
+  }
+  for (std::size_t i = points.size() - 1, lower = k + 1; i-- > 0;) {
+    while (k >= lower && cross(hull[k - 2].p, hull[k - 1].p, points[i].p) <= flat) --k;
+    hull[k++] = points[i];
+  }
+  std::vector<int> loop;
+  for (std::size_t i = 0; i + 1 < k; ++i) loop.push_back(hull[i].id);
+  return loop;
+}
+
+}  // namespace
+
+SweepPolytopeBuilder::SweepPolytopeBuilder(ConvexPolytope tool) : tool_(std::move(tool)) {
+  if (tool_.facets.empty()) throw InputError("sweep polytope: the tool polytope is empty");
+  std::unordered_map<std::uint64_t, int> owner;
+  for (int f = 0; f < static_cast<int>(tool_.facets.size()); ++f) {
+    const std::vector<int>& loop = tool_.facets[f].loop;
+    for (std::size_t i = 0; i < loop.size(); ++i) owner[edge_key(loop[i], loop[(i + 1) % loop.size()])] = f;
+  }
+  for (const auto& [key, left] : owner) {
+    const int from = static_cast<int>(key >> 32), to = static_cast<int>(key & 0xffffffffu);
+    if (from > to) continue;
+    const auto right = owner.find(edge_key(to, from));
+    if (right == owner.end()) throw InputError("sweep polytope: the tool polytope is not closed");
+    edges_.push_back({from, to, left, right->second});
+  }
+  std::sort(edges_.begin(), edges_.end(), [](const Edge& a, const Edge& b) {
+    return a.from < b.from || (a.from == b.from && a.to < b.to);
+  });
+  size_ = tool_.bounds().diagonal().norm();
+}
+
+ConvexPolytope SweepPolytopeBuilder::operator()(const Vector3d& start, const Vector3d& end) const {
+  // Unordered: the lexicographically smaller end first.
+  const bool swap = std::lexicographical_compare(end.data(), end.data() + 3, start.data(), start.data() + 3);
+  const Vector3d& a = swap ? end : start;
+  const Vector3d& b = swap ? start : end;
+  const Vector3d motion = b - a;
+  const double length = motion.norm();
+  if (!(length > 1e-12 * size_)) return tool_.translated(start);
+
+  // Side of each tool facet: -1 back (kept at a), +1 forward (kept at b), 0 swept whole.
+  std::vector<int> side(tool_.facets.size());
+  for (std::size_t f = 0; f < side.size(); ++f) {
+    const double s = tool_.facets[f].normal.dot(motion);
+    side[f] = s > kParallel * length ? 1 : s < -kParallel * length ? -1 : 0;
+  }
+  const int n = static_cast<int>(tool_.vertices.size());
+  ConvexPolytope sweep;
+  std::vector<int> used(2 * n, -1);
+  auto vertex = [&](int id) {
+    if (used[id] < 0) {
+      used[id] = static_cast<int>(sweep.vertices.size());
+      sweep.vertices.push_back(id < n ? tool_.vertices[id] + a : tool_.vertices[id - n] + b);
+    }
+    return used[id];
+  };
+  auto add = [&](const std::vector<int>& ids, const Vector3d& normal, double offset) {
+    PolytopeFacet facet;
+    for (int id : ids) facet.loop.push_back(vertex(id));
+    facet.normal = normal;
+    facet.offset = offset;
+    sweep.facets.push_back(std::move(facet));
+  };
+  for (std::size_t f = 0; f < side.size(); ++f) {
+    const PolytopeFacet& facet = tool_.facets[f];
+    const Vector3d& at = side[f] > 0 ? b : a;
+    if (side[f] == 0) {
+      add(swept_face(tool_, facet, motion), facet.normal, facet.offset + facet.normal.dot(a));
+      continue;
+    }
+    std::vector<int> ids = facet.loop;
+    if (side[f] > 0)
+      for (int& id : ids) id += n;
+    add(ids, facet.normal, facet.offset + facet.normal.dot(at));
+  }
+  for (const Edge& e : edges_) {
+    const int s_left = side[e.left], s_right = side[e.right];
+    if (s_left * s_right >= 0) continue;  // not a silhouette edge (or a swept face holds it)
+    Vector3d normal = (tool_.vertices[e.to] - tool_.vertices[e.from]).cross(motion).normalized();
+    if (normal.dot(tool_.facets[e.left].normal + tool_.facets[e.right].normal) < 0.0) normal = -normal;
+    const double offset = normal.dot(tool_.vertices[e.from] + a);
+    if (s_left < 0)
+      add({e.to, e.from, e.from + n, e.to + n}, normal, offset);
+    else
+      add({e.from, e.to, e.to + n, e.from + n}, normal, offset);
+  }
+  return sweep;
+}
+
+ConvexPolytope sweep_polytope(const ConvexPolytope& tool, const Vector3d& start, const Vector3d& end) {
+  return SweepPolytopeBuilder(tool)(start, end);
+}
+
+}  // namespace morph

@@ -1,0 +1,191 @@
+#include <morph/exceptions.h>
+#include <morph/tool_polytope.h>
+
+#include <algorithm>
+#include <cmath>
+#include <string>
+
+namespace morph {
+
+namespace {
+
+using Eigen::Vector2d;
+using Eigen::Vector3d;
+
+constexpr double kMaxCount = 65536.0;
+
+// One chord of the inscribed meridian polygon and how far the exact profile bulges beyond it.
+struct Chord {
+  Vector2d from, to;
+  double sagitta = 0.0;
+};
+
+int checked_count(double count, const char* what) {
+  if (!(count <= kMaxCount))
+    throw LimitError(std::string("tool polytope: ") + what + " would need more than 65536 pieces");
+  return std::max(1, static_cast<int>(std::ceil(count)));
+}
+
+// Chords of one profile piece, each within `sagitta` of it (lines stay whole).
+void append_chords(const ProfilePiece& piece, double sagitta, std::vector<Chord>& chords) {
+  if (piece.kind == ProfilePiece::Kind::Segment) {
+    chords.push_back({piece.from, piece.to, 0.0});
+    return;
+  }
+  const double span = piece.angle1 - piece.angle0;
+  const double a = piece.radii.x(), b = piece.radii.y();
+  int count;
+  double bulge;  // largest sagitta of one chord of `count`
+  if (piece.kind == ProfilePiece::Kind::Arc) {
+    const double step = 2.0 * std::acos(std::max(-1.0, 1.0 - sagitta / a));
+    count = checked_count(span / step, "the meridian");
+    bulge = a * (1.0 - std::cos(0.5 * span / count));
+  } else {
+    // Curvature of an ellipse is at most max(a/b², b/a²); a chord of length l bulges at most
+    // curvature·l²/8, and l is at most the arc length, at most max(a, b) per radian.
+    const double curvature = std::max(a / (b * b), b / (a * a)), speed = std::max(a, b);
+    count = checked_count(span * speed * std::sqrt(curvature / (8.0 * sagitta)), "the meridian");
+    const double length = speed * span / count;
+    bulge = curvature * length * length / 8.0;
+  }
+  Vector2d previous = piece.from;
+  for (int i = 1; i <= count; ++i) {
+    const double angle = piece.angle0 + span * i / count;
+    const Vector2d next =
+        i == count ? piece.to : piece.centre + Vector2d(a * std::cos(angle), b * std::sin(angle));
+    chords.push_back({previous, next, bulge});
+    previous = next;
+  }
+}
+
+double cross(const Vector2d& u, const Vector2d& v) {
+  return u.x() * v.y() - u.y() * v.x();
+}
+
+// Chords without zero-length pieces, and straight runs of unbulged chords merged into one.
+std::vector<Chord> tidy(const std::vector<Chord>& chords, double scale) {
+  std::vector<Chord> kept;
+  for (const Chord& chord : chords) {
+    if ((chord.to - chord.from).norm() <= 1e-12 * scale) continue;
+    if (!kept.empty() && kept.back().sagitta == 0.0 && chord.sagitta == 0.0 &&
+        std::abs(cross(kept.back().to - kept.back().from, chord.to - chord.from)) <=
+            1e-12 * (kept.back().to - kept.back().from).norm() * (chord.to - chord.from).norm()) {
+      kept.back().to = chord.to;
+      continue;
+    }
+    kept.push_back(chord);
+  }
+  return kept;
+}
+
+// The straddling meridian: each chord's line pushed out (to the right of travel) by half its
+// sagitta; vertices where consecutive lines meet, the ends where the first and last lines meet
+// the axis (the profile's mirror image closes it there).
+std::vector<Vector2d> straddling_meridian(const std::vector<Chord>& chords) {
+  auto normal = [](const Chord& c) {
+    const Vector2d d = (c.to - c.from).normalized();
+    return Vector2d(d.y(), -d.x());
+  };
+  auto line_offset = [&](const Chord& c) { return normal(c).dot(c.from) + 0.5 * c.sagitta; };
+  auto on_axis = [&](const Chord& c) {
+    const Vector2d n = normal(c);
+    if (std::abs(n.y()) < 1e-12) return Vector2d(0.0, c.from.y());
+    return Vector2d(0.0, line_offset(c) / n.y());
+  };
+  std::vector<Vector2d> points{on_axis(chords.front())};
+  for (std::size_t i = 0; i + 1 < chords.size(); ++i) {
+    const Vector2d n0 = normal(chords[i]), n1 = normal(chords[i + 1]);
+    const double det = cross(n0, n1), c0 = line_offset(chords[i]), c1 = line_offset(chords[i + 1]);
+    if (std::abs(det) < 1e-12) {
+      points.push_back(chords[i].to + 0.5 * chords[i].sagitta * n0);
+      continue;
+    }
+    points.emplace_back((c0 * n1.y() - c1 * n0.y()) / det, (n0.x() * c1 - n1.x() * c0) / det);
+  }
+  points.push_back(on_axis(chords.back()));
+  // A level line stays exactly level (flat bottoms and tops become one facet).
+  for (std::size_t i = 0; i < chords.size(); ++i)
+    if (chords[i].sagitta == 0.0 && chords[i].from.y() == chords[i].to.y())
+      points[i].y() = points[i + 1].y() = chords[i].from.y();
+  return points;
+}
+
+PolytopeFacet facet(const std::vector<Vector3d>& vertices, std::vector<int> loop) {
+  PolytopeFacet f;
+  f.loop = std::move(loop);
+  f.normal = loop_area_vector(vertices, f.loop).normalized();
+  Vector3d centre = Vector3d::Zero();
+  for (int v : f.loop) centre += vertices[v];
+  f.offset = f.normal.dot(centre / static_cast<double>(f.loop.size()));
+  return f;
+}
+
+}  // namespace
+
+ToolPolytope tool_polytope(const ToolProfile& profile, double max_deviation) {
+  if (profile.empty()) throw InputError("tool polytope: the tool has no profile");
+  if (!(max_deviation > 0.0) || !std::isfinite(max_deviation))
+    throw InputError("tool polytope: the deviation must be positive and finite, got " +
+                     std::to_string(max_deviation));
+  // Half the budget each to the meridian's chords and the rings' sides; straddling halves both.
+  const double sagitta = 0.9 * max_deviation;
+  const double scale = std::max(profile.radius(), profile.height());
+  std::vector<Chord> chords;
+  for (const ProfilePiece& piece : profile.pieces()) append_chords(piece, sagitta, chords);
+  chords = tidy(chords, scale);
+  if (chords.size() > kMaxCount)
+    throw LimitError("tool polytope: the meridian would need more than 65536 pieces");
+
+  ToolPolytope result;
+  result.meridian = straddling_meridian(chords);
+  for (Vector2d& p : result.meridian) p.y() -= profile.point_height();
+  const std::vector<Vector2d>& meridian = result.meridian;
+  const double half_step = std::acos(std::max(-1.0, 1.0 - sagitta / profile.radius()));
+  const int sectors = 4 * checked_count(M_PI / half_step / 4.0, "the rings");
+  result.sectors = sectors;
+  const double radial_scale = 2.0 / (1.0 + std::cos(M_PI / sectors));
+
+  // A flat end (first or last chord level) is one N-gon facet; otherwise the axis point is an apex.
+  const std::size_t last = meridian.size() - 1;
+  const bool flat_bottom = meridian[1].y() == meridian[0].y();
+  const bool flat_top = meridian[last - 1].y() == meridian[last].y();
+  ConvexPolytope& polytope = result.polytope;
+  std::vector<int> ring_start(meridian.size(), -1);
+  for (std::size_t j = 1; j < last; ++j) {
+    ring_start[j] = static_cast<int>(polytope.vertices.size());
+    for (int k = 0; k < sectors; ++k) {
+      const double angle = 2.0 * M_PI * k / sectors, r = radial_scale * meridian[j].x();
+      polytope.vertices.emplace_back(r * std::cos(angle), r * std::sin(angle), meridian[j].y());
+    }
+  }
+  auto ring = [&](std::size_t j, int k) { return ring_start[j] + (k % sectors); };
+  int bottom_apex = -1, top_apex = -1;
+  if (!flat_bottom) {
+    bottom_apex = static_cast<int>(polytope.vertices.size());
+    polytope.vertices.emplace_back(0.0, 0.0, meridian[0].y());
+  }
+  if (!flat_top) {
+    top_apex = static_cast<int>(polytope.vertices.size());
+    polytope.vertices.emplace_back(0.0, 0.0, meridian[last].y());
+  }
+  const std::vector<Vector3d>& v = polytope.vertices;
+  if (flat_bottom) {
+    std::vector<int> loop;
+    for (int k = sectors - 1; k >= 0; --k) loop.push_back(ring(1, k));
+    polytope.facets.push_back(facet(v, loop));
+  }
+  for (int k = 0; k < sectors; ++k) {
+    if (!flat_bottom) polytope.facets.push_back(facet(v, {bottom_apex, ring(1, k + 1), ring(1, k)}));
+    for (std::size_t j = 1; j + 1 < last; ++j)
+      polytope.facets.push_back(facet(v, {ring(j, k), ring(j, k + 1), ring(j + 1, k + 1), ring(j + 1, k)}));
+    if (!flat_top) polytope.facets.push_back(facet(v, {ring(last - 1, k), ring(last - 1, k + 1), top_apex}));
+  }
+  if (flat_top) {
+    std::vector<int> loop;
+    for (int k = 0; k < sectors; ++k) loop.push_back(ring(last - 1, k));
+    polytope.facets.push_back(facet(v, loop));
+  }
+  return result;
+}
+
+}  // namespace morph

@@ -1,0 +1,156 @@
+// What every command shares on its command line (apps/src/cli_conventions.h): -o/--output with
+// --out still accepted, --json [FILE], -q/-v/--threads everywhere, suggestions for typos, the
+// bash completion, and progress lines with timestamps when stderr is not a terminal.
+#include "../../apps/src/cli_conventions.h"
+
+#include <gtest/gtest.h>
+
+#include <chrono>
+#include <filesystem>
+#include <fstream>
+#include <nlohmann/json.hpp>
+#include <regex>
+#include <thread>
+
+#include "../../apps/src/terminal_progress.h"
+#include "apps/command_support.h"
+
+namespace {
+
+namespace fs = std::filesystem;
+using morphmill_test::run_command;
+const std::string kData = MORPHMILL_TEST_DATA;
+
+class CliConventions : public morphmill_test::ScratchDirTest {
+ protected:
+  morphmill_test::CommandResult morphmill(const std::string& arguments) const {
+    return run_command(std::string("'") + MORPHMILL_BINARY + "' " + arguments);
+  }
+};
+
+const std::vector<std::string> kCommands = {"info",   "mesh-info", "erode",    "reference", "deviation",
+                                            "render", "verify",    "compare",  "stress",    "stress-merge",
+                                            "study",  "erode2d",   "verify2d", "completion"};
+
+TEST(NearestName, FindsLikelyTyposOnly) {
+  const std::vector<std::string> commands = {"verify", "verify2d", "erode", "erode2d", "reference"};
+  EXPECT_EQ(morphmill::nearest_name("verfy", commands), "verify");
+  EXPECT_EQ(morphmill::nearest_name("erod", commands), "erode");
+  EXPECT_EQ(morphmill::nearest_name("refrence", commands), "reference");
+  EXPECT_EQ(morphmill::nearest_name("zzz", commands), "");
+  EXPECT_EQ(morphmill::nearest_name("--tolerence", {"--tolerance", "--threads"}), "--tolerance");
+}
+
+TEST_F(CliConventions, EveryCommandsHelpShowsTheSharedOptions) {
+  for (const std::string& command : kCommands) {
+    const auto r = morphmill(command + " --help");
+    ASSERT_EQ(r.exit_code, 0) << command << ": " << r.output;
+    EXPECT_NE(r.output.find("-q,--quiet"), std::string::npos) << command << ": " << r.output;
+    EXPECT_NE(r.output.find("-v,--verbose"), std::string::npos) << command << ": " << r.output;
+    EXPECT_NE(r.output.find("--threads"), std::string::npos) << command << ": " << r.output;
+    // One spelling of the output option: never `--out` on its own.
+    EXPECT_FALSE(std::regex_search(r.output, std::regex("--out[^p]"))) << command << ": " << r.output;
+  }
+  for (const char* command : {"erode", "reference", "verify", "compare", "stress", "study", "erode2d"}) {
+    const auto r = morphmill(std::string(command) + " --help");
+    EXPECT_NE(r.output.find("-o,--output"), std::string::npos) << command << ": " << r.output;
+  }
+}
+
+TEST_F(CliConventions, OutputAndTheOldOutSpellingBothWork) {
+  const std::string job = kData + "/planar/figure9.json";
+  auto r = morphmill("erode2d '" + job + "' --output '" + path("a.svg") + "'");
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  r = morphmill("erode2d '" + job + "' --out '" + path("b.svg") + "'");
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  r = morphmill("erode2d '" + job + "' --out='" + path("c.svg") + "'");
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  for (const char* name : {"a.svg", "b.svg", "c.svg"}) EXPECT_GT(fs::file_size(path(name)), 0u) << name;
+}
+
+TEST_F(CliConventions, MistypedCommandsAndOptionsGetASuggestion) {
+  auto r = morphmill("verfy '" + kData + "/jobs/slots.json'");
+  EXPECT_EQ(r.exit_code, 2) << r.output;
+  EXPECT_NE(r.output.find("did you mean 'verify'"), std::string::npos) << r.output;
+  r = morphmill("erode '" + kData + "/jobs/slots.json' -o x.ply --tolerence 0.1");
+  EXPECT_EQ(r.exit_code, 2) << r.output;
+  EXPECT_NE(r.output.find("did you mean '--tolerance'"), std::string::npos) << r.output;
+  r = morphmill("info '" + kData + "/jobs/slots.json' --jsn");
+  EXPECT_EQ(r.exit_code, 2) << r.output;
+  EXPECT_NE(r.output.find("did you mean '--json'"), std::string::npos) << r.output;
+}
+
+TEST_F(CliConventions, JsonGoesToStandardOutputOrToAFile) {
+  const std::string job = kData + "/jobs/slots.json";
+  // Both places of the flag, as before: the summary on standard output.
+  for (const std::string& arguments : {"info --json '" + job + "'", "info '" + job + "' --json"}) {
+    const auto r = morphmill(arguments + " 2>/dev/null");
+    ASSERT_EQ(r.exit_code, 0) << arguments << ": " << r.output;
+    EXPECT_EQ(nlohmann::json::parse(r.output)["moves"]["total"], 8) << arguments;
+  }
+  const auto r = morphmill("info '" + job + "' --json '" + path("info.json") + "'");
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  std::ifstream in(path("info.json"));
+  EXPECT_EQ(nlohmann::json::parse(in)["moves"]["total"], 8);
+  EXPECT_EQ(morphmill("info --json").exit_code, 2);
+}
+
+TEST_F(CliConventions, ErodeWritesItsSummaryAsJson) {
+  const auto r = morphmill("erode '" + kData + "/jobs/single_slot.json' -o '" + path("part.ply") +
+                           "' --allow-open --json '" + path("erode.json") + "'");
+  ASSERT_TRUE(r.exit_code == 0 || r.exit_code == 1) << r.output;
+  std::ifstream in(path("erode.json"));
+  const nlohmann::json summary = nlohmann::json::parse(in);
+  EXPECT_EQ(summary["closed_manifold"].get<bool>() && summary["self_intersecting_pairs"] == 0,
+            r.exit_code == 0);
+  EXPECT_GT(summary["triangles"].get<int>(), 0);
+  EXPECT_EQ(summary["units"], "mm");
+  EXPECT_EQ(summary["output"], path("part.ply"));
+}
+
+TEST_F(CliConventions, ThreadsIsCheckedOnEveryCommand) {
+  const auto r = morphmill("info '" + kData + "/jobs/slots.json' --threads -1");
+  EXPECT_EQ(r.exit_code, 2) << r.output;
+  EXPECT_NE(r.output.find("--threads"), std::string::npos) << r.output;
+  EXPECT_EQ(morphmill("info '" + kData + "/jobs/slots.json' --threads 1 -q").exit_code, 0);
+}
+
+TEST_F(CliConventions, BashCompletionCompletesCommandsAndOptions) {
+  const auto script = morphmill("completion bash > '" + path("completion.bash") + "'");
+  ASSERT_EQ(script.exit_code, 0) << script.output;
+  const auto complete = [&](const std::string& words, int current) {
+    return run_command("bash -c 'source \"" + path("completion.bash") + "\"; COMP_WORDS=(" + words +
+                       "); COMP_CWORD=" + std::to_string(current) +
+                       "; _morphmill; echo \"${COMPREPLY[*]}\"'");
+  };
+  auto r = complete("morphmill ver", 1);
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_EQ(r.output, "verify verify2d\n");
+  r = complete("morphmill erode job.json --tol", 3);
+  EXPECT_EQ(r.output, "--tolerance\n");
+  r = complete("morphmill stress --resu", 2);
+  EXPECT_EQ(r.output, "--resume\n");
+}
+
+TEST(TerminalProgressLines, TimestampedEndLineWhenNotATerminalAndNothingWhenQuiet) {
+  const auto run_stage = [] {
+    morphmill::TerminalProgress progress;  // tests run with stderr redirected: log lines
+    progress.begin("stage under test", 10);
+    std::this_thread::sleep_for(std::chrono::milliseconds(1100));
+    progress.advance(10);
+    progress.end();
+  };
+  testing::internal::CaptureStderr();
+  run_stage();
+  const std::string lines = testing::internal::GetCapturedStderr();
+  EXPECT_TRUE(std::regex_search(
+      lines, std::regex(R"(^\d{4}-\d\d-\d\dT\d\d:\d\d:\d\dZ stage under test: done in \d+\.\d s\n)")))
+      << lines;
+  morphmill::global_options().quiet = true;
+  testing::internal::CaptureStderr();
+  run_stage();
+  EXPECT_EQ(testing::internal::GetCapturedStderr(), "");
+  morphmill::global_options().quiet = false;
+}
+
+}  // namespace
