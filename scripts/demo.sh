@@ -1,15 +1,41 @@
 #!/usr/bin/env bash
-# make demo: verifies the bundled multi-piece job (a block cut by through-slots into three pieces).
+# make demo: verifies the bundled examples, each into its own directory under OUT (default
+# out/demo): the multi-piece job (a block cut by through-slots into three pieces, generator and
+# reference) and the four CAMotics projects of data/camotics/ (heart: two programs, a ball nose and
+# a bare T2; slant_test: a tapered cutter; vcarve: a V-bit; flower_mold: a flat end mill on a dense
+# raster). The generator builds ball ends only for now, so the projects check the OpenVDB reference
+# against the exact surface (--reference-only) at a voxel that keeps the demo quick; docs/camotics.md
+# has the full runs. Exit code: 0 when every verdict holds, else the first failing run's code.
 set -euo pipefail
 bin=${1:-build/apps/morphmill}
 out=${2:-out/demo}
-job=data/jobs/through_slots.json
-"$bin" info "$job"
-echo
-set +e
-"$bin" verify "$job" --out "$out"
-status=$?
-set -e
-echo
-echo "demo: the report is $(cd "$out" && pwd)/report.html (also report.md beside it)"
+
+# name | job | verify options
+examples=(
+  "through_slots|data/jobs/through_slots.json|"
+  "heart|data/camotics/heart/heart.camotics|--reference-only --voxel 0.8 --samples 20000"
+  "slant_test|data/camotics/slant_test/slant_test.camotics|--reference-only --voxel 0.25 --samples 20000"
+  "vcarve|data/camotics/vcarve/vcarve.camotics|--reference-only --voxel 0.2 --samples 20000"
+  "flower_mold|data/camotics/flower_mold/flower_mold.camotics|--reference-only --voxel 0.6 --samples 20000"
+)
+
+status=0
+summary=()
+for example in "${examples[@]}"; do
+  IFS='|' read -r name job options <<<"$example"
+  echo "=== $name: $job"
+  "$bin" info "$job"
+  echo
+  set +e
+  # shellcheck disable=SC2086 # the options are words
+  "$bin" verify "$job" --out "$out/$name" $options
+  code=$?
+  set -e
+  echo
+  summary+=("$(printf '%-14s exit %d  %s/report.html' "$name" "$code" "$(mkdir -p "$out/$name" && cd "$out/$name" && pwd)")")
+  if [[ $status -eq 0 && $code -ne 0 ]]; then status=$code; fi
+done
+
+echo "demo: one report per example (report.md beside each report.html):"
+printf '  %s\n' "${summary[@]}"
 exit $status

@@ -45,8 +45,9 @@ void register_study_command(CLI::App& app) {
     }
     std::cout << "study " << result.spec.name << ": " << result.rows.size() << " setting(s)\n";
     for (const auto& c : result.convergence)
-      std::cout << "  " << c.job << ": " << c.measure << " error order " << c.fit.order << " (R^2 "
-                << c.fit.r_squared << ", " << c.fit.points << " points)\n";
+      std::cout << "  " << c.job << (c.tools.empty() ? "" : " (" + c.tools + ")") << ": " << c.measure
+                << " error order " << c.fit.order << " (R^2 " << c.fit.r_squared << ", " << c.fit.points
+                << " points)\n";
     for (const auto& row : result.rows)
       if (!row.error.empty())
         std::cout << "  " << row.job << " " << study::to_string(row.parameter) << " = " << row.value

@@ -123,22 +123,29 @@ std::vector<Table> tables(const VerifyOutcome& o) {
   for (const auto& s : o.stages)
     stages.rows.push_back({s.name, fmt::format("{:.2f}", s.seconds), fmt::format("{:.0f}", s.peak_rss_mib)});
   result.push_back(stages);
-  result.push_back(
-      {"Surfaces",
-       {"", "generator (morph)", "reference (OpenVDB)"},
-       {{"triangles", std::to_string(o.morph_triangles), std::to_string(o.reference_triangles)},
-        {"active voxels", "-", std::to_string(o.reference_active_voxels)},
-        {"closed manifold", yes_no(o.morph_topology.closed_manifold()),
-         yes_no(o.reference_topology.closed_manifold())},
-        {"boundary edges", std::to_string(o.morph_topology.boundary_edges),
-         std::to_string(o.reference_topology.boundary_edges)},
-        {"volume (" + u + "^3)", number(o.morph_topology.volume), number(o.reference_topology.volume)},
-        {"area (" + u + "^2)", number(o.morph_topology.area), number(o.reference_topology.area)}}});
+  // Without the generator its columns and rows say so: a zero there would read as a measurement.
+  const bool generator_ran = o.generator_skipped.empty();
+  auto generator_cell = [&](const std::string& text) {
+    return generator_ran ? text : std::string("not run");
+  };
+  result.push_back({"Surfaces",
+                    {"", "generator (morph)", "reference (OpenVDB)"},
+                    {{"triangles", generator_cell(std::to_string(o.morph_triangles)),
+                      std::to_string(o.reference_triangles)},
+                     {"active voxels", "-", std::to_string(o.reference_active_voxels)},
+                     {"closed manifold", generator_cell(yes_no(o.morph_topology.closed_manifold())),
+                      yes_no(o.reference_topology.closed_manifold())},
+                     {"boundary edges", generator_cell(std::to_string(o.morph_topology.boundary_edges)),
+                      std::to_string(o.reference_topology.boundary_edges)},
+                     {"volume (" + u + "^3)", generator_cell(number(o.morph_topology.volume)),
+                      number(o.reference_topology.volume)},
+                     {"area (" + u + "^2)", generator_cell(number(o.morph_topology.area)),
+                      number(o.reference_topology.area)}}});
   Table pieces{"Pieces (largest first)", {"piece", "generator volume", "reference volume", "difference"}, {}};
   const std::size_t n = std::max(o.morph_pieces.size(), o.reference_pieces.size());
   for (std::size_t i = 0; i < n; ++i) {
     const bool m = i < o.morph_pieces.size(), r = i < o.reference_pieces.size();
-    pieces.rows.push_back({std::to_string(i + 1), m ? number(o.morph_pieces[i].volume) : "-",
+    pieces.rows.push_back({std::to_string(i + 1), m ? number(o.morph_pieces[i].volume) : generator_cell("-"),
                            r ? number(o.reference_pieces[i].volume) : "-",
                            m && r ? number(o.morph_pieces[i].volume - o.reference_pieces[i].volume) : "-"});
   }
@@ -153,11 +160,15 @@ std::vector<Table> tables(const VerifyOutcome& o) {
                               number(s.rms), number(s.max_abs), number(s.p99), percent(s.share_gouge),
                               percent(s.share_within_band), percent(s.share_excess)});
   };
-  row("generator -> exact", o.morph_to_exact.stats);
-  row("exact -> generator", o.exact_to_morph);
+  if (generator_ran) {
+    row("generator -> exact", o.morph_to_exact.stats);
+    row("exact -> generator", o.exact_to_morph);
+  }
   row("reference -> exact", o.reference_to_exact.stats);
-  row("generator -> reference", o.morph_to_reference.stats);
-  row("reference -> generator", o.reference_to_morph.stats);
+  if (generator_ran) {
+    row("generator -> reference", o.morph_to_reference.stats);
+    row("reference -> generator", o.reference_to_morph.stats);
+  }
   result.push_back(deviation);
   const raytest::Histogram& h = o.morph_to_exact.stats.band_histogram;
   if (!h.counts.empty()) {
@@ -174,29 +185,32 @@ std::vector<Table> tables(const VerifyOutcome& o) {
     bin(number(h.edges.back()), "+inf", h.overflow);
     result.push_back(histogram);
   }
-  Table moves{"Worst moves (generator -> exact, by the face the sample lies on)",
-              {"made by", "samples", "min", "max", "max |d|"},
-              {}};
-  for (const auto& g : o.morph_to_exact.groups)
-    moves.rows.push_back({tag_text(g.tag), std::to_string(g.stats.count), number(g.stats.min),
-                          number(g.stats.max), number(g.stats.max_abs)});
-  result.push_back(moves);
-  Table regions{
-      fmt::format("Regions out of the band ({} against the exact surface, {} against the reference; "
-                  "on the generator's surface refined to {} {})",
-                  o.exact_regions, o.reference_regions, number(o.region_resolution), u),
-      {"against", "band", "kind", "depth", "area (" + u + "^2)", "x", "y", "z", "made by"},
-      {}};
-  for (const auto& r : o.regions) {
-    std::string made_by;
-    for (std::size_t i = 0; i < r.region.sources.size() && i < 3; ++i)
-      made_by += (i ? "; " : "") + tag_text(r.region.sources[i].tag);
-    regions.rows.push_back({r.against, fmt::format("{} / +{}", number(r.band.low), number(r.band.high)),
-                            raytest::to_string(r.region.kind), number(r.region.worst), number(r.region.area),
-                            number(r.region.location.x()), number(r.region.location.y()),
-                            number(r.region.location.z()), made_by.empty() ? "-" : made_by});
+  if (generator_ran) {
+    Table moves{"Worst moves (generator -> exact, by the face the sample lies on)",
+                {"made by", "samples", "min", "max", "max |d|"},
+                {}};
+    for (const auto& g : o.morph_to_exact.groups)
+      moves.rows.push_back({tag_text(g.tag), std::to_string(g.stats.count), number(g.stats.min),
+                            number(g.stats.max), number(g.stats.max_abs)});
+    result.push_back(moves);
+    Table regions{
+        fmt::format("Regions out of the band ({} against the exact surface, {} against the reference; "
+                    "on the generator's surface refined to {} {})",
+                    o.exact_regions, o.reference_regions, number(o.region_resolution), u),
+        {"against", "band", "kind", "depth", "area (" + u + "^2)", "x", "y", "z", "made by"},
+        {}};
+    for (const auto& r : o.regions) {
+      std::string made_by;
+      for (std::size_t i = 0; i < r.region.sources.size() && i < 3; ++i)
+        made_by += (i ? "; " : "") + tag_text(r.region.sources[i].tag);
+      regions.rows.push_back({r.against, fmt::format("{} / +{}", number(r.band.low), number(r.band.high)),
+                              raytest::to_string(r.region.kind), number(r.region.worst),
+                              number(r.region.area), number(r.region.location.x()),
+                              number(r.region.location.y()), number(r.region.location.z()),
+                              made_by.empty() ? "-" : made_by});
+    }
+    result.push_back(regions);
   }
-  result.push_back(regions);
   Table worst{"Decisive place", {"against", "deviation", "x", "y", "z", "made by"}, {}};
   for (const auto& w : o.worst)
     worst.rows.push_back({w.against, number(w.deviation), number(w.position.x()), number(w.position.y()),
@@ -317,6 +331,15 @@ nlohmann::json outcome_to_json(const VerifyOutcome& o) {
                     {"reference_to_exact", stats_to_json(o.reference_to_exact.stats)},
                     {"generator_to_reference", stats_to_json(o.morph_to_reference.stats)},
                     {"reference_to_generator", stats_to_json(o.reference_to_morph.stats)}};
+  if (!o.generator_skipped.empty()) {
+    // Not run is null, never a zero that reads as a measurement.
+    j["triangles"]["generator"] = nullptr;
+    j["closed_manifold"]["generator"] = nullptr;
+    j["pieces"]["generator"] = nullptr;
+    for (const char* key :
+         {"generator_to_exact", "exact_to_generator", "generator_to_reference", "reference_to_generator"})
+      j["deviation"][key] = nullptr;
+  }
   for (const auto& w : o.worst)
     j["worst_places"].push_back({{"against", w.against},
                                  {"deviation", w.deviation},

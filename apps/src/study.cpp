@@ -152,6 +152,13 @@ void render_heatmap(morph::TriangleMesh mesh, const std::vector<double>& values,
   raytest::write_png(raytest::render_mesh(mesh, render), png.string());
 }
 
+std::string tools_text(const morph::Job& job) {
+  std::string text;
+  for (const auto& [number, tool] : job.tools)
+    text += (text.empty() ? "" : "; ") + fmt::format("T{} {}", number, morph::describe(tool));
+  return text;
+}
+
 void evaluate_setting(const morph::Job& job, const SettingKey& key, const StudySpec& spec,
                       const fs::path& out_dir, const std::string& picture_stem, StudyRow& row) {
   EvaluateOptions options;
@@ -160,11 +167,15 @@ void evaluate_setting(const morph::Job& job, const SettingKey& key, const StudyS
   options.face_samples = spec.face_samples;
   options.seed = spec.seed;
   options.per_stage_peak_memory = true;
+  // A tool the generator cannot build yet: the setting measures the reference alone.
+  row.generator_skipped = first_move_the_generator_cannot_build(job);
+  options.reference_only = !row.generator_skipped.empty();
   const Evaluation evaluation = evaluate_job(job, options);
   const VerifyOutcome& o = evaluation.outcome;
   row.tolerance = o.tolerance;
   row.voxel_size = o.voxel_size;
   row.tool_radius = smallest_radius(job);
+  row.tools = tools_text(job);
   for (const auto& stage : o.stages) {
     if (stage.name == "generator (morph)") {
       row.generator_seconds = stage.seconds;
@@ -225,7 +236,8 @@ const char* const kCsvHeader =
     "job,parameter,value,tolerance,voxel_size,tool_radius,step_over,generator_seconds,generator_peak_mib,"
     "generator_triangles,generator_pieces,generator_max_error,generator_mean_error,generator_rms_error,"
     "reference_seconds,reference_peak_mib,reference_grid_mib,reference_active_voxels,reference_pieces,"
-    "reference_max_error,reference_mean_error,reference_rms_error,agreement,verdict,error";
+    "reference_max_error,reference_mean_error,reference_rms_error,agreement,verdict,error,tools,generator_"
+    "skipped";
 
 std::string csv_field(const std::string& text) {
   if (text.find_first_of(",\"\n") == std::string::npos) return text;
@@ -242,14 +254,16 @@ nlohmann::json row_to_json(const StudyRow& r) {
           {"voxel_size", r.voxel_size},
           {"tool_radius", r.tool_radius},
           {"step_over", r.step_over ? nlohmann::json(*r.step_over) : nlohmann::json()},
-          {"generator",
-           {{"seconds", r.generator_seconds},
-            {"peak_mib", r.generator_peak_mib},
-            {"triangles", r.generator_triangles},
-            {"pieces", r.generator_pieces},
-            {"max_error", r.generator_max_error},
-            {"mean_error", r.generator_mean_error},
-            {"rms_error", r.generator_rms_error}}},
+          {"tools", r.tools},
+          {"generator_skipped", r.generator_skipped},
+          {"generator", r.generator_skipped.empty() ? nlohmann::json{{"seconds", r.generator_seconds},
+                                                                     {"peak_mib", r.generator_peak_mib},
+                                                                     {"triangles", r.generator_triangles},
+                                                                     {"pieces", r.generator_pieces},
+                                                                     {"max_error", r.generator_max_error},
+                                                                     {"mean_error", r.generator_mean_error},
+                                                                     {"rms_error", r.generator_rms_error}}
+                                                    : nlohmann::json()},
           {"reference",
            {{"seconds", r.reference_seconds},
             {"peak_mib", r.reference_peak_mib},
@@ -259,7 +273,7 @@ nlohmann::json row_to_json(const StudyRow& r) {
             {"max_error", r.reference_max_error},
             {"mean_error", r.reference_mean_error},
             {"rms_error", r.reference_rms_error}}},
-          {"agreement", r.agreement},
+          {"agreement", r.generator_skipped.empty() ? nlohmann::json(r.agreement) : nlohmann::json()},
           {"verdict", r.verdict},
           {"pictures", r.pictures},
           {"error", r.error}};
@@ -272,14 +286,18 @@ StudyRow row_from_json(const nlohmann::json& j) {
   r.voxel_size = j.at("voxel_size").get<double>();
   r.tool_radius = j.at("tool_radius").get<double>();
   if (j.at("step_over").is_number()) r.step_over = j["step_over"].get<double>();
-  const auto& g = j.at("generator");
-  r.generator_seconds = g.at("seconds").get<double>();
-  r.generator_peak_mib = g.at("peak_mib").get<double>();
-  r.generator_triangles = g.at("triangles").get<std::size_t>();
-  r.generator_pieces = g.at("pieces").get<std::size_t>();
-  r.generator_max_error = g.at("max_error").get<double>();
-  r.generator_mean_error = g.at("mean_error").get<double>();
-  r.generator_rms_error = g.at("rms_error").get<double>();
+  r.tools = j.value("tools", std::string());
+  r.generator_skipped = j.value("generator_skipped", std::string());
+  if (r.generator_skipped.empty()) {
+    const auto& g = j.at("generator");
+    r.generator_seconds = g.at("seconds").get<double>();
+    r.generator_peak_mib = g.at("peak_mib").get<double>();
+    r.generator_triangles = g.at("triangles").get<std::size_t>();
+    r.generator_pieces = g.at("pieces").get<std::size_t>();
+    r.generator_max_error = g.at("max_error").get<double>();
+    r.generator_mean_error = g.at("mean_error").get<double>();
+    r.generator_rms_error = g.at("rms_error").get<double>();
+  }
   const auto& f = j.at("reference");
   r.reference_seconds = f.at("seconds").get<double>();
   r.reference_peak_mib = f.at("peak_mib").get<double>();
@@ -289,7 +307,7 @@ StudyRow row_from_json(const nlohmann::json& j) {
   r.reference_max_error = f.at("max_error").get<double>();
   r.reference_mean_error = f.at("mean_error").get<double>();
   r.reference_rms_error = f.at("rms_error").get<double>();
-  r.agreement = j.at("agreement").get<double>();
+  if (j.at("agreement").is_number()) r.agreement = j["agreement"].get<double>();
   r.verdict = j.at("verdict").get<bool>();
   r.pictures = j.at("pictures").get<std::vector<std::string>>();
   r.error = j.at("error").get<std::string>();
@@ -372,6 +390,7 @@ std::vector<std::pair<std::string, std::string>> make_plots(const StudyResult& r
         mean.y.push_back(r->reference_mean_error);
         max.x.push_back(r->voxel_size);
         max.y.push_back(r->reference_max_error);
+        if (!r->generator_skipped.empty()) continue;
         generator.x.push_back(r->voxel_size);
         generator.y.push_back(r->generator_max_error);
       }
@@ -390,7 +409,7 @@ std::vector<std::pair<std::string, std::string>> make_plots(const StudyResult& r
       generator.dashed = true;
       spec.series.push_back(mean);
       spec.series.push_back(max);
-      spec.series.push_back(generator);
+      if (!generator.x.empty()) spec.series.push_back(generator);
       colour += 2;
     }
     try_plot(spec, "error_vs_voxel.png");
@@ -407,6 +426,7 @@ std::vector<std::pair<std::string, std::string>> make_plots(const StudyResult& r
       generator.label = job + ": generator (tolerance sweep)";
       reference.label = job + ": reference (voxel sweep)";
       for (const auto* r : rows_of(result, job, Parameter::Tolerance)) {
+        if (!r->generator_skipped.empty()) continue;
         generator.x.push_back(r->generator_max_error);
         generator.y.push_back(r->*generator_y);
       }
@@ -439,18 +459,18 @@ std::vector<std::pair<std::string, std::string>> make_plots(const StudyResult& r
       generator.label = job + ": generator";
       reference.label = job + ": reference";
       for (const auto* r : rows_of(result, job, parameter)) {
-        generator.x.push_back(r->value);
-        generator.y.push_back(r->generator_max_error);
+        if (r->generator_skipped.empty()) {
+          generator.x.push_back(r->value);
+          generator.y.push_back(r->generator_max_error);
+        }
         reference.x.push_back(r->value);
         reference.y.push_back(r->reference_max_error);
       }
       generator.color = colour;
       reference.color = colour + 1;
       reference.dashed = true;
-      if (!generator.x.empty()) {
-        spec.series.push_back(generator);
-        spec.series.push_back(reference);
-      }
+      if (!generator.x.empty()) spec.series.push_back(generator);
+      if (!reference.x.empty()) spec.series.push_back(reference);
       colour += 2;
     }
     try_plot(spec, std::string("error_vs_") + to_string(parameter) + ".png");
@@ -489,10 +509,10 @@ void write_html(const StudyResult& result, const std::vector<std::pair<std::stri
           "order.</p>\n";
   std::vector<std::vector<std::string>> fits;
   for (const auto& c : result.convergence)
-    fits.push_back({c.job, c.measure, fmt::format("{:.3f}", c.fit.order),
+    fits.push_back({c.job, c.tools, c.measure, fmt::format("{:.3f}", c.fit.order),
                     fmt::format("{:.4g}", c.fit.constant), fmt::format("{:.4f}", c.fit.r_squared),
                     std::to_string(c.fit.points)});
-  page << html_table({"job", "error measure", "order", "constant", "R^2", "points"}, fits);
+  page << html_table({"job", "tools", "error measure", "order", "constant", "R^2", "points"}, fits);
   page << "<h3>Plots</h3>\n";
   for (const auto& [title, file] : plots)
     page << "<figure><img alt=\"" << html_escape(title) << "\" src=\"data:image/png;base64,"
@@ -500,14 +520,18 @@ void write_html(const StudyResult& result, const std::vector<std::pair<std::stri
          << "</figcaption></figure>\n";
   page << "<h3>Table</h3>\n";
   std::vector<std::vector<std::string>> rows;
-  for (const auto& r : result.rows)
-    rows.push_back({r.job, to_string(r.parameter), number(r.value), number(r.tolerance), number(r.voxel_size),
-                    number(r.tool_radius), r.step_over ? number(*r.step_over) : "-",
-                    fmt::format("{:.2f}", r.generator_seconds), number(r.generator_max_error),
-                    fmt::format("{:.2f}", r.reference_seconds), number(r.reference_max_error),
-                    number(r.reference_mean_error), number(r.agreement),
-                    fmt::format("{:.0f}", r.generator_peak_mib), fmt::format("{:.0f}", r.reference_peak_mib),
-                    r.error.empty() ? (r.verdict ? "holds" : "FAILS") : r.error});
+  for (const auto& r : result.rows) {
+    const bool ran = r.generator_skipped.empty();  // else: the reference alone, its verdict
+    rows.push_back(
+        {r.job, to_string(r.parameter), number(r.value), number(r.tolerance), number(r.voxel_size),
+         number(r.tool_radius), r.step_over ? number(*r.step_over) : "-",
+         ran ? fmt::format("{:.2f}", r.generator_seconds) : "not run",
+         ran ? number(r.generator_max_error) : "-", fmt::format("{:.2f}", r.reference_seconds),
+         number(r.reference_max_error), number(r.reference_mean_error), ran ? number(r.agreement) : "-",
+         ran ? fmt::format("{:.0f}", r.generator_peak_mib) : "-", fmt::format("{:.0f}", r.reference_peak_mib),
+         !r.error.empty() ? r.error
+                          : std::string(r.verdict ? "holds" : "FAILS") + (ran ? "" : " (reference alone)")});
+  }
   page << html_table(
       {"job", "parameter", "value", "tolerance", "voxel", "tool radius", "step-over", "generator s",
        "generator max err", "reference s", "reference max err", "reference mean err", "generator-reference",
@@ -712,14 +736,19 @@ std::string rows_to_csv(const std::vector<StudyRow>& rows) {
   for (const auto& r : rows) {
     csv << csv_field(r.job) << ',' << to_string(r.parameter) << ',' << number(r.value) << ','
         << number(r.tolerance) << ',' << number(r.voxel_size) << ',' << number(r.tool_radius) << ','
-        << (r.step_over ? number(*r.step_over) : "") << ',' << number(r.generator_seconds) << ','
-        << number(r.generator_peak_mib) << ',' << r.generator_triangles << ',' << r.generator_pieces << ','
-        << number(r.generator_max_error) << ',' << number(r.generator_mean_error) << ','
-        << number(r.generator_rms_error) << ',' << number(r.reference_seconds) << ','
-        << number(r.reference_peak_mib) << ',' << number(r.reference_grid_mib) << ','
-        << r.reference_active_voxels << ',' << r.reference_pieces << ',' << number(r.reference_max_error)
-        << ',' << number(r.reference_mean_error) << ',' << number(r.reference_rms_error) << ','
-        << number(r.agreement) << ',' << (r.verdict ? "true" : "false") << ',' << csv_field(r.error) << '\n';
+        << (r.step_over ? number(*r.step_over) : "") << ',';
+    if (r.generator_skipped.empty())
+      csv << number(r.generator_seconds) << ',' << number(r.generator_peak_mib) << ','
+          << r.generator_triangles << ',' << r.generator_pieces << ',' << number(r.generator_max_error) << ','
+          << number(r.generator_mean_error) << ',' << number(r.generator_rms_error) << ',';
+    else
+      csv << ",,,,,,,";  // not run: empty, never a zero that reads as a measurement
+    csv << number(r.reference_seconds) << ',' << number(r.reference_peak_mib) << ','
+        << number(r.reference_grid_mib) << ',' << r.reference_active_voxels << ',' << r.reference_pieces
+        << ',' << number(r.reference_max_error) << ',' << number(r.reference_mean_error) << ','
+        << number(r.reference_rms_error) << ',' << (r.generator_skipped.empty() ? number(r.agreement) : "")
+        << ',' << (r.verdict ? "true" : "false") << ',' << csv_field(r.error) << ',' << csv_field(r.tools)
+        << ',' << csv_field(r.generator_skipped) << '\n';
   }
   return csv.str();
 }
@@ -735,6 +764,7 @@ nlohmann::json result_to_json(const StudyResult& result) {
   j["convergence"] = nlohmann::json::array();
   for (const auto& c : result.convergence)
     j["convergence"].push_back({{"job", c.job},
+                                {"tools", c.tools},
                                 {"measure", c.measure},
                                 {"order", c.fit.order},
                                 {"constant", c.fit.constant},
@@ -862,6 +892,9 @@ StudyResult run_study(const StudyOptions& options) {
   for (const auto& job : job_names(result)) {
     const auto voxel_rows = rows_of(result, job, Parameter::VoxelSize);
     std::vector<double> voxel, mean, rms, max;
+    std::string tools;
+    for (const auto& r : result.rows)
+      if (r.job == job && !r.tools.empty()) tools = r.tools;
     for (const auto* r : voxel_rows) {
       voxel.push_back(r->voxel_size);
       mean.push_back(r->reference_mean_error);
@@ -872,7 +905,7 @@ StudyResult run_study(const StudyOptions& options) {
     auto add_fit = [&](const std::string& measure, const std::vector<double>& x,
                        const std::vector<double>& y) {
       try {
-        result.convergence.push_back({job, measure, fit_power_law(x, y)});
+        result.convergence.push_back({job, measure, tools, fit_power_law(x, y)});
       } catch (const morph::InputError&) {
       }
     };
@@ -881,6 +914,7 @@ StudyResult run_study(const StudyOptions& options) {
     add_fit("max", voxel, max);
     std::vector<double> tolerance, generator;
     for (const auto* r : rows_of(result, job, Parameter::Tolerance)) {
+      if (!r->generator_skipped.empty()) continue;
       tolerance.push_back(r->tolerance);
       generator.push_back(r->generator_max_error);
     }

@@ -77,6 +77,12 @@ struct StudyRow {
   double reference_max_error = 0, reference_mean_error = 0, reference_rms_error = 0;  ///< reference -> exact
   double agreement = 0;  ///< two-sided generator <-> reference Hausdorff
   bool verdict = false;
+  /// The job's tools with their shapes and sizes ("T1 flat diameter 6, length 20; ...").
+  std::string tools;
+  /// Why the generator was not run ("" when it was): the first move whose tool it cannot build
+  /// yet. Such a setting checks the reference alone (verify --reference-only): its generator
+  /// fields are not measurements, and `verdict` is the reference's check against the exact surface.
+  std::string generator_skipped;
   std::vector<std::string> pictures;  ///< heatmap PNGs written, relative to the output directory
   std::string error;                  ///< why the setting could not be evaluated ("" if it was)
 };
@@ -109,6 +115,7 @@ struct StudyResult {
   /// Per job and error measure: the fitted order of the reference's error against voxel size.
   struct Convergence {
     std::string job, measure;  ///< measure: "mean", "rms", "max"
+    std::string tools;         ///< the job's tools, shapes and sizes (StudyRow::tools)
     PowerFit fit;
   };
   std::vector<Convergence> convergence;
