@@ -13,7 +13,7 @@ out=${2:-out/demo}
 # name | job | verify options
 examples=(
   "through_slots|data/jobs/through_slots.json|"
-  "heart|data/camotics/heart/heart.camotics|--reference-only --voxel 0.8 --samples 20000"
+  "heart|data/camotics/heart/heart.camotics|--reference-only --voxel 1.2 --samples 5000"
   "slant_test|data/camotics/slant_test/slant_test.camotics|--reference-only --voxel 0.25 --samples 20000"
   "vcarve|data/camotics/vcarve/vcarve.camotics|--reference-only --voxel 0.2 --samples 20000"
   "flower_mold|data/camotics/flower_mold/flower_mold.camotics|--reference-only --voxel 0.6 --samples 20000"
@@ -28,7 +28,7 @@ for example in "${examples[@]}"; do
   echo
   set +e
   # shellcheck disable=SC2086 # the options are words
-  "$bin" verify "$job" --out "$out/$name" $options
+  "$bin" verify "$job" --output "$out/$name" $options
   code=$?
   set -e
   echo

@@ -18,6 +18,7 @@
 #include "commands.h"
 #include "deviation_files.h"
 #include "provenance.h"
+#include "terminal_progress.h"
 #include "verify.h"  // stats_to_json
 
 namespace morphmill {
@@ -146,9 +147,18 @@ void run_deviation(const DeviationArgs& args) {
   const std::pair<int, int> size = parse_size(args.size);
   const raytest::View view = raytest::parse_view(args.view);
 
+  // Each stage of a large comparison can take minutes: say which one runs and when it ends.
+  TerminalProgress progress;
+  const auto stage = [&progress](const std::string& name, auto&& work) {
+    progress.begin(name, 1);
+    auto result = work();
+    progress.advance(1);
+    progress.end();
+    return result;
+  };
   const Stopwatch total;
-  morph::TriangleMesh a = read_mesh(args.a_path);
-  morph::TriangleMesh b = read_mesh(args.b_path);
+  morph::TriangleMesh a = stage("reading " + args.a_path, [&] { return read_mesh(args.a_path); });
+  morph::TriangleMesh b = stage("reading " + args.b_path, [&] { return read_mesh(args.b_path); });
   const double load_seconds = total.seconds();
 
   raytest::DeviationOptions options;
@@ -163,17 +173,24 @@ void run_deviation(const DeviationArgs& args) {
   options.stats.tolerance = args.tolerance;
   options.stats.histogram_bins = args.bins;
   options.worst_groups = args.groups;
+  options.progress = &progress;
 
   const Stopwatch measuring;
+  progress.begin("indexing " + args.b_path, 1);
   const raytest::SurfaceQuery query_b(std::move(b));
+  progress.end();
   std::optional<raytest::SurfaceQuery> query_a;
   raytest::TwoSidedDeviation result;
   if (args.one_sided) {
-    result.a_to_b = raytest::measure_one_sided(a, query_b, options);
+    result.a_to_b =
+        stage("measuring A -> B", [&] { return raytest::measure_one_sided(a, query_b, options); });
     result.hausdorff = result.a_to_b.stats.max_abs;
   } else {
+    progress.begin("indexing " + args.a_path, 1);
     query_a.emplace(a);
-    result = raytest::measure_two_sided(*query_a, query_b, options);
+    progress.end();
+    result =
+        stage("measuring A <-> B", [&] { return raytest::measure_two_sided(*query_a, query_b, options); });
   }
   const double measure_seconds = measuring.seconds();
 

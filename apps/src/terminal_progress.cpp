@@ -77,7 +77,7 @@ void TerminalProgress::end() {
 void TerminalProgress::log_line(bool finished) {
   const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - started_).count();
   if (finished) {
-    std::fprintf(stderr, "%s %s: done in %.1f s\n", utc_timestamp().c_str(), stage_.c_str(), seconds);
+    std::fprintf(stderr, "%s %s: 100%% done in %.1f s\n", utc_timestamp().c_str(), stage_.c_str(), seconds);
   } else {
     const std::size_t so_far = std::min<std::size_t>(done_, total_);
     const double left = seconds_left(seconds, so_far, total_);

@@ -253,6 +253,8 @@ OneSidedDeviation measure_samples_tagged(const morph::TriangleMesh& from, std::v
       const std::uint32_t tx = result.samples[x].triangle, ty = result.samples[y].triangle;
       return tx != ty ? tx < ty : x < y;
     });
+  morph::Progress& progress = options.progress ? *options.progress : morph::null_progress();
+  progress.begin("measuring " + std::to_string(n) + " samples", n);
   for_each_chunk(options.policy, n, [&](std::size_t begin, std::size_t end) {
     std::uint32_t hint = kNoHint;
     for (std::size_t k = begin; k < end; ++k) {
@@ -261,7 +263,9 @@ OneSidedDeviation measure_samples_tagged(const morph::TriangleMesh& from, std::v
       result.values[i] = measure_point(to, options.mode, s.position, s.normal, options.max_distance,
                                        &result.target_triangles[i], &hint);
     }
+    progress.advance(end - begin);
   });
+  progress.end();
   result.stats = compute_stats(result.values, options.stats);
   result.groups = group_stats(result, from, &to.mesh(), source, options);
   return result;

@@ -52,7 +52,7 @@ TEST_F(CamoticsCli, ErodeNamesTheMoveAndTheToolItCannotBuild) {
 }
 
 TEST_F(CamoticsCli, VerifyChecksTheReferenceAndSaysTheGeneratorWasNotRun) {
-  const auto r = morphmill("verify '" + project("slant_test") + "' --out '" + path("slant") +
+  const auto r = morphmill("verify '" + project("slant_test") + "' --output '" + path("slant") +
                            "' --voxel 0.5 --samples 2000");
   EXPECT_EQ(r.exit_code, 1) << r.output;
   EXPECT_NE(r.output.find("verdict NOT VERIFIED"), std::string::npos) << r.output;
@@ -92,7 +92,7 @@ TEST_F(CamoticsCli, VerifyChecksTheReferenceAndSaysTheGeneratorWasNotRun) {
 }
 
 TEST_F(CamoticsCli, ReferenceOnlyIsAskedForAndThenHolds) {
-  const auto r = morphmill("verify '" + project("slant_test") + "' --out '" + path("slant") +
+  const auto r = morphmill("verify '" + project("slant_test") + "' --output '" + path("slant") +
                            "' --voxel 0.5 --samples 2000 --reference-only");
   EXPECT_EQ(r.exit_code, 0) << r.output;
   EXPECT_NE(r.output.find("verdict HOLDS"), std::string::npos) << r.output;
@@ -105,7 +105,7 @@ TEST_F(CamoticsCli, ReferenceOnlyIsAskedForAndThenHolds) {
 // heart: two programs on one stock, both cut with the T1 ball nose (cutout.ngc's bare T2 only
 // prepares a tool); the report shows both, the tools their moves used and the warning.
 TEST_F(CamoticsCli, HeartReportShowsBothProgramsTheirToolsAndTheBareT2) {
-  const auto r = morphmill("verify '" + project("heart") + "' --out '" + path("heart") +
+  const auto r = morphmill("verify '" + project("heart") + "' --output '" + path("heart") +
                            "' --voxel 2 --samples 500 --reference-only");
   EXPECT_EQ(r.exit_code, 0) << r.output;
   EXPECT_NE(r.output.find("cutout.ngc:7: T2 is selected but never put in the spindle"), std::string::npos)

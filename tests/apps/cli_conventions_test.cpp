@@ -132,6 +132,24 @@ TEST_F(CliConventions, BashCompletionCompletesCommandsAndOptions) {
   EXPECT_EQ(r.output, "--resume\n");
 }
 
+TEST_F(CliConventions, VerboseDeviationSaysEachStageOnTimestampedLines) {
+  const std::string cube = kData + "/meshes/cube.stl";
+  const auto r = run_command(std::string("('") + MORPHMILL_BINARY + "' deviation '" + cube + "' '" + cube +
+                             "' --samples 2000 -v 2> '" + path("err") + "' > /dev/null)");
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  std::ifstream in(path("err"));
+  const std::string lines((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  const std::string stamp = R"(\d{4}-\d\d-\d\dT\d\d:\d\d:\d\dZ )";
+  for (const char* stage : {"reading [^\n]*cube.stl", "indexing [^\n]*cube.stl", "measuring \\d+ samples"})
+    EXPECT_TRUE(std::regex_search(lines, std::regex(stamp + stage + R"(: 100% done in \d+\.\d s)")))
+        << stage << "\n"
+        << lines;
+  const auto quiet = run_command(std::string("('") + MORPHMILL_BINARY + "' deviation '" + cube + "' '" +
+                                 cube + "' --samples 2000 -q 2> '" + path("quiet_err") + "' > /dev/null)");
+  ASSERT_EQ(quiet.exit_code, 0) << quiet.output;
+  EXPECT_EQ(fs::file_size(path("quiet_err")), 0u);
+}
+
 TEST(TerminalProgressLines, TimestampedEndLineWhenNotATerminalAndNothingWhenQuiet) {
   const auto run_stage = [] {
     morphmill::TerminalProgress progress;  // tests run with stderr redirected: log lines
@@ -144,7 +162,7 @@ TEST(TerminalProgressLines, TimestampedEndLineWhenNotATerminalAndNothingWhenQuie
   run_stage();
   const std::string lines = testing::internal::GetCapturedStderr();
   EXPECT_TRUE(std::regex_search(
-      lines, std::regex(R"(^\d{4}-\d\d-\d\dT\d\d:\d\d:\d\dZ stage under test: done in \d+\.\d s\n)")))
+      lines, std::regex(R"(^\d{4}-\d\d-\d\dT\d\d:\d\d:\d\dZ stage under test: 100% done in \d+\.\d s\n)")))
       << lines;
   morphmill::global_options().quiet = true;
   testing::internal::CaptureStderr();

@@ -4,6 +4,7 @@
 /// (Hausdorff) statistics, signed and ray modes, and a breakdown by provenance tag.
 #include <morph/mesh.h>
 #include <morph/parallel.h>
+#include <morph/progress.h>
 #include <raytest/sampling.h>
 #include <raytest/surface_query.h>
 
@@ -93,6 +94,8 @@ struct DeviationOptions {
   StatsOptions stats;
   std::size_t worst_groups = 10;  ///< how many provenance groups to keep (worst max |value| first)
   morph::ExecutionPolicy policy = morph::ExecutionPolicy::Parallel;
+  /// Told of each direction's measuring as a stage counted in samples; null: silent.
+  morph::Progress* progress = nullptr;
 };
 
 /// Deviation statistics of the samples sharing one provenance tag.
