@@ -17,6 +17,7 @@ packages=(
   libplplot-dev plplot-driver-cairo
   libpolyclipping-dev
   pybind11-dev python3-dev python3-numpy
+  libssl-dev libcairo2-dev libjs-three
 )
 # Optional extras for reports and browser checks are added by callers via MORPHMILL_EXTRA_PACKAGES.
 if [[ -n "${MORPHMILL_EXTRA_PACKAGES:-}" ]]; then

@@ -13,4 +13,9 @@ std::string source_commit() {
   return MORPHMILL_SOURCE_COMMIT;
 }
 
+std::string git_describe() {
+  const std::string described = MORPHMILL_GIT_DESCRIBE;
+  return described.empty() ? std::string(MORPHMILL_VERSION) : described;
+}
+
 }  // namespace morphmill

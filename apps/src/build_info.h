@@ -12,4 +12,8 @@ std::string program_version();
 /// or "unknown" when the source was not a git checkout. Read at build time.
 std::string source_commit();
 
+/// `git describe --always --dirty --tags` of the source at build time (e.g. "v0.2-14-g1a2b3c4" or
+/// "1a2b3c4-dirty"), or the project version when the source was not a git checkout.
+std::string git_describe();
+
 }  // namespace morphmill

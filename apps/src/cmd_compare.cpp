@@ -14,6 +14,8 @@
 
 #include "commands.h"
 #include "compare.h"
+#include "deviation_files.h"
+#include "provenance.h"
 #include "terminal_progress.h"
 
 namespace morphmill {
@@ -88,7 +90,22 @@ void run_compare(const CompareArgs& args) {
     fs::create_directories(args.out_dir, error);
     if (error)
       throw morph::IoError(args.out_dir + ": cannot create the output directory: " + error.message());
-    nlohmann::json j = comparison_to_json(comparison, job);
+    std::vector<std::string> inputs = job_input_files(job);
+    inputs.push_back(design_path);
+    const Provenance provenance = make_provenance(inputs,
+                                                  {{"command", "compare"},
+                                                   {"band", {options.band.low, options.band.high}},
+                                                   {"tolerance", erode_options.tolerance},
+                                                   {"resolution", args.resolution},
+                                                   {"samples", args.face_samples},
+                                                   {"seed", args.seed}},
+                                                  morph::to_string(job.units));
+    nlohmann::json j;
+    j["format"] = "morphmill-compare";
+    j["format_version"] = 1;  // docs/summary-schema.md
+    j["provenance"] = to_json(provenance);
+    j["units"] = morph::to_string(job.units);
+    j.update(comparison_to_json(comparison, job));
     j["job"] = {{"name", job.name}, {"file", job.file}};
     j["design"] = design_path;
     const fs::path dir(args.out_dir);
@@ -99,8 +116,9 @@ void run_compare(const CompareArgs& args) {
     const double reach = std::max(-comparison.band.low, comparison.band.high) * 2.0;
     raytest::apply_heatmap(heat, "deviation", comparison.point_values, raytest::ColorMap::CoolWarm,
                            {-reach, reach});
-    write_mesh(heat, (dir / "machined_vs_design.ply").string());
-    fmt::print("  wrote {}/compare.json and machined_vs_design.ply\n", args.out_dir);
+    write_deviation_ply(heat, "deviation", (dir / "machined_vs_design.ply").string(), provenance);
+    write_deviation_vtp(heat, "deviation", (dir / "machined_vs_design.vtp").string(), provenance);
+    fmt::print("  wrote {}/compare.json, machined_vs_design.ply and .vtp\n", args.out_dir);
   }
   if (!comparison.within_band()) throw VerdictFailed();
 }
@@ -138,7 +156,8 @@ void register_compare_command(CLI::App& app) {
   compare->add_option("--samples", args->face_samples, "Area-uniform samples per surface for the statistics")
       ->capture_default_str();
   compare->add_option("--seed", args->seed, "Seed of the surface sampling")->capture_default_str();
-  compare->add_option("-o,--output", args->out_dir, "Directory for compare.json and machined_vs_design.ply");
+  compare->add_option("-o,--output", args->out_dir,
+                      "Directory for compare.json and machined_vs_design.ply/.vtp");
   compare->callback([args] { run_compare(*args); });
 }
 

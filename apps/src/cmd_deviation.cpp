@@ -17,6 +17,8 @@
 #include <optional>
 
 #include "commands.h"
+#include "deviation_files.h"
+#include "provenance.h"
 #include "terminal_progress.h"
 #include "verify.h"  // stats_to_json
 
@@ -131,7 +133,8 @@ struct DeviationArgs {
   std::uint64_t seed = 1;
   std::vector<double> range;
   bool symmetric = false;
-  std::string heatmap_path, png_path, json_path;
+  std::string heatmap_path, vtp_path, png_path, json_path;
+  std::string units = "mesh units";
   std::string view = "iso";
   std::string size = "1200x900";
 };
@@ -203,8 +206,25 @@ void run_deviation(const DeviationArgs& args) {
   }
   fmt::print("time: loading {:.3f} s, measuring {:.3f} s\n", load_seconds, measure_seconds);
 
+  // Hashing the inputs costs a fraction of loading them; done only when files are written.
+  std::optional<Provenance> provenance;
+  if (!args.heatmap_path.empty() || !args.vtp_path.empty() || !args.json_path.empty())
+    provenance =
+        make_provenance({args.a_path, args.b_path},
+                        {{"command", "deviation"},
+                         {"mode", mode_name(options.mode)},
+                         {"one_sided", args.one_sided},
+                         {"vertices", options.sampling.vertices},
+                         {"samples", args.face_samples},
+                         {"edge_samples", args.edge_samples},
+                         {"seed", args.seed},
+                         {"tolerance", args.tolerance},
+                         {"max_distance", std::isfinite(args.max_distance) ? nlohmann::json(args.max_distance)
+                                                                           : nlohmann::json(nullptr)}},
+                        args.units);
+
   double picture_seconds = 0;
-  if (!args.heatmap_path.empty() || !args.png_path.empty()) {
+  if (!args.heatmap_path.empty() || !args.vtp_path.empty() || !args.png_path.empty()) {
     const Stopwatch picturing;
     const std::vector<double> values =
         raytest::vertex_deviation(a, query_b, options.mode, options.max_distance);
@@ -213,7 +233,8 @@ void run_deviation(const DeviationArgs& args) {
     const raytest::ScalarRange range =
         fixed_range ? *fixed_range : raytest::auto_range(values, args.symmetric || signed_values);
     raytest::apply_heatmap(a, "deviation", values, map, range);
-    if (!args.heatmap_path.empty()) write_mesh(a, args.heatmap_path);
+    if (!args.heatmap_path.empty()) write_deviation_ply(a, "deviation", args.heatmap_path, *provenance);
+    if (!args.vtp_path.empty()) write_deviation_vtp(a, "deviation", args.vtp_path, *provenance);
     if (!args.png_path.empty()) {
       raytest::RenderOptions render;
       render.width = size.first;
@@ -229,6 +250,10 @@ void run_deviation(const DeviationArgs& args) {
 
   if (!args.json_path.empty()) {
     nlohmann::json j;
+    j["format"] = "morphmill-deviation";
+    j["format_version"] = 1;  // docs/summary-schema.md
+    j["provenance"] = to_json(*provenance);
+    j["units"] = args.units;
     j["a"] = args.a_path;
     j["b"] = args.b_path;
     j["mode"] = mode_name(options.mode);
@@ -333,7 +358,15 @@ void register_deviation_commands(CLI::App& app) {
       ->capture_default_str();
   deviation->add_option("--seed", deviation_args->seed, "random seed of the samples")->capture_default_str();
   deviation->add_option("--heatmap", deviation_args->heatmap_path,
-                        "write A with its per-vertex deviation (scalar 'deviation' and colours) to this PLY");
+                        "write A with its per-vertex deviation to this PLY (vertex 'quality' for MeshLab, "
+                        "'scalar_deviation' for CloudCompare, colours; provenance in the header)");
+  deviation->add_option(
+      "--vtp", deviation_args->vtp_path,
+      "write A with its deviation as point and cell data to this VTK PolyData file (ParaView)");
+  deviation
+      ->add_option("--units", deviation_args->units,
+                   "length unit of the meshes, recorded in the written files (e.g. mm)")
+      ->capture_default_str();
   deviation->add_option("--png", deviation_args->png_path, "write a picture of the heatmap to this PNG");
   deviation->add_option("--view", deviation_args->view, "picture view: iso, top, front")
       ->capture_default_str();

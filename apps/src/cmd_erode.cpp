@@ -26,6 +26,7 @@
 #include "cli_conventions.h"
 #include "commands.h"
 #include "memory_cap.h"
+#include "provenance.h"
 #include "terminal_progress.h"
 
 namespace morphmill {
@@ -139,7 +140,11 @@ void run_erode(const ErodeCommandOptions& options) {
   if (valid || options.allow_open) {
     MeshWriteOptions write_options;
     write_options.binary = !options.ascii;
-    write_mesh(result.mesh, options.mesh_path, write_options);
+    const Provenance provenance = make_provenance(
+        job_input_files(job),
+        {{"command", "erode"}, {"tolerance", options.tolerance > 0.0 ? options.tolerance : job.tolerance}},
+        morph::to_string(job.units));
+    write_mesh(result.mesh, options.mesh_path, write_options, provenance_lines(provenance));
   }
   const morph::ErodeStats& s = result.stats;
   const bool json_on_stdout =

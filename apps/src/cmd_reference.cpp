@@ -15,6 +15,7 @@
 
 #include "commands.h"
 #include "memory_cap.h"
+#include "provenance.h"
 #include "terminal_progress.h"
 
 namespace morphmill {
@@ -98,11 +99,18 @@ void run_reference(const ReferenceCommandOptions& options) {
   TerminalProgress progress;
   for (vdb_ref::ReferenceOptions& run : runs) {
     run.progress = &progress;
+    const Provenance provenance = make_provenance(
+        job_input_files(job),
+        {{"command", "reference"}, {"voxel", run.voxel_size}, {"half_width", run.half_width_voxels}},
+        morph::to_string(job.units));
+    run.vdb_metadata = {{"morphmill_version", provenance.version},
+                        {"morphmill_commit", provenance.commit},
+                        {"morphmill_provenance", to_json(provenance).dump()}};
     const vdb_ref::ReferenceResult result = vdb_ref::compute_reference(job, run);
     const std::string mesh_path = output(options.mesh_path, run.voxel_size);
     MeshWriteOptions write_options;
     write_options.binary = !options.ascii;
-    write_mesh(result.mesh, mesh_path, write_options);
+    write_mesh(result.mesh, mesh_path, write_options, provenance_lines(provenance));
     const vdb_ref::ReferenceStats& s = result.stats;
     std::cout << "reference " << (job.name.empty() ? options.job_path : job.name) << " at voxel "
               << run.voxel_size << ": " << s.active_voxels << " active voxels, " << std::fixed

@@ -9,6 +9,7 @@
 
 #include "cli_conventions.h"
 #include "commands.h"
+#include "provenance.h"
 
 int main(int argc, char** argv) {
 #if defined(__GLIBC__)
@@ -18,6 +19,7 @@ int main(int argc, char** argv) {
   mallopt(M_MMAP_MAX, 0);
   mallopt(M_TRIM_THRESHOLD, 1 << 30);
 #endif
+  morphmill::record_command_line(argc, argv);
   CLI::App app{
       "morphmill: compute what a milling tool leaves of a part, exactly, and measure how exact it is.\n"
       "Every command takes a job file (JSON, see docs/job-format.md) or meshes (PLY, STL, OBJ).\n"

@@ -21,6 +21,8 @@
 #include <morph/file_io.h>
 #include <morphmill/mesh_io.h>
 
+#include <stdexcept>
+
 #include <OpenMesh/Core/IO/IOManager.hh>
 #include <OpenMesh/Core/IO/exporter/BaseExporter.hh>
 #include <OpenMesh/Core/System/omstream.hh>
@@ -684,7 +686,8 @@ void append_little_endian(std::string& out, T value) {
   out.append(reinterpret_cast<const char*>(bytes), sizeof(T));
 }
 
-void write_ply(const TriangleMesh& mesh, const std::string& path, bool binary) {
+void write_ply(const TriangleMesh& mesh, const std::string& path, bool binary,
+               const std::vector<std::string>& comments) {
   for (const morph::VertexScalar& s : mesh.scalars)
     if (!valid_property_name(s.name))
       throw InputError(
@@ -697,6 +700,11 @@ void write_ply(const TriangleMesh& mesh, const std::string& path, bool binary) {
   out += "ply\n";
   out += binary ? "format binary_little_endian 1.0\n" : "format ascii 1.0\n";
   out += "comment written by morphmill: double positions; face tags patch_kind/source/line\n";
+  for (const std::string& comment : comments) {
+    if (comment.find_first_of("\r\n") != std::string::npos)
+      throw std::invalid_argument(path + ": a PLY comment cannot hold a line break");
+    out += "comment " + comment + "\n";
+  }
   out += fmt::format("element vertex {}\n", mesh.vertices.size());
   out += "property double x\nproperty double y\nproperty double z\n";
   if (has_colors) out += "property uchar red\nproperty uchar green\nproperty uchar blue\n";
@@ -759,13 +767,14 @@ morph::TriangleMesh read_mesh_bytes(const std::string& data, const std::string& 
   return mesh;
 }
 
-void write_mesh(const morph::TriangleMesh& mesh, const std::string& path, const MeshWriteOptions& options) {
+void write_mesh(const morph::TriangleMesh& mesh, const std::string& path, const MeshWriteOptions& options,
+                const std::vector<std::string>& comments) {
   const MeshFormat format = format_of(path);
   mesh.validate(path);
   if (mesh.vertices.size() > std::size_t(std::numeric_limits<std::int32_t>::max()))
     throw morph::LimitError(path + ": too many vertices for a mesh file");
   if (format == MeshFormat::Ply)
-    write_ply(mesh, path, options.binary);
+    write_ply(mesh, path, options.binary, comments);
   else
     write_with_openmesh(mesh, path, format, options.binary);
 }

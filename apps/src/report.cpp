@@ -70,6 +70,19 @@ std::string yes_no(bool value) {
   return value ? "yes" : "NO";
 }
 
+Table provenance_table(const Provenance& p) {
+  Table t{"Provenance", {"item", "value"}, {}};
+  t.rows = {{"program", p.program + " " + p.version},
+            {"commit", p.commit},
+            {"command line", p.command_line},
+            {"units", p.units}};
+  for (const InputFile& f : p.inputs) t.rows.push_back({"input " + f.path, "SHA-256 " + f.sha256});
+  t.rows.push_back({"options", p.options.dump()});
+  t.rows.push_back({"machine", fmt::format("{} ({} threads)", p.machine, p.threads)});
+  t.rows.push_back({"date (UTC)", p.date_utc});
+  return t;
+}
+
 std::vector<Table> tables(const VerifyOutcome& o) {
   const std::string u = morph::to_string(o.job.units);
   std::vector<Table> result;
@@ -291,6 +304,10 @@ nlohmann::json stats_to_json(const raytest::DeviationStats& s) {
 
 nlohmann::json outcome_to_json(const VerifyOutcome& o) {
   nlohmann::json j;
+  j["format"] = "morphmill-verify";
+  j["format_version"] = 1;  // docs/summary-schema.md; raised only when a field changes meaning or goes
+  j["provenance"] = to_json(o.provenance);
+  j["units"] = morph::to_string(o.job.units);
   j["sign_convention"] = std::string(raytest::kSignConvention) + " (\"A -> B\": A measured, B the reference)";
   j["job"] = {{"name", o.job.name},
               {"file", o.job.file},
@@ -389,7 +406,8 @@ nlohmann::json outcome_to_json(const VerifyOutcome& o) {
 void write_reports(const VerifyOutcome& o, const std::string& out_dir,
                    const std::vector<std::pair<std::string, std::string>>& pictures) {
   const fs::path dir(out_dir);
-  const std::vector<Table> all = tables(o);
+  std::vector<Table> all = tables(o);
+  all.push_back(provenance_table(o.provenance));
   const std::string verdict =
       !o.generator_skipped.empty()
           ? std::string(o.verdict() ? "HOLDS for the reference alone" : "NOT VERIFIED") +

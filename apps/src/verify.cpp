@@ -2,6 +2,7 @@
 #include "verify.h"
 
 #include "commands.h"
+#include "deviation_files.h"
 
 #include <morph/aabb_tree.h>
 #include <morph/erode.h>
@@ -185,12 +186,14 @@ std::vector<bool> resolvable_samples(const std::vector<raytest::SurfaceSample>& 
 
 // Colours on a fixed diverging map centred on zero, its ends at twice the band (the tolerance), so
 // the same colour means the same deviation in every picture.
+// The PLY and a VTK PolyData beside it (same name, .vtp) carry the values for other tools.
 void write_heatmap(morph::TriangleMesh mesh, const std::string& scalar, const std::vector<double>& values,
                    const fs::path& ply, const fs::path& png, const std::string& unit, int width, int height,
-                   double band) {
+                   double band, const Provenance& provenance) {
   const raytest::ScalarRange range{-2.0 * band, 2.0 * band};
   raytest::apply_heatmap(mesh, scalar, values, raytest::ColorMap::CoolWarm, range);
-  write_mesh(mesh, ply.string());
+  write_deviation_ply(mesh, scalar, ply.string(), provenance);
+  write_deviation_vtp(mesh, scalar, fs::path(ply).replace_extension(".vtp").string(), provenance);
   raytest::RenderOptions render;
   render.width = width;
   render.height = height;
@@ -296,6 +299,7 @@ Evaluation evaluate_job(const morph::Job& job, const EvaluateOptions& options) {
   reference_options.voxel_size = out.voxel_size;
   reference_options.progress = options.progress;
   reference_options.vdb_output_path = options.vdb_output_path;
+  reference_options.vdb_metadata = options.vdb_metadata;
   reference_options.memory_cap_bytes = options.reference_memory_cap_bytes;
   vdb_ref::estimate_reference_memory(job, reference_options);  // bad input fails before long work
 
@@ -437,6 +441,18 @@ VerifyOutcome run_verify(const VerifyOptions& options) {
     throw morph::IoError(options.out_dir + ": cannot create the output directory: " + error.message());
   const fs::path dir(options.out_dir);
   const std::string unit = morph::to_string(job.units);
+  std::vector<std::string> inputs = job_input_files(job);
+  if (!design_spec.path.empty()) inputs.push_back(design_spec.path);
+  const Provenance provenance = make_provenance(inputs,
+                                                {{"command", "verify"},
+                                                 {"voxel", options.voxel_size},
+                                                 {"tolerance", options.tolerance},
+                                                 {"samples", options.face_samples},
+                                                 {"seed", options.seed},
+                                                 {"image_size", {options.image_width, options.image_height}},
+                                                 {"reference_only", options.reference_only}},
+                                                unit);
+  const std::vector<std::string> provenance_comments = provenance_lines(provenance);
 
   EvaluateOptions evaluate;
   evaluate.voxel_size = options.voxel_size;
@@ -446,17 +462,21 @@ VerifyOutcome run_verify(const VerifyOptions& options) {
   evaluate.progress = options.progress;
   evaluate.vdb_output_path = (dir / "reference.vdb").string();
   evaluate.reference_only = options.reference_only;
+  evaluate.vdb_metadata = {{"morphmill_version", provenance.version},
+                           {"morphmill_commit", provenance.commit},
+                           {"morphmill_provenance", to_json(provenance).dump()}};
   Evaluation evaluation = evaluate_job(job, evaluate);
   VerifyOutcome out = std::move(evaluation.outcome);
+  out.provenance = provenance;
   out.stages.insert(out.stages.begin(), load_stage.begin(), load_stage.end());
   const morph::TriangleMesh& morph_mesh = evaluation.morph_mesh;
   const morph::TriangleMesh& reference_mesh = evaluation.reference_mesh;
   const bool generator_ran = out.generator_skipped.empty();
   if (generator_ran) {
-    write_mesh(morph_mesh, (dir / "morph.ply").string());
+    write_mesh(morph_mesh, (dir / "morph.ply").string(), {}, provenance_comments);
     out.files.push_back("morph.ply");
   }
-  write_mesh(reference_mesh, (dir / "reference.ply").string());
+  write_mesh(reference_mesh, (dir / "reference.ply").string(), {}, provenance_comments);
   out.files.insert(out.files.end(), {"reference.ply", "reference.vdb"});
 
   const morph::ErosionField field(out.job);
@@ -469,13 +489,13 @@ VerifyOutcome run_verify(const VerifyOptions& options) {
       });
       write_heatmap(reference_mesh, "deviation_exact", reference_exact, dir / "reference_vs_exact.ply",
                     dir / "reference_vs_exact.png", unit, options.image_width, options.image_height,
-                    out.reference_bound > 0 ? out.reference_bound : out.tolerance);
+                    out.reference_bound > 0 ? out.reference_bound : out.tolerance, provenance);
       raytest::RenderOptions plain;
       plain.width = options.image_width;
       plain.height = options.image_height;
       raytest::write_png(raytest::render_mesh(reference_mesh, plain), (dir / "reference.png").string());
-      out.files.insert(out.files.end(),
-                       {"reference_vs_exact.ply", "reference.png", "reference_vs_exact.png"});
+      out.files.insert(out.files.end(), {"reference_vs_exact.ply", "reference_vs_exact.vtp", "reference.png",
+                                         "reference_vs_exact.png"});
     });
   } else
     picture_clock.run("pictures", [&] {
@@ -510,11 +530,11 @@ VerifyOutcome run_verify(const VerifyOptions& options) {
       out.exact_regions = keep_regions(morph_exact, exact_band, "exact surface");
       out.reference_regions = keep_regions(morph_reference, reference_band, "reference");
       write_heatmap(morph_display, "deviation_exact", morph_exact, dir / "morph_vs_exact.ply",
-                    dir / "morph_vs_exact.png", unit, w, h, out.tolerance);
+                    dir / "morph_vs_exact.png", unit, w, h, out.tolerance, provenance);
       write_heatmap(morph_display, "deviation_reference", morph_reference, dir / "morph_vs_reference.ply",
-                    dir / "morph_vs_reference.png", unit, w, h, out.agreement_bound);
+                    dir / "morph_vs_reference.png", unit, w, h, out.agreement_bound, provenance);
       write_heatmap(reference_mesh, "deviation_exact", reference_exact, dir / "reference_vs_exact.ply",
-                    dir / "reference_vs_exact.png", unit, w, h, out.agreement_bound);
+                    dir / "reference_vs_exact.png", unit, w, h, out.agreement_bound, provenance);
       raytest::RenderOptions plain;
       plain.width = w;
       plain.height = h;
@@ -522,8 +542,9 @@ VerifyOutcome run_verify(const VerifyOptions& options) {
       raytest::write_png(raytest::render_mesh(reference_mesh, plain), (dir / "reference.png").string());
       out.files.insert(
           out.files.end(),
-          {"morph_vs_exact.ply", "morph_vs_reference.ply", "reference_vs_exact.ply", "morph.png",
-           "reference.png", "morph_vs_exact.png", "morph_vs_reference.png", "reference_vs_exact.png"});
+          {"morph_vs_exact.ply", "morph_vs_reference.ply", "reference_vs_exact.ply", "morph_vs_exact.vtp",
+           "morph_vs_reference.vtp", "reference_vs_exact.vtp", "morph.png", "reference.png",
+           "morph_vs_exact.png", "morph_vs_reference.png", "reference_vs_exact.png"});
     });
 
   if (generator_ran && !design_spec.path.empty()) {
@@ -537,10 +558,11 @@ VerifyOutcome run_verify(const VerifyOptions& options) {
       const double reach = 2.0 * std::max(-compare.band.low, compare.band.high);
       write_heatmap(out.design.refined.mesh, "deviation_design", out.design.point_values,
                     dir / "machined_vs_design.ply", dir / "machined_vs_design.png", unit, options.image_width,
-                    options.image_height, reach / 2.0);
+                    options.image_height, reach / 2.0, provenance);
       out.design.refined = {};
       out.design.point_values.clear();
-      out.files.insert(out.files.end(), {"machined_vs_design.ply", "machined_vs_design.png"});
+      out.files.insert(out.files.end(),
+                       {"machined_vs_design.ply", "machined_vs_design.vtp", "machined_vs_design.png"});
     });
   }
   {

@@ -14,6 +14,7 @@
 #include <string>
 #include <vector>
 #include "compare.h"
+#include "provenance.h"
 
 namespace morphmill {
 
@@ -112,6 +113,8 @@ struct VerifyOutcome {
     return generator_within_tolerance && sides_agree && pieces_match && design_within_band();
   }
   std::vector<std::string> files;  ///< written into out_dir, relative names
+  /// Who made these outputs from what (filled by run_verify; written into every file).
+  Provenance provenance;
 };
 
 /// What evaluate_job needs: the verify pipeline without any file output.
@@ -122,7 +125,8 @@ struct EvaluateOptions {
   std::uint64_t seed = 1;
   morph::Progress* progress = nullptr;
   std::string vdb_output_path;  ///< if not empty, the reference level set is also written there
-  bool reference_only = false;  ///< see VerifyOptions::reference_only
+  std::vector<std::pair<std::string, std::string>> vdb_metadata;  ///< stored with that grid
+  bool reference_only = false;                                    ///< see VerifyOptions::reference_only
   std::size_t reference_memory_cap_bytes = std::size_t(8)
                                            << 30;  ///< vdb_ref::ReferenceOptions::memory_cap_bytes
   /// When true, each stage's peak_rss_mib is the peak resident memory during that stage alone

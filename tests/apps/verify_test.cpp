@@ -5,10 +5,12 @@
 
 #include "apps/command_support.h"
 
+#include <vdb_ref/reference.h>
 #include <array>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <map>
 #include <nlohmann/json.hpp>
 #include <regex>
 #include <string>
@@ -96,6 +98,41 @@ TEST_F(VerifySingleSlot, DeviationIsSignedWithBandsAndRegions) {
   EXPECT_GT(json["regions"]["resolution"].get<double>(), 0.0);
 }
 
+TEST_F(VerifySingleSlot, EveryOutputCarriesProvenanceAndUnits) {
+  ASSERT_EQ(result_->exit_code, 0) << result_->output;
+  const std::string job = kData + "/jobs/single_slot.json";
+  const std::string job_hash = run("sha256sum " + job).output.substr(0, 64);
+  const auto json = nlohmann::json::parse(slurp(*out_ / "deviation.json"));
+  EXPECT_EQ(json["format"], "morphmill-verify");
+  EXPECT_EQ(json["units"], "mm");
+  const auto& provenance = json["provenance"];
+  ASSERT_GE(provenance["inputs"].size(), 1u);
+  EXPECT_EQ(provenance["inputs"][0]["path"], job);
+  EXPECT_EQ(provenance["inputs"][0]["sha256"], job_hash);
+  EXPECT_EQ(provenance["options"]["voxel"].get<double>(), 0.25);
+  EXPECT_NE(provenance["command_line"].get<std::string>().find("--samples 20000"), std::string::npos);
+  EXPECT_FALSE(provenance["version"].get<std::string>().empty());
+  for (const char* file : {"morph.ply", "reference.ply", "morph_vs_exact.ply", "reference_vs_exact.ply"}) {
+    const std::string text = slurp(*out_ / file);
+    const std::string header = text.substr(0, text.find("end_header"));
+    EXPECT_NE(header.find("comment units: mm\n"), std::string::npos) << file;
+    EXPECT_NE(header.find("sha256 " + job_hash), std::string::npos) << file;
+  }
+  EXPECT_NE(slurp(*out_ / "morph_vs_exact.ply").find("property double quality"), std::string::npos);
+  const std::string vtp = slurp(*out_ / "morph_vs_exact.vtp");
+  EXPECT_NE(vtp.find("<PointData Scalars=\"deviation_exact\">"), std::string::npos);
+  EXPECT_NE(vtp.find("location=\"vtkDataArray\">mm</InformationKey>"), std::string::npos);
+  const auto grids = vdb_ref::read_grid_metadata((*out_ / "reference.vdb").string());
+  ASSERT_EQ(grids.size(), 1u);
+  std::map<std::string, std::string> meta(grids[0].entries.begin(), grids[0].entries.end());
+  EXPECT_EQ(meta["units"], "mm");
+  EXPECT_EQ(meta["voxel_size"], "0.25");
+  EXPECT_NE(meta["morphmill_provenance"].find(job_hash), std::string::npos);
+  const std::string report = slurp(*out_ / "report.md");
+  EXPECT_NE(report.find("### Provenance"), std::string::npos);
+  EXPECT_NE(report.find(job_hash), std::string::npos);
+}
+
 TEST_F(VerifySingleSlot, ReportLoadsInAHeadlessBrowser) {
   const fs::path report = *out_ / "report.html";
   ASSERT_TRUE(fs::exists(report));
@@ -113,7 +150,7 @@ TEST_F(VerifySingleSlot, ReportLoadsInAHeadlessBrowser) {
   EXPECT_EQ(match[1], match[2]);
   EXPECT_EQ(match[2], "5");
   for (const char* heading : {"Stages", "Pieces", "Signed deviation", "Histogram", "Worst moves",
-                              "Regions out of the band", "Decisive place", "Verdict"})
+                              "Regions out of the band", "Decisive place", "Verdict", "Provenance"})
     EXPECT_NE(browser.output.find(std::string("<h3>") + heading), std::string::npos) << heading;
   EXPECT_GE(std::count(browser.output.begin(), browser.output.end(), '<'), 100);
 }

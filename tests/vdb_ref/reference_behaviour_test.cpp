@@ -5,7 +5,10 @@
 #include <morph/exceptions.h>
 #include <vdb_ref/reference.h>
 
+#include <unistd.h>
+
 #include <cmath>
+#include <cstdio>
 #include <limits>
 #include <string>
 
@@ -214,3 +217,28 @@ TEST(ReferenceStats, CountsVoxelsMemoryAndStageTimes) {
 }
 
 }  // namespace
+
+TEST(ReferenceFile, VdbGridCarriesUnitsVoxelJobAndGivenMetadata) {
+  morph::Job job = groove_job();
+  job.name = "groove";
+  vdb_ref::ReferenceOptions options = options_with_voxel(0.5);
+  options.vdb_output_path =
+      ::testing::TempDir() + "/reference_metadata_" + std::to_string(::getpid()) + ".vdb";
+  options.vdb_metadata = {{"morphmill_version", "test-1"}};
+  vdb_ref::compute_reference(job, options);
+  const std::vector<vdb_ref::GridMetadata> grids = vdb_ref::read_grid_metadata(options.vdb_output_path);
+  std::remove(options.vdb_output_path.c_str());
+  ASSERT_EQ(grids.size(), 1u);
+  EXPECT_EQ(grids[0].grid_name, "erosion");
+  auto value = [&](const std::string& name) {
+    for (const auto& [key, text] : grids[0].entries)
+      if (key == name) return text;
+    return std::string("(missing)");
+  };
+  EXPECT_EQ(value("units"), "mm");
+  EXPECT_EQ(value("voxel_size"), "0.5");
+  EXPECT_EQ(value("job"), "groove");
+  EXPECT_EQ(value("morphmill_version"), "test-1");
+  EXPECT_EQ(value("class"), "level set");  // OpenVDB's own, so Blender/Houdini read it as an SDF
+  EXPECT_THROW(vdb_ref::read_grid_metadata(options.vdb_output_path + ".missing"), morph::IoError);
+}

@@ -76,7 +76,9 @@ class LevelSetPipeline {
   /// Disjoint surfaces of the erosion with their measures.
   std::vector<Segment> segments() const;
   /// Writes the erosion grid; throws morph::IoError.
-  void write(const std::string& path) const;
+  /// `metadata` (name, value) is stored on the grid as string metadata.
+  void write(const std::string& path,
+             const std::vector<std::pair<std::string, std::string>>& metadata = {}) const;
 
   std::size_t active_voxels() const;
   /// Bytes held by the grids alive now, or the largest transient use inside one call if larger.

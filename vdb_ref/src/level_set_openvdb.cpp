@@ -267,11 +267,15 @@ std::vector<Segment> LevelSetPipeline::segments() const {
   return out;
 }
 
-void LevelSetPipeline::write(const std::string& path) const {
+void LevelSetPipeline::write(const std::string& path,
+                             const std::vector<std::pair<std::string, std::string>>& metadata) const {
   if (!impl_->erosion) throw std::logic_error("LevelSetPipeline: no erosion to write");
   try {
     openvdb::io::File file(path);
-    openvdb::GridPtrVec grids{impl_->erosion};
+    // A copy sharing the tree: the metadata belongs to the file, not to the pipeline's grid.
+    openvdb::FloatGrid::Ptr grid = impl_->erosion->copy();
+    for (const auto& [name, value] : metadata) grid->insertMeta(name, openvdb::StringMetadata(value));
+    openvdb::GridPtrVec grids{grid};
     file.write(grids);
     file.close();
   } catch (const openvdb::Exception& e) {
@@ -292,3 +296,28 @@ std::size_t LevelSetPipeline::memory_bytes() const {
 }
 
 }  // namespace vdb_ref::detail
+
+namespace vdb_ref {
+
+std::vector<GridMetadata> read_grid_metadata(const std::string& path) {
+  openvdb::initialize();
+  std::vector<GridMetadata> grids;
+  try {
+    openvdb::io::File file(path);
+    file.open();
+    const openvdb::GridPtrVecPtr all = file.readAllGridMetadata();  // kept alive for the loop
+    for (const openvdb::GridBase::Ptr& grid : *all) {
+      GridMetadata g{grid->getName(), {}};
+      for (auto it = grid->beginMeta(); it != grid->endMeta(); ++it)
+        if (it->second && it->second->typeName() == openvdb::StringMetadata::staticTypeName())
+          g.entries.push_back({it->first, it->second->str()});
+      grids.push_back(std::move(g));
+    }
+    file.close();
+  } catch (const openvdb::Exception& e) {
+    throw morph::IoError(path + ": cannot read the OpenVDB file: " + e.what());
+  }
+  return grids;
+}
+
+}  // namespace vdb_ref

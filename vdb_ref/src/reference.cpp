@@ -499,7 +499,13 @@ ReferenceResult compute_reference(const morph::Job& job, const ReferenceOptions&
   }
   stats.difference_seconds = seconds_since(stage_start);
   stats.active_voxels = pipeline.active_voxels();
-  if (!options.vdb_output_path.empty()) pipeline.write(options.vdb_output_path);
+  if (!options.vdb_output_path.empty()) {
+    std::vector<std::pair<std::string, std::string>> metadata = {{"units", morph::to_string(job.units)},
+                                                                 {"voxel_size", number(options.voxel_size)},
+                                                                 {"job", job.name}};
+    metadata.insert(metadata.end(), options.vdb_metadata.begin(), options.vdb_metadata.end());
+    pipeline.write(options.vdb_output_path, metadata);
+  }
 
   stage_start = Clock::now();
   {

@@ -26,8 +26,9 @@ struct MeshWriteOptions {
 };
 
 /// Writes a mesh, keeping tags (PLY face properties patch_kind, source, line), scalars and
-/// colours where the format can hold them. Throws morph::IoError on failure.
+/// colours where the format can hold them; `comments` (units, provenance; one line each, no line
+/// breaks) go into a PLY header, other formats leave them out. Throws morph::IoError on failure.
 void write_mesh(const morph::TriangleMesh& mesh, const std::string& path,
-                const MeshWriteOptions& options = {});
+                const MeshWriteOptions& options = {}, const std::vector<std::string>& comments = {});
 
 }  // namespace morphmill

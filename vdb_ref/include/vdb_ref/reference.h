@@ -48,6 +48,9 @@ struct ReferenceOptions {
   /// If not empty, the erosion level set is also written there as an OpenVDB file (one float
   /// grid named "erosion", class level set). Throws morph::IoError if it cannot be written.
   std::string vdb_output_path;
+  /// Written with the grid as string metadata (name, value), e.g. units and provenance. The grid
+  /// always carries "units" (the job's), "voxel_size" (job units) and "job" (its name) as well.
+  std::vector<std::pair<std::string, std::string>> vdb_metadata;
 };
 
 /// One connected solid piece of the result (with its internal cavities, if any).
@@ -103,6 +106,15 @@ std::size_t estimate_reference_memory(const morph::Job& job, const ReferenceOpti
 /// Throws morph::Interrupted if the progress asks to stop, morph::IoError if the VDB file cannot be
 /// written.
 ReferenceResult compute_reference(const morph::Job& job, const ReferenceOptions& options);
+
+/// The grids of an OpenVDB file (as written by compute_reference) with their string metadata
+/// (OpenVDB's own entries, e.g. "class", included). Throws morph::IoError naming the file when
+/// it cannot be read.
+struct GridMetadata {
+  std::string grid_name;
+  std::vector<std::pair<std::string, std::string>> entries;  ///< string-valued metadata, sorted by name
+};
+std::vector<GridMetadata> read_grid_metadata(const std::string& path);
 
 /// "ref.ply" with voxel 0.4 -> "ref_v0.4.ply" (shortest decimal form of the voxel size; the
 /// suffix goes before the last extension, or at the end if there is none).
