@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // A deviation field on a surface written for the tools people open it with: a PLY that MeshLab
 // (vertex `quality`), CloudCompare (`scalar_<name>` -> scalar field <name>) and any PLY reader

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // Where an output came from: which morphmill, which inputs (with their SHA-256), which options,
 // on which machine and when. Every file verify, compare and deviation write carries it, so a

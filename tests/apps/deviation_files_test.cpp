@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // The deviation files other tools read: a PLY whose deviation MeshLab shows as vertex quality and
 // CloudCompare as a scalar field, and a VTK PolyData for ParaView. The files are read back as
 // those tools read them: with the tools themselves (CloudCompare, meshlabserver, VTK's Python

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Provenance: SHA-256 against known digests and coreutils' sha256sum, the job's input files, and
 // the lines written into PLY, VTK and OpenVDB files.
 #include "../../apps/src/provenance.h"

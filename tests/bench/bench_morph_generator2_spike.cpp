@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Generator 2's spike (docs: ../shared/design/generator2.md §4, issue 18): on bear.nc at 0.01 mm,
 // build every move's sweep polytope, cull the facets proven outside the stock or inside another
 // sweep, count the survivors and the planes that can cut them, and time a naive floating-point
