@@ -1,6 +1,8 @@
 // SPDX-License-Identifier: Apache-2.0
 #include "cli_conventions.h"
 
+#include "edit_distance.h"
+
 #include <morph/exceptions.h>
 #include <morph/file_io.h>
 #include <tbb/global_control.h>
@@ -33,21 +35,6 @@ void add_to(CLI::App& command) {
     command.add_flag("-v,--verbose", options.verbose, "A line per finished stage with its time");
   if (!has_long_name(command, "threads"))
     command.add_option("--threads", options.threads, "Worker threads (default 0: all cores)");
-}
-
-std::size_t edit_distance(const std::string& a, const std::string& b) {
-  std::vector<std::size_t> row(b.size() + 1);
-  for (std::size_t j = 0; j <= b.size(); ++j) row[j] = j;
-  for (std::size_t i = 1; i <= a.size(); ++i) {
-    std::size_t diagonal = row[0];
-    row[0] = i;
-    for (std::size_t j = 1; j <= b.size(); ++j) {
-      const std::size_t substitution = diagonal + (a[i - 1] == b[j - 1] ? 0 : 1);
-      diagonal = row[j];
-      row[j] = std::min({row[j] + 1, row[j - 1] + 1, substitution});
-    }
-  }
-  return row[b.size()];
 }
 
 std::vector<std::string> command_names(const CLI::App& app) {

@@ -23,6 +23,8 @@
 #include <set>
 #include <sstream>
 
+#include "edit_distance.h"
+
 namespace morphmill {
 
 namespace {
@@ -33,21 +35,6 @@ using nlohmann::json;
 
 /// Default tolerance: 0.01 mm, expressed in the job's units.
 constexpr double kDefaultToleranceMillimetres = 0.01;
-
-std::size_t edit_distance(const std::string& a, const std::string& b) {
-  std::vector<std::size_t> row(b.size() + 1);
-  for (std::size_t j = 0; j <= b.size(); ++j) row[j] = j;
-  for (std::size_t i = 1; i <= a.size(); ++i) {
-    std::size_t diagonal = row[0];
-    row[0] = i;
-    for (std::size_t j = 1; j <= b.size(); ++j) {
-      const std::size_t up = row[j];
-      row[j] = std::min({row[j] + 1, row[j - 1] + 1, diagonal + (a[i - 1] == b[j - 1] ? 0 : 1)});
-      diagonal = up;
-    }
-  }
-  return row[b.size()];
-}
 
 std::string join_path(const std::string& at, const std::string& key) {
   return at.empty() ? key : at + "." + key;
