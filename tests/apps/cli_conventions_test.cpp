@@ -1,8 +1,8 @@
 // SPDX-License-Identifier: Apache-2.0
-// What every command shares on its command line (apps/src/cli_conventions.h): -o/--output with
+// What every command shares on its command line (apps/src/cli/cli_conventions.h): -o/--output with
 // --out still accepted, --json [FILE], -q/-v/--threads everywhere, suggestions for typos, the
 // bash completion, and progress lines with timestamps when stderr is not a terminal.
-#include "../../apps/src/cli_conventions.h"
+#include "../../apps/src/cli/cli_conventions.h"
 
 #include <gtest/gtest.h>
 
@@ -13,7 +13,7 @@
 #include <regex>
 #include <thread>
 
-#include "../../apps/src/terminal_progress.h"
+#include "../../apps/src/cli/terminal_progress.h"
 #include "apps/command_support.h"
 
 namespace {

@@ -21,8 +21,8 @@
 #include <set>
 #include <string>
 
-#include "../../apps/src/stress.h"
-#include "../../apps/src/stress_cases.h"
+#include "../../apps/src/campaigns/stress.h"
+#include "../../apps/src/campaigns/stress_cases.h"
 
 namespace fs = std::filesystem;
 using namespace morphmill::stress;

@@ -1,14 +1,14 @@
 // SPDX-License-Identifier: Apache-2.0
-// The generator's private edge bookkeeping (morph/src/edge_uses.h) and its large arrays
-// (morph/src/huge_pages.h), against meshes whose edges and components are known.
+// The generator's private edge bookkeeping (morph/src/mesh/edge_uses.h) and its large arrays
+// (morph/src/mesh/huge_pages.h), against meshes whose edges and components are known.
 #include <gtest/gtest.h>
 
 #include <cstdint>
 #include <vector>
 
 #include "common/test_meshes.h"
-#include "edge_uses.h"
-#include "huge_pages.h"
+#include "mesh/edge_uses.h"
+#include "mesh/huge_pages.h"
 
 namespace {
 

@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: Apache-2.0
-// Tests of the generator's local repair (morph/src/erode_repair.h, private to morph) against an
+// Tests of the generator's local repair (morph/src/generator/erode_repair.h, private to morph) against an
 // exact field: holes cut into closed meshes of solids whose signed distance is known.
 #include <gtest/gtest.h>
 #include <morph/topology.h>
@@ -7,7 +7,7 @@
 #include <algorithm>
 #include <cmath>
 
-#include "erode_repair.h"
+#include "generator/erode_repair.h"
 
 namespace {
 
