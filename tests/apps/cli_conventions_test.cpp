@@ -126,8 +126,8 @@ class JsonSummaries : public CliConventions {
 TEST_F(JsonSummaries, VerifyWritesDeviationJsonToAFileOrToStandardOutput) {
   const std::string job = kData + "/jobs/single_slot.json";
   const std::string fast = " --reference-only --voxel 0.5 --samples 2000";
-  const auto to_file =
-      morphmill("verify '" + job + "' -o '" + path("a") + "'" + fast + " --json '" + path("verify.json") + "'");
+  const auto to_file = morphmill("verify '" + job + "' -o '" + path("a") + "'" + fast + " --json '" +
+                                 path("verify.json") + "'");
   ASSERT_EQ(to_file.exit_code, 0) << to_file.output;
   EXPECT_NE(to_file.output.find("verdict HOLDS"), std::string::npos) << to_file.output;
   const nlohmann::json written = read(path("verify.json"));

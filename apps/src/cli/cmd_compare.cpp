@@ -15,10 +15,10 @@
 
 #include "cli/cli_conventions.h"
 #include "cli/commands.h"
-#include "verify/compare.h"
+#include "cli/terminal_progress.h"
 #include "io/deviation_files.h"
 #include "io/provenance.h"
-#include "cli/terminal_progress.h"
+#include "verify/compare.h"
 
 namespace morphmill {
 
@@ -122,7 +122,8 @@ void run_compare(const CompareArgs& args) {
                            {-reach, reach});
     write_deviation_ply(heat, "deviation", (dir / "machined_vs_design.ply").string(), provenance);
     write_deviation_vtp(heat, "deviation", (dir / "machined_vs_design.vtp").string(), provenance);
-    if (!json_on_stdout) fmt::print("  wrote {}/compare.json, machined_vs_design.ply and .vtp\n", args.out_dir);
+    if (!json_on_stdout)
+      fmt::print("  wrote {}/compare.json, machined_vs_design.ply and .vtp\n", args.out_dir);
   }
   if (args.json_option->count() > 0) write_json(summary, args.json_path);
   if (!comparison.within_band()) throw VerdictFailed();
@@ -163,7 +164,8 @@ void register_compare_command(CLI::App& app) {
   compare->add_option("--seed", args->seed, "Seed of the surface sampling")->capture_default_str();
   compare->add_option("-o,--output", args->out_dir,
                       "Directory for compare.json and machined_vs_design.ply/.vtp");
-  args->json_option = add_json_option(*compare, args->json_path, "the summary (compare.json's content; also when exit 1)");
+  args->json_option =
+      add_json_option(*compare, args->json_path, "the summary (compare.json's content; also when exit 1)");
   compare->callback([args] { run_compare(*args); });
 }
 

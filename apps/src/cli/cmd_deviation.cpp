@@ -18,9 +18,9 @@
 
 #include "cli/cli_conventions.h"
 #include "cli/commands.h"
+#include "cli/terminal_progress.h"
 #include "io/deviation_files.h"
 #include "io/provenance.h"
-#include "cli/terminal_progress.h"
 #include "verify/verify.h"  // stats_to_json
 
 namespace morphmill {

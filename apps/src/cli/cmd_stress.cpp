@@ -5,10 +5,10 @@
 #include <fstream>
 #include <iostream>
 
+#include "campaigns/stress.h"
 #include "cli/cli_conventions.h"
 #include "cli/commands.h"
 #include "cli/stop_signals.h"
-#include "campaigns/stress.h"
 #include "cli/terminal_progress.h"
 
 namespace morphmill {
@@ -158,7 +158,8 @@ void register_stress_command(CLI::App& app) {
       "stress-merge",
       "Combine the shard directories of one stress campaign into one summary. Refuses shards of different\n"
       "campaigns (naming the option, version or commit that differs) and, unless --partial, a campaign\n"
-      "with shards or cases missing (naming them). --output must be new, empty or a previous merge (replaced\n"
+      "with shards or cases missing (naming them). --output must be new, empty or a previous merge "
+      "(replaced\n"
       "whole).\n"
       "Exit code 0 when every case ran and none fails, 1 when a merged case fails, 2 for bad input,\n"
       "4 when cases are missing (refused, or merged with --partial).\n"

@@ -1,10 +1,10 @@
 // SPDX-License-Identifier: Apache-2.0
 #include <iostream>
 
+#include "campaigns/study.h"
 #include "cli/cli_conventions.h"
 #include "cli/commands.h"
 #include "cli/stop_signals.h"
-#include "campaigns/study.h"
 #include "cli/terminal_progress.h"
 
 namespace morphmill {
@@ -51,8 +51,8 @@ void register_study_command(CLI::App& app) {
       std::cout << "study " << result.spec.name << ": " << result.stopped << " after " << result.evaluated
                 << " of " << result.settings
                 << " setting(s): INCOMPLETE\n  table of what ran: " << run.out_dir
-                << "/study.csv, study.json\n  continue with: morphmill study " << run.study_path << " --output "
-                << run.out_dir << " --resume\n";
+                << "/study.csv, study.json\n  continue with: morphmill study " << run.study_path
+                << " --output " << run.out_dir << " --resume\n";
       throw CampaignIncomplete();
     }
     std::cout << "study " << result.spec.name << ": " << result.rows.size() << " setting(s)\n";
