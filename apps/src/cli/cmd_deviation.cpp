@@ -2,6 +2,7 @@
 // morphmill deviation / render: the Embree measurement (raytest) on mesh files.
 #include <fmt/format.h>
 #include <morph/exceptions.h>
+#include <morph/file_io.h>
 #include <morphmill/mesh_io.h>
 #include <raytest/deviation.h>
 #include <raytest/heatmap.h>
