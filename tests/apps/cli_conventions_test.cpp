@@ -2,7 +2,7 @@
 // What every command shares on its command line (apps/src/cli/cli_conventions.h): -o/--output with
 // --out still accepted, --json [FILE], -q/-v/--threads everywhere, suggestions for typos, the
 // bash completion, and progress lines with timestamps when stderr is not a terminal.
-#include "../../apps/src/cli/cli_conventions.h"
+#include "cli/cli_conventions.h"
 
 #include <gtest/gtest.h>
 
@@ -13,7 +13,7 @@
 #include <regex>
 #include <thread>
 
-#include "../../apps/src/cli/terminal_progress.h"
+#include "cli/terminal_progress.h"
 #include "apps/command_support.h"
 
 namespace {

@@ -1,7 +1,7 @@
 // SPDX-License-Identifier: Apache-2.0
 // Provenance: SHA-256 against known digests and coreutils' sha256sum, the job's input files, and
 // the lines written into PLY, VTK and OpenVDB files.
-#include "../../apps/src/io/provenance.h"
+#include "io/provenance.h"
 
 #include <gtest/gtest.h>
 #include <morph/exceptions.h>

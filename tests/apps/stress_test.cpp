@@ -21,8 +21,8 @@
 #include <set>
 #include <string>
 
-#include "../../apps/src/campaigns/stress.h"
-#include "../../apps/src/campaigns/stress_cases.h"
+#include "campaigns/stress.h"
+#include "campaigns/stress_cases.h"
 
 namespace fs = std::filesystem;
 using namespace morphmill::stress;

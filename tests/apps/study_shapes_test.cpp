@@ -12,7 +12,7 @@
 #include <sstream>
 #include <string>
 
-#include "../../apps/src/campaigns/study.h"
+#include "campaigns/study.h"
 #include "apps/command_support.h"
 
 namespace {

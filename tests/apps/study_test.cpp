@@ -17,7 +17,7 @@
 #include <sstream>
 #include <string>
 
-#include "../../apps/src/campaigns/study.h"
+#include "campaigns/study.h"
 
 namespace fs = std::filesystem;
 using namespace morphmill::study;

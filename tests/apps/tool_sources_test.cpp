@@ -12,7 +12,7 @@
 #include <fstream>
 #include <string>
 
-#include "../../apps/src/verify/verify.h"
+#include "verify/verify.h"
 
 namespace {
 
