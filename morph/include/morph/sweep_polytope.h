@@ -60,10 +60,12 @@ class SweepPolytopeBuilder {
   /// The tool's edges, sorted by (from, to): the order of the silhouette parallelograms.
   const std::vector<Edge>& edges() const { return edges_; }
 
- private:
-  /// The motion's ends in the builder's order (lexicographically smaller first).
+  /// The motion's ends in the builder's order (lexicographically smaller first): facets at the
+  /// start are placed at .first, those at the end at .second.
   static std::pair<Eigen::Vector3d, Eigen::Vector3d> ordered(const Eigen::Vector3d& start,
                                                              const Eigen::Vector3d& end);
+
+ private:
   Halfspace silhouette_plane(const Edge& e, const Eigen::Vector3d& a, const Eigen::Vector3d& motion) const;
   ConvexPolytope tool_;
   std::vector<Edge> edges_;

@@ -1,0 +1,351 @@
+// SPDX-License-Identifier: Apache-2.0
+#include <morph/aabb_tree.h>
+#include <morph/exceptions.h>
+#include <morph/joint_culling.h>
+#include <morph/sweep_culling.h>
+
+#include <algorithm>
+#include <cmath>
+#include <optional>
+
+namespace morph {
+
+namespace {
+
+using Eigen::AlignedBox3d;
+using Eigen::Vector3d;
+
+bool same_plane(const Halfspace& p, const Halfspace& q) {
+  return p.normal == q.normal && p.offset == q.offset;
+}
+
+bool outside(const AlignedBox3d& box, const AlignedBox3d& stock) {
+  return (box.min().array() > stock.max().array()).any() || (box.max().array() < stock.min().array()).any();
+}
+
+// A cluster of facets about one grid cell of the tool, at one placement.
+struct ClusterKey {
+  std::int64_t cell;
+  int placement;
+  bool operator<(const ClusterKey& o) const {
+    return cell < o.cell || (cell == o.cell && placement < o.placement);
+  }
+  bool operator==(const ClusterKey& o) const { return cell == o.cell && placement == o.placement; }
+};
+
+}  // namespace
+
+CullingCounts& CullingCounts::operator+=(const CullingCounts& o) {
+  facets += o.facets, by_joint += o.by_joint, outside_stock += o.outside_stock, by_retrace += o.by_retrace;
+  by_cluster_bound += o.by_cluster_bound, by_facet_bound += o.by_facet_bound,
+      by_shared_cap += o.by_shared_cap;
+  by_planes += o.by_planes, kept += o.kept, cutters += o.cutters, cutting_planes += o.cutting_planes;
+  candidates += o.candidates, bound_tests += o.bound_tests, plane_tests += o.plane_tests;
+  return *this;
+}
+
+// A facet of a sweep as placed from the tool: a tool facet at one end (placement -1 at the
+// ordered start, +1 at the ordered end) or swept whole (0), or a silhouette edge (0).
+struct SweepCulling::Placed {
+  int facet = 0, tool_facet = -1, edge = -1, placement = 0;
+  AlignedBox3d box;
+  Vector3d centre;
+  double radius = 0.0;
+  Halfspace plane;
+  ClusterKey cluster{};
+};
+
+SweepCulling::SweepCulling(const SweepPolytopeBuilder& sweeps, std::vector<Move> moves,
+                           std::vector<bool> joined, const AlignedBox3d& stock)
+    : sweeps_(sweeps), moves_(std::move(moves)), joined_(std::move(joined)), stock_(stock) {
+  if (joined_.size() != moves_.size()) throw InputError("sweep culling: one joint flag per move is needed");
+  const ConvexPolytope& tool = sweeps_.tool();
+  bounds_ = tool_bounds(tool);
+  // Clusters: a grid of cells of half the inscribed radius (at least a fiftieth of the tool).
+  const AlignedBox3d tool_box = tool.bounds();
+  const double cell = std::max(0.5 * bounds_.inner_radius, 0.02 * tool_box.diagonal().norm());
+  for (const PolytopeFacet& f : tool.facets) {
+    AlignedBox3d box;
+    Vector3d centre = Vector3d::Zero();
+    for (int v : f.loop) {
+      box.extend(tool.vertices[v]);
+      centre += tool.vertices[v];
+    }
+    centre /= static_cast<double>(f.loop.size());
+    double radius = 0.0;
+    for (int v : f.loop) radius = std::max(radius, (tool.vertices[v] - centre).norm());
+    tool_facet_boxes_.push_back(box);
+    tool_facet_centres_.push_back(centre);
+    tool_facet_radii_.push_back(radius);
+    const Eigen::Array3d c = ((centre - tool_box.min()) / cell).array().floor();
+    tool_facet_cell_.push_back((static_cast<std::int64_t>(c.z()) * 4096 + static_cast<std::int64_t>(c.y())) *
+                                   4096 +
+                               static_cast<std::int64_t>(c.x()));
+  }
+  double extent = tool_box.diagonal().norm();
+  std::vector<AlignedBox3d> boxes;
+  for (const Move& m : moves_) {
+    if (m.is_arc()) throw InputError("sweep culling: arcs must be split into straight moves first");
+    const auto [a, b] = SweepPolytopeBuilder::ordered(m.start, m.end);
+    AlignedBox3d box(tool_box.min() + a, tool_box.max() + a);
+    box.extend(AlignedBox3d(tool_box.min() + b, tool_box.max() + b));
+    boxes.push_back(box);
+    extent = std::max({extent, a.cwiseAbs().maxCoeff(), b.cwiseAbs().maxCoeff()});
+  }
+  extent = std::max({extent, stock.min().cwiseAbs().maxCoeff(), stock.max().cwiseAbs().maxCoeff()});
+  // A plane value n·x - o with |n| = 1 is evaluated to within a few ulps of |x| + |o|.
+  rounding_ = 1e-13 * (1.0 + 3.0 * extent);
+  for (AlignedBox3d& box : boxes) {
+    box.min().array() -= rounding_;
+    box.max().array() += rounding_;
+  }
+  tree_ = std::make_unique<AabbTree>(std::move(boxes));
+}
+
+SweepCulling::~SweepCulling() = default;
+
+// Every facet of move i's sweep, placed as the builder places it (the same arithmetic).
+void SweepCulling::place(std::size_t i, std::vector<Placed>& facets) const {
+  const ConvexPolytope& tool = sweeps_.tool();
+  const Move& m = moves_[i];
+  const bool degenerate = sweeps_.degenerate(m.start, m.end);
+  const auto [a, b] =
+      degenerate ? std::pair{m.start, m.start} : SweepPolytopeBuilder::ordered(m.start, m.end);
+  const Vector3d motion = b - a, middle = 0.5 * (a + b);
+  const double half = 0.5 * motion.norm();
+  std::vector<int> side(tool.facets.size(), -1);
+  for (std::size_t f = 0; f < tool.facets.size(); ++f) {
+    if (!degenerate) side[f] = motion_side(tool.facets[f].normal, motion);
+    const PolytopeFacet& facet = tool.facets[f];
+    Placed p;
+    p.facet = p.tool_facet = static_cast<int>(f);
+    p.placement = side[f];
+    const AlignedBox3d& box = tool_facet_boxes_[f];
+    const Vector3d& at = side[f] > 0 ? b : a;
+    p.plane = {facet.normal, facet.offset + facet.normal.dot(at)};
+    if (side[f] == 0) {
+      p.box = AlignedBox3d(box.min() + a, box.max() + a);
+      p.box.extend(AlignedBox3d(box.min() + b, box.max() + b));
+      p.centre = tool_facet_centres_[f] + middle;
+      p.radius = tool_facet_radii_[f] + half;
+    } else {
+      p.box = AlignedBox3d(box.min() + at, box.max() + at);
+      p.centre = tool_facet_centres_[f] + at;
+      p.radius = tool_facet_radii_[f];
+    }
+    p.cluster = {tool_facet_cell_[f], p.placement};
+    facets.push_back(p);
+  }
+  if (degenerate) return;
+  const std::vector<Halfspace> planes = sweeps_.halfspaces(m.start, m.end);
+  int index = static_cast<int>(tool.facets.size());
+  const std::vector<SweepPolytopeBuilder::Edge>& edges = sweeps_.edges();
+  for (std::size_t e = 0; e < edges.size(); ++e) {
+    if (side[edges[e].left] * side[edges[e].right] >= 0) continue;
+    const Vector3d &u = tool.vertices[edges[e].from], &w = tool.vertices[edges[e].to];
+    Placed p;
+    p.facet = index;
+    p.edge = static_cast<int>(e);
+    p.plane = planes[index++];
+    p.box = AlignedBox3d(u + a);
+    p.box.extend(w + a).extend(u + b).extend(w + b);
+    p.centre = 0.5 * (u + w) + middle;
+    p.radius = 0.5 * (u - w).norm() + half;
+    p.cluster = {tool_facet_cell_[edges[e].left], 2};
+    facets.push_back(p);
+  }
+}
+
+std::vector<KeptFacet> SweepCulling::cull(std::size_t i, CullingCounts& counts) const {
+  const ConvexPolytope& tool = sweeps_.tool();
+  const Move& move = moves_[i];
+  std::vector<Placed> facets;
+  place(i, facets);
+  counts.facets += static_cast<double>(facets.size());
+
+  // 1-2. Joints and the stock.
+  std::vector<JointVerdict> joint(tool.facets.size(), JointVerdict::Kept);
+  const bool after = joined_[i], before = i + 1 < moves_.size() && joined_[i + 1];
+  if (after || before) {
+    std::optional<Vector3d> previous, next;
+    if (after) previous = moves_[i - 1].end - moves_[i - 1].start;
+    if (before) next = moves_[i + 1].end - moves_[i + 1].start;
+    joint = joint_verdicts(tool, move.end - move.start, previous, next);
+  }
+  std::vector<Placed> live;
+  AlignedBox3d reach;
+  for (const Placed& p : facets) {
+    if (p.tool_facet >= 0 && culled(joint[p.tool_facet])) {
+      ++counts.by_joint;
+    } else if (outside(p.box, stock_)) {
+      ++counts.outside_stock;
+    } else {
+      live.push_back(p);
+      reach.extend(p.box);
+    }
+  }
+  if (live.empty()) return {};
+  // Cutters matter inside the stock only (the clipping keeps no facet part outside it).
+  reach =
+      reach.intersection(AlignedBox3d(stock_.min().array() - rounding_, stock_.max().array() + rounding_));
+
+  // 3. Move against move.
+  const bool degenerate = sweeps_.degenerate(move.start, move.end);
+  const std::pair<Vector3d, Vector3d> ends =
+      degenerate ? std::pair{move.start, move.start} : SweepPolytopeBuilder::ordered(move.start, move.end);
+  const Vector3d &a = ends.first, &b = ends.second;
+  struct Candidate {
+    std::uint32_t move;
+    Vector3d a, b;
+    bool degenerate;
+  };
+  std::vector<Candidate> candidates;
+  bool retraced = false;
+  tree_->for_each_overlapping(reach, [&](std::size_t j) {
+    if (j == i || retraced) return;
+    const Move& m = moves_[j];
+    const bool degenerate_j = sweeps_.degenerate(m.start, m.end);
+    const std::pair<Vector3d, Vector3d> e =
+        degenerate_j ? std::pair{m.start, m.start} : SweepPolytopeBuilder::ordered(m.start, m.end);
+    const Vector3d &aj = e.first, &bj = e.second;
+    if (degenerate_j == degenerate && aj == a && bj == b) {  // the same polytope
+      if (j < i) retraced = true;
+      return;  // an earlier one owns all of it; a later one cuts none of it
+    }
+    candidates.push_back({static_cast<std::uint32_t>(j), aj, bj, degenerate_j});
+  });
+  if (retraced) {
+    counts.by_retrace += static_cast<double>(live.size());
+    return {};
+  }
+  std::sort(candidates.begin(), candidates.end(),
+            [](const Candidate& x, const Candidate& y) { return x.move < y.move; });
+  counts.candidates += static_cast<double>(candidates.size());
+
+  // 4-5. Clusters, then facets: bounds first, halfspaces last.
+  std::sort(live.begin(), live.end(), [](const Placed& x, const Placed& y) {
+    return x.cluster < y.cluster || (x.cluster == y.cluster && x.facet < y.facet);
+  });
+  std::vector<std::pair<std::uint32_t, std::vector<Halfspace>>> planes_of;
+  auto planes = [&](const Candidate& c) -> const std::vector<Halfspace>& {
+    for (const auto& [j, p] : planes_of)
+      if (j == c.move) return p;
+    planes_of.emplace_back(c.move, sweeps_.halfspaces(moves_[c.move].start, moves_[c.move].end));
+    return planes_of.back().second;
+  };
+  std::vector<KeptFacet> kept;
+  std::vector<const Candidate*> near;
+  std::vector<Vector3d> vertices;
+  for (std::size_t begin = 0, end; begin < live.size(); begin = end) {
+    for (end = begin + 1; end < live.size() && live[end].cluster == live[begin].cluster;) ++end;
+    Vector3d centre = Vector3d::Zero();
+    for (std::size_t k = begin; k < end; ++k) centre += live[k].centre;
+    centre /= static_cast<double>(end - begin);
+    double radius = 0.0;
+    for (std::size_t k = begin; k < end; ++k)
+      radius = std::max(radius, (live[k].centre - centre).norm() + live[k].radius);
+    near.clear();
+    bool hidden = false;
+    for (const Candidate& c : candidates) {
+      ++counts.bound_tests;
+      if (ball_inside_sweep(bounds_, c.a, c.b, centre, radius)) {
+        hidden = true;
+        break;
+      }
+      if (!ball_misses_sweep(bounds_, c.a, c.b, centre, radius)) near.push_back(&c);
+    }
+    if (hidden) {
+      counts.by_cluster_bound += static_cast<double>(end - begin);
+      continue;
+    }
+    for (std::size_t k = begin; k < end; ++k) {
+      const Placed& p = live[k];
+      KeptFacet keep{p.facet, {}};
+      enum { Open, Bound, Shared, Planes } culled_by = Open;
+      vertices.clear();
+      for (const Candidate* c : near) {
+        // A cap placed at an end of the candidate, where the candidate places the same cap: one
+        // facet of two polytopes, owned by the earlier move.
+        if (p.tool_facet >= 0 && p.placement != 0) {
+          const Vector3d& at = p.placement > 0 ? b : a;
+          if (at == c->a || at == c->b) {
+            const int side = c->degenerate ? -1 : motion_side(tool.facets[p.tool_facet].normal, c->b - c->a);
+            if (side != 0 && (side > 0 ? c->b : c->a) == at) {
+              if (c->move < i) culled_by = Shared;
+              if (culled_by != Open) break;
+              continue;
+            }
+          }
+        }
+        ++counts.bound_tests;
+        if (ball_inside_sweep(bounds_, c->a, c->b, p.centre, p.radius)) {
+          culled_by = Bound;
+          break;
+        }
+        if (ball_misses_sweep(bounds_, c->a, c->b, p.centre, p.radius)) continue;
+        if (vertices.empty()) {
+          auto add = [&](int v) {
+            if (p.placement <= 0) vertices.push_back(tool.vertices[v] + a);
+            if (p.placement >= 0) vertices.push_back(tool.vertices[v] + b);
+          };
+          if (p.tool_facet >= 0) {
+            for (int v : tool.facets[p.tool_facet].loop) add(v);
+          } else {
+            add(sweeps_.edges()[p.edge].from);
+            add(sweeps_.edges()[p.edge].to);
+          }
+        }
+        ++counts.plane_tests;
+        const std::vector<Halfspace>& halfspaces = planes(*c);
+        FacetCutter cutter{c->move, {}};
+        bool apart = false;
+        for (int h = 0; h < static_cast<int>(halfspaces.size()) && !apart; ++h) {
+          const Halfspace& plane = halfspaces[h];
+          if (same_plane(plane,
+                         p.plane)) {  // the tie: below an earlier polytope's plane, above a later one's
+            apart = c->move > i;
+            continue;
+          }
+          double lo = std::numeric_limits<double>::infinity(), hi = -lo;
+          for (const Vector3d& x : vertices) {
+            const double value = plane.normal.dot(x) - plane.offset;
+            lo = std::min(lo, value);
+            hi = std::max(hi, value);
+          }
+          if (lo >= rounding_)
+            apart = true;
+          else if (hi > -rounding_)
+            cutter.planes.push_back(h);
+        }
+        if (apart) continue;
+        if (cutter.planes.empty()) {
+          culled_by = Planes;
+          break;
+        }
+        keep.cutters.push_back(std::move(cutter));
+      }
+      switch (culled_by) {
+        case Bound:
+          ++counts.by_facet_bound;
+          break;
+        case Shared:
+          ++counts.by_shared_cap;
+          break;
+        case Planes:
+          ++counts.by_planes;
+          break;
+        case Open:
+          ++counts.kept;
+          counts.cutters += static_cast<double>(keep.cutters.size());
+          for (const FacetCutter& c : keep.cutters)
+            counts.cutting_planes += static_cast<double>(c.planes.size());
+          kept.push_back(std::move(keep));
+      }
+    }
+  }
+  std::sort(kept.begin(), kept.end(),
+            [](const KeptFacet& x, const KeptFacet& y) { return x.facet < y.facet; });
+  return kept;
+}
+
+}  // namespace morph
