@@ -1,5 +1,6 @@
 // SPDX-License-Identifier: Apache-2.0
 #include <morph/exceptions.h>
+#include <morph/file_io.h>
 #include <raytest/render.h>
 #include <raytest/surface_query.h>
 #include <stb/stb_easy_font.h>
@@ -9,6 +10,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <string>
 
 namespace raytest {
 
@@ -222,8 +224,17 @@ void write_png(const Image& image, const std::string& path) {
   if (image.width <= 0 || image.height <= 0 ||
       image.rgb.size() != static_cast<std::size_t>(image.width) * image.height * 3)
     throw morph::IoError("write_png: " + path + ": the image is empty or inconsistent");
-  if (!stbi_write_png(path.c_str(), image.width, image.height, 3, image.rgb.data(), image.width * 3))
-    throw morph::IoError("cannot write PNG file " + path);
+  // Encoded in memory, then written whole (temporary file and rename): a kill mid-write never
+  // leaves a truncated picture where a good one was.
+  std::string bytes;
+  const auto append = [](void* context, void* data, int size) {
+    static_cast<std::string*>(context)->append(static_cast<const char*>(data),
+                                               static_cast<std::size_t>(size));
+  };
+  if (!stbi_write_png_to_func(append, &bytes, image.width, image.height, 3, image.rgb.data(),
+                              image.width * 3))
+    throw morph::IoError("cannot encode PNG file " + path);
+  morph::write_file_atomically(path, bytes);
 }
 
 }  // namespace raytest

@@ -3,6 +3,7 @@
 // the file and the JSON path of the value at fault).
 #include <gtest/gtest.h>
 #include <morph/exceptions.h>
+#include <morph/topology.h>
 #include <morphmill/job_io.h>
 #include <morphmill/mesh_io.h>
 #include <unistd.h>
@@ -427,6 +428,18 @@ TEST_F(JobIo, MeshStockErrors) {
   morphmill::write_mesh(inward, path("inward.ply"));
   j["stock"]["path"] = "inward.ply";
   expect_error(j, "stock.path: stock mesh '" + path("inward.ply") + "' is wound inward");
+
+  // One closed, outward-wound shell whose top corner is pushed through the bottom face: a valid
+  // manifold that crosses itself.
+  morph::TriangleMesh crossing = morphmill_test::box({0, 0, 0}, {1, 1, 1});
+  for (Eigen::Vector3d& v : crossing.vertices)
+    if (v == Eigen::Vector3d(1, 1, 1)) v = {0.6, 0.6, -0.5};
+  ASSERT_TRUE(morph::topology_report(crossing).closed_manifold());
+  ASSERT_GT(morph::topology_report(crossing).volume, 0.0);
+  morphmill::write_mesh(crossing, path("crossing.ply"));
+  j["stock"]["path"] = "crossing.ply";
+  expect_error(j, "stock.path: stock mesh '" + path("crossing.ply") + "' intersects itself: ");
+  expect_error(j, "pairs of triangles cross (first: triangles ");
 
   write_text("garbage.obj", "nothing here\n");
   j["stock"]["path"] = "garbage.obj";

@@ -12,6 +12,7 @@
 
 #include <fmt/format.h>
 #include <morph/exceptions.h>
+#include <morph/file_io.h>
 #include <morphmill/mesh_io.h>
 
 #include <Eigen/Core>
@@ -1005,11 +1006,7 @@ std::string write_case(const StressCase& stress_case, const std::string& dir, co
   fs::create_directories(dir, error);
   if (error) throw morph::IoError(dir + ": cannot create the directory: " + error.message());
   const fs::path job_path = fs::path(dir) / file_name;
-  {
-    std::ofstream out(job_path);
-    out << stress_case.job.dump(2) << '\n';
-    if (!out) throw morph::IoError(job_path.string() + ": cannot write");
-  }
+  morph::write_file_atomically(job_path.string(), stress_case.job.dump(2) + "\n");
   if (stress_case.stock_mesh)
     write_mesh(*stress_case.stock_mesh, (fs::path(dir) / stress_case.stock_file).string());
   return job_path.string();

@@ -3,6 +3,7 @@
 #include <fmt/format.h>
 #include <morph/erode.h>
 #include <morph/exceptions.h>
+#include <morph/file_io.h>
 #include <morphmill/job_io.h>
 #include <morphmill/mesh_io.h>
 #include <raytest/heatmap.h>
@@ -13,10 +14,10 @@
 #include <memory>
 
 #include "cli/commands.h"
-#include "verify/compare.h"
+#include "cli/terminal_progress.h"
 #include "io/deviation_files.h"
 #include "io/provenance.h"
-#include "cli/terminal_progress.h"
+#include "verify/compare.h"
 
 namespace morphmill {
 
@@ -109,9 +110,7 @@ void run_compare(const CompareArgs& args) {
     j["job"] = {{"name", job.name}, {"file", job.file}};
     j["design"] = design_path;
     const fs::path dir(args.out_dir);
-    std::ofstream json(dir / "compare.json");
-    json << j.dump(2) << '\n';
-    if (!json) throw morph::IoError((dir / "compare.json").string() + ": cannot write");
+    morph::write_file_atomically((dir / "compare.json").string(), j.dump(2) + "\n");
     morph::TriangleMesh heat = comparison.refined.mesh;
     const double reach = std::max(-comparison.band.low, comparison.band.high) * 2.0;
     raytest::apply_heatmap(heat, "deviation", comparison.point_values, raytest::ColorMap::CoolWarm,

@@ -2,6 +2,7 @@
 // morphmill deviation / render: the Embree measurement (raytest) on mesh files.
 #include <fmt/format.h>
 #include <morph/exceptions.h>
+#include <morph/file_io.h>
 #include <morphmill/mesh_io.h>
 #include <raytest/deviation.h>
 #include <raytest/heatmap.h>
@@ -17,9 +18,9 @@
 #include <optional>
 
 #include "cli/commands.h"
+#include "cli/terminal_progress.h"
 #include "io/deviation_files.h"
 #include "io/provenance.h"
-#include "cli/terminal_progress.h"
 #include "verify/verify.h"  // stats_to_json
 
 namespace morphmill {
@@ -269,9 +270,7 @@ void run_deviation(const DeviationArgs& args) {
       j["hausdorff"] = result.hausdorff;
     }
     j["seconds"] = {{"loading", load_seconds}, {"measuring", measure_seconds}, {"pictures", picture_seconds}};
-    std::ofstream out(args.json_path);
-    out << j.dump(2) << '\n';
-    if (!out) throw morph::IoError("cannot write " + args.json_path);
+    morph::write_file_atomically(args.json_path, j.dump(2) + "\n");
   }
 }
 

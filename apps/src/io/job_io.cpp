@@ -9,6 +9,7 @@
 #include <morph/topology.h>
 #include <morphmill/job_io.h>
 #include <morphmill/mesh_io.h>
+#include <morphmill/self_intersections.h>
 #include <morphmill/tool_sources.h>
 
 #include <algorithm>
@@ -295,6 +296,18 @@ class JobParser {
                           ", " + text(p.z()) +
                           ") is enclosed); nested or overlapping shells would count their common "
                           "volume twice: merge them into one closed surface");
+      }
+      // A surface crossing itself bounds no solid (the erosion would count the crossed volume with
+      // the wrong sign); whether two triangles cross is a sign, so it is decided exactly.
+      const SelfIntersections crossings = find_self_intersections(stock.mesh, 3);
+      if (crossings.pairs > 0) {
+        std::string first;
+        for (const auto& [a, b] : crossings.first_pairs)
+          first += (first.empty() ? "" : ", ") + std::to_string(a) + " and " + std::to_string(b);
+        fail(path_at, "stock mesh '" + path + "' intersects itself: " + std::to_string(crossings.pairs) +
+                          " pairs of triangles cross (first: triangles " + first +
+                          "); a stock must be a closed surface that does not cross itself ('morphmill "
+                          "mesh-info' lists the pairs)");
       }
     } else {
       fail(join_path(at, "type"), "unknown stock type '" + type + "' (expected box, cylinder or mesh)");

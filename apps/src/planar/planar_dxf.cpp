@@ -9,6 +9,8 @@
 #include <fstream>
 #include <map>
 
+#include "io/atomic_output.h"
+
 namespace morphmill {
 
 namespace {
@@ -218,8 +220,7 @@ PlanarShapes read_dxf_shapes(const std::string& path) {
 }
 
 void write_region_dxf(const morph::planar::Region& region, const std::string& path) {
-  std::ofstream out(path);
-  if (!out) throw morph::IoError(path + ": cannot write the DXF file");
+  AtomicOutput out(path);
   out << "0\nSECTION\n2\nENTITIES\n";
   for (const Loop& loop : region.loops)
     for (const Curve& c : loop.curves) {
@@ -238,7 +239,7 @@ void write_region_dxf(const morph::planar::Region& region, const std::string& pa
           c.center.x(), c.center.y(), c.radius, a0, a1);
     }
   out << "0\nENDSEC\n0\nEOF\n";
-  if (!out) throw morph::IoError(path + ": write failed");
+  out.commit();
 }
 
 }  // namespace morphmill

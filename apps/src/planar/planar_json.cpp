@@ -3,6 +3,7 @@
 // entry point that writes a result by its file extension.
 #include <fmt/format.h>
 #include <morph/exceptions.h>
+#include <morph/file_io.h>
 #include <morphmill/planar_io.h>
 
 #include <filesystem>
@@ -80,10 +81,7 @@ void write_planar_result(const PlanarDrawing& drawing, const std::string& path) 
   if (!drawing.result) throw std::logic_error("write_planar_result: no result");
   if (ext == ".dxf") return write_region_dxf(*drawing.result, path);
   if (ext == ".json") {
-    std::ofstream out(path);
-    if (!out) throw morph::IoError(path + ": cannot write the JSON file");
-    out << region_to_json(*drawing.result).dump(1) << '\n';
-    if (!out) throw morph::IoError(path + ": write failed");
+    morph::write_file_atomically(path, region_to_json(*drawing.result).dump(1) + "\n");
     return;
   }
   throw morph::InputError(path + ": unknown output format '" + ext + "' (use .svg, .dxf or .json)");

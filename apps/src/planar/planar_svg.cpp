@@ -12,6 +12,8 @@
 #include <map>
 #include <sstream>
 
+#include "io/atomic_output.h"
+
 namespace morphmill {
 
 namespace {
@@ -360,8 +362,7 @@ void write_planar_svg(const PlanarDrawing& drawing, const std::string& path) {
   const double size = std::max(box.sizes().maxCoeff(), 1e-9);
   const double margin = 0.05 * size, stroke = size / 600.0;
   const double width = box.sizes().x() + 2 * margin, height = box.sizes().y() + 2 * margin;
-  std::ofstream out(path);
-  if (!out) throw morph::IoError(path + ": cannot write the SVG file");
+  AtomicOutput out(path);
   out << fmt::format(
       "<svg xmlns=\"http://www.w3.org/2000/svg\" viewBox=\"{:.9g} {:.9g} {:.9g} {:.9g}\" width=\"{}\" "
       "height=\"{}\">\n",
@@ -390,7 +391,7 @@ void write_planar_svg(const PlanarDrawing& drawing, const std::string& path) {
         "stroke-dasharray=\"{:.6g}\"/>\n",
         trajectory_path(*drawing.moves), stroke, 3 * stroke);
   out << "</g>\n</svg>\n";
-  if (!out) throw morph::IoError(path + ": write failed");
+  out.commit();
 }
 
 }  // namespace morphmill

@@ -10,6 +10,8 @@
 #include <filesystem>
 #include <fstream>
 
+#include "io/atomic_output.h"
+
 namespace morphmill {
 
 namespace {
@@ -66,8 +68,7 @@ void write_deviation_svg(const Region& measured, const morph::planar::DirectedDe
   if (box.isEmpty()) box = morph::planar::Box2(morph::planar::Vec2(0, 0), morph::planar::Vec2(1, 1));
   const double size = std::max(box.sizes().maxCoeff(), 1e-9), margin = 0.08 * size, dot = size / 500.0;
   const double width = box.sizes().x() + 2 * margin, height = box.sizes().y() + 2 * margin;
-  std::ofstream out(path);
-  if (!out) throw morph::IoError(path + ": cannot write the SVG file");
+  AtomicOutput out(path);
   out << fmt::format(
       "<svg xmlns=\"http://www.w3.org/2000/svg\" viewBox=\"{:.9g} {:.9g} {:.9g} {:.9g}\" width=\"800\" "
       "height=\"{}\">\n<title>{}</title>\n",
@@ -94,7 +95,7 @@ void write_deviation_svg(const Region& measured, const morph::planar::DirectedDe
       "(|distance|, job units)</text>\n",
       lx + lw * 1.03, ly + 0.22 * margin, 0.3 * margin, colour_max);
   out << "</svg>\n";
-  if (!out) throw morph::IoError(path + ": write failed");
+  out.commit();
 }
 
 Verify2dOutcome run_verify2d(const Verify2dOptions& options) {
@@ -185,9 +186,9 @@ Verify2dOutcome run_verify2d(const Verify2dOptions& options) {
                                      {"reference_seconds", row.reference_seconds}});
   report["verdict"] = {
       {"pieces_match", o.pieces_match}, {"within_bound", o.within_bound}, {"holds", o.verdict()}};
-  std::ofstream(dir + "report.json") << report.dump(1) << '\n';
+  morph::write_file_atomically(dir + "report.json", report.dump(1) + "\n");
 
-  std::ofstream md(dir + "report.md");
+  AtomicOutput md(dir + "report.md");
   md << "# verify2d " << o.job.name << "\n\n"
      << fmt::format("Disc radius {}, {} moves, reference chord tolerance {}.\n\n", o.job.radius,
                     o.job.moves.size(), o.tolerance)
@@ -210,6 +211,7 @@ Verify2dOutcome run_verify2d(const Verify2dOptions& options) {
   md << "\nVerdict: " << (o.verdict() ? "holds" : "DOES NOT HOLD")
      << " (same pieces and holes, Hausdorff <= 2 x tolerance).\n\n"
      << "Pictures: result.svg, dilation.svg, classical.svg, reference.svg, deviation.svg.\n";
+  md.commit();
   return o;
 }
 

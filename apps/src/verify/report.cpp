@@ -9,6 +9,7 @@
 #include <map>
 #include <sstream>
 
+#include "io/atomic_output.h"
 #include "verify/html.h"
 #include "verify/verify.h"
 
@@ -415,15 +416,15 @@ void write_reports(const VerifyOutcome& o, const std::string& out_dir,
                 (o.reference_converges ? "holds" : "DOES NOT HOLD") + ")"
           : std::string(o.verdict() ? "HOLDS" : "DOES NOT HOLD");
   {
-    std::ofstream md(dir / "report.md");
+    AtomicOutput md(dir / "report.md");
     md << "# MorphMill verification: " << o.job.name << "\n\n**Verdict: " << verdict << "**\n\n"
        << "Sign of every deviation: " << raytest::kSignConvention << ".\n\n";
     for (const auto& t : all) md << markdown(t);
     md << "### Pictures\n\n";
     for (const auto& [title, file] : pictures) md << "![" << title << "](" << file << ")\n\n";
-    if (!md) throw morph::IoError((dir / "report.md").string() + ": cannot write");
+    md.commit();
   }
-  std::ofstream page(dir / "report.html");
+  AtomicOutput page(dir / "report.html");
   page << "<!DOCTYPE html>\n<html lang=\"en\"><head><meta charset=\"utf-8\">\n<title>MorphMill verification: "
        << html_escape(o.job.name) << "</title>\n<style>\n"
        << "body{font-family:sans-serif;margin:2em;max-width:1100px;color:#222}\n"
@@ -447,7 +448,7 @@ void write_reports(const VerifyOutcome& o, const std::string& out_dir,
   page << "<script>window.addEventListener('load',function(){var i=document.images,n=0;"
           "for(var k=0;k<i.length;k++){if(i[k].complete&&i[k].naturalWidth>0)n++;}"
           "document.body.setAttribute('data-images-loaded',n+'/'+i.length);});</script>\n</body></html>\n";
-  if (!page) throw morph::IoError((dir / "report.html").string() + ": cannot write");
+  page.commit();
 }
 
 }  // namespace morphmill

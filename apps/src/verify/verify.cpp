@@ -7,6 +7,7 @@
 #include <morph/aabb_tree.h>
 #include <morph/erode.h>
 #include <morph/exceptions.h>
+#include <morph/file_io.h>
 #include <morph/mesh_distance.h>
 #include <morph/parallel.h>
 #include <morph/sweep_distance.h>
@@ -565,11 +566,7 @@ VerifyOutcome run_verify(const VerifyOptions& options) {
                        {"machined_vs_design.ply", "machined_vs_design.vtp", "machined_vs_design.png"});
     });
   }
-  {
-    std::ofstream json(dir / "deviation.json");
-    json << outcome_to_json(out).dump(2) << '\n';
-    if (!json) throw morph::IoError((dir / "deviation.json").string() + ": cannot write");
-  }
+  { morph::write_file_atomically((dir / "deviation.json").string(), outcome_to_json(out).dump(2) + "\n"); }
   out.files.push_back("deviation.json");
   std::vector<std::pair<std::string, std::string>> pictures;
   if (generator_ran)
