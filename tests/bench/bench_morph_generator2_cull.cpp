@@ -60,9 +60,10 @@ void BM_Generator2CullBear(benchmark::State& state) {
     double cull = 0.0, polygons = 0.0, clipping = 0.0, pieces = 0.0, kept_area = 0.0, joined_count = 0.0;
     for (bool j : joined) joined_count += j;
     Polygon above, below;
+    morph::SweepCulling::Scratch scratch;
     for (std::size_t i = 0; i < moves.size(); ++i) {
       start = thread_seconds();
-      const std::vector<morph::KeptFacet> kept = culling.cull(i, counts);
+      const std::vector<morph::KeptFacet> kept = culling.cull(i, counts, scratch);
       cull += thread_seconds() - start;
       if (kept.empty()) continue;
       start = thread_seconds();
@@ -102,7 +103,8 @@ void BM_Generator2CullBear(benchmark::State& state) {
     arena.execute([&] {
       tbb::parallel_for(tbb::blocked_range<std::size_t>(0, moves.size(), 64), [&](const auto& range) {
         morph::CullingCounts local;
-        for (std::size_t i = range.begin(); i < range.end(); ++i) culling.cull(i, local);
+        morph::SweepCulling::Scratch scratch;
+        for (std::size_t i = range.begin(); i < range.end(); ++i) culling.cull(i, local, scratch);
         kept_again.local() += local.kept;
       });
     });
@@ -131,6 +133,7 @@ void BM_Generator2CullBear(benchmark::State& state) {
     c["candidates_per_move"] = counts.candidates / static_cast<double>(moves.size());
     c["bound_tests"] = counts.bound_tests;
     c["plane_tests"] = counts.plane_tests;
+    c["without_witness"] = counts.without_witness;
     c["cutters_per_kept"] = counts.cutters / std::max(1.0, counts.kept);
     c["cutting_planes_per_kept"] = counts.cutting_planes / std::max(1.0, counts.kept);
     c["pieces_out"] = pieces;

@@ -14,7 +14,8 @@
 ///    (tool_bounds.h): inside proves culled, missing drops the candidate;
 /// 5. what is left, by the candidate's halfspaces: every vertex below every plane culls the facet
 ///    (a convex facet in a convex polytope), every vertex above one plane drops the candidate,
-///    else the candidate cuts the facet with the planes that cross it.
+///    else the candidate cuts the facet with the planes that cross it; when a point of the facet
+///    is inside the candidate, only the planes of its faces whose boxes meet the facet's.
 /// Signs within a rounding bound of zero are not decided here: the candidate stays a cutter, for
 /// the clipping's exact predicates. Ties are settled by generator 2's one order: sweeps expand
 /// by ε_0 ≫ ε_1 ≫ … in move order, so the earlier move owns a shared facet (a facet in a plane of
@@ -51,11 +52,25 @@ struct CullingCounts {
          by_facet_bound = 0;
   double by_shared_cap = 0, by_planes = 0, kept = 0, cutters = 0, cutting_planes = 0;
   double candidates = 0, bound_tests = 0, plane_tests = 0;
+  double without_witness =
+      0;  ///< cutters kept with every crossing plane: no point of the facet proven inside
   CullingCounts& operator+=(const CullingCounts& o);
 };
 
 class SweepCulling {
  public:
+  /// A facet of a candidate sweep as the plane tests need it: its halfspace and its box.
+  struct Face {
+    Halfspace plane;
+    Eigen::AlignedBox3d box;  ///< grown by the rounding bound
+  };
+  /// Per-thread working memory: the faces of recent candidates, which the next moves share.
+  class Scratch {
+    friend class SweepCulling;
+    std::vector<std::pair<std::uint32_t, std::vector<Face>>> recent_;
+    std::size_t next_ = 0;
+  };
+
   /// `moves`: straight moves of the one tool of `sweeps`, in job order (the tie order), paths
   /// concatenated; `joined[i]` says move i follows move i-1 at a joint (joined_at_joint()).
   /// Throws InputError for an arc or mismatched sizes.
@@ -63,14 +78,19 @@ class SweepCulling {
                const Eigen::AlignedBox3d& stock);
   ~SweepCulling();
 
-  /// The kept facets of move i's sweep, in facet order. Thread-safe.
-  std::vector<KeptFacet> cull(std::size_t i, CullingCounts& counts) const;
+  /// The kept facets of move i's sweep, in facet order. Thread-safe with one Scratch per thread.
+  std::vector<KeptFacet> cull(std::size_t i, CullingCounts& counts, Scratch& scratch) const;
+  std::vector<KeptFacet> cull(std::size_t i, CullingCounts& counts) const {
+    Scratch scratch;
+    return cull(i, counts, scratch);
+  }
 
   std::size_t size() const { return moves_.size(); }
 
  private:
   struct Placed;
   void place(std::size_t i, std::vector<Placed>& facets) const;
+  const std::vector<Face>& faces(std::uint32_t j, Scratch& scratch) const;
 
   const SweepPolytopeBuilder& sweeps_;
   std::vector<Move> moves_;

@@ -65,8 +65,11 @@ class SweepPolytopeBuilder {
   static std::pair<Eigen::Vector3d, Eigen::Vector3d> ordered(const Eigen::Vector3d& start,
                                                              const Eigen::Vector3d& end);
 
- private:
+  /// The halfspace of the parallelogram on silhouette edge `e` along `motion` from the ordered
+  /// start `a` (as operator() computes it).
   Halfspace silhouette_plane(const Edge& e, const Eigen::Vector3d& a, const Eigen::Vector3d& motion) const;
+
+ private:
   ConvexPolytope tool_;
   std::vector<Edge> edges_;
   double size_ = 0.0;

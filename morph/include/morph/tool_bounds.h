@@ -10,6 +10,7 @@
 #include <morph/convex_polytope.h>
 
 #include <Eigen/Core>
+#include <vector>
 
 namespace morph {
 
@@ -31,6 +32,11 @@ ToolBounds tool_bounds(const ConvexPolytope& tool);
 /// ball (a capsule) or inside the inner cylinder at one position of the segment.
 bool ball_inside_sweep(const ToolBounds& bounds, const Eigen::Vector3d& a, const Eigen::Vector3d& b,
                        const Eigen::Vector3d& centre, double radius);
+
+/// True when every point is proven inside the swept inner ball, or every point inside the swept
+/// inner cylinder: both are convex, so then the points' convex hull (a facet) is inside too.
+bool points_inside_sweep(const ToolBounds& bounds, const Eigen::Vector3d& a, const Eigen::Vector3d& b,
+                         const std::vector<Eigen::Vector3d>& points);
 
 /// True when the ball (centre, radius) is proven apart from tool ⊕ [a, b]: outside the swept
 /// outer ball (a capsule) and outside the swept outer cylinder.

@@ -33,6 +33,40 @@ struct ClusterKey {
   bool operator==(const ClusterKey& o) const { return cell == o.cell && placement == o.placement; }
 };
 
+// The facet's corners in loop order, from the points the plane tests use (a tool facet's loop
+// at one end; a silhouette edge u, w at the ordered start and end: u+a, u+b, w+a, w+b), without
+// the centroid appended last.
+std::vector<Vector3d> ordered_polygon(bool silhouette, const std::vector<Vector3d>& points) {
+  if (silhouette) return {points[0], points[2], points[3], points[1]};
+  return std::vector<Vector3d>(points.begin(), points.end() - 1);
+}
+
+// A point of the facet inside the candidate, found as the centroid of the facet's part below
+// the candidate's planes `meeting` (the convex polygon is ordered from the facet's points) and
+// proven inside by all the candidate's planes.
+bool clipped_centroid_inside(std::vector<Vector3d> polygon, const std::vector<SweepCulling::Face>& faces,
+                             const std::vector<int>& meeting, double rounding) {
+  std::vector<Vector3d> below;
+  for (int h : meeting) {
+    const Halfspace& plane = faces[h].plane;
+    below.clear();
+    for (std::size_t k = 0; k < polygon.size(); ++k) {
+      const Vector3d &x = polygon[k], &y = polygon[(k + 1) % polygon.size()];
+      const double vx = plane.normal.dot(x) - plane.offset, vy = plane.normal.dot(y) - plane.offset;
+      if (vx <= 0.0) below.push_back(x);
+      if ((vx < 0.0 && vy > 0.0) || (vx > 0.0 && vy < 0.0)) below.push_back(x + (y - x) * (vx / (vx - vy)));
+    }
+    polygon.swap(below);
+    if (polygon.size() < 3) return false;
+  }
+  Vector3d centroid = Vector3d::Zero();
+  for (const Vector3d& x : polygon) centroid += x;
+  centroid /= static_cast<double>(polygon.size());
+  return std::all_of(faces.begin(), faces.end(), [&](const SweepCulling::Face& f) {
+    return f.plane.normal.dot(centroid) - f.plane.offset <= -rounding;
+  });
+}
+
 }  // namespace
 
 CullingCounts& CullingCounts::operator+=(const CullingCounts& o) {
@@ -41,6 +75,7 @@ CullingCounts& CullingCounts::operator+=(const CullingCounts& o) {
       by_shared_cap += o.by_shared_cap;
   by_planes += o.by_planes, kept += o.kept, cutters += o.cutters, cutting_planes += o.cutting_planes;
   candidates += o.candidates, bound_tests += o.bound_tests, plane_tests += o.plane_tests;
+  without_witness += o.without_witness;
   return *this;
 }
 
@@ -114,6 +149,8 @@ void SweepCulling::place(std::size_t i, std::vector<Placed>& facets) const {
   const Vector3d motion = b - a, middle = 0.5 * (a + b);
   const double half = 0.5 * motion.norm();
   std::vector<int> side(tool.facets.size(), -1);
+  facets.reserve(facets.size() + tool.facets.size() +
+                 2 * static_cast<std::size_t>(std::sqrt(tool.facets.size())) + 64);
   for (std::size_t f = 0; f < tool.facets.size(); ++f) {
     if (!degenerate) side[f] = motion_side(tool.facets[f].normal, motion);
     const PolytopeFacet& facet = tool.facets[f];
@@ -137,7 +174,6 @@ void SweepCulling::place(std::size_t i, std::vector<Placed>& facets) const {
     facets.push_back(p);
   }
   if (degenerate) return;
-  const std::vector<Halfspace> planes = sweeps_.halfspaces(m.start, m.end);
   int index = static_cast<int>(tool.facets.size());
   const std::vector<SweepPolytopeBuilder::Edge>& edges = sweeps_.edges();
   for (std::size_t e = 0; e < edges.size(); ++e) {
@@ -146,7 +182,8 @@ void SweepCulling::place(std::size_t i, std::vector<Placed>& facets) const {
     Placed p;
     p.facet = index;
     p.edge = static_cast<int>(e);
-    p.plane = planes[index++];
+    ++index;
+    p.plane = sweeps_.silhouette_plane(edges[e], a, motion);
     p.box = AlignedBox3d(u + a);
     p.box.extend(w + a).extend(u + b).extend(w + b);
     p.centre = 0.5 * (u + w) + middle;
@@ -156,7 +193,28 @@ void SweepCulling::place(std::size_t i, std::vector<Placed>& facets) const {
   }
 }
 
-std::vector<KeptFacet> SweepCulling::cull(std::size_t i, CullingCounts& counts) const {
+const std::vector<SweepCulling::Face>& SweepCulling::faces(std::uint32_t j, Scratch& scratch) const {
+  for (const auto& [move, faces] : scratch.recent_)
+    if (move == j) return faces;
+  std::vector<Placed> placed;
+  place(j, placed);
+  std::vector<Face> faces;
+  faces.reserve(placed.size());
+  for (const Placed& p : placed)
+    faces.push_back(
+        {p.plane, AlignedBox3d(p.box.min().array() - rounding_, p.box.max().array() + rounding_)});
+  constexpr std::size_t kRecent = 48;  // candidates of a few consecutive moves
+  if (scratch.recent_.size() < kRecent) {
+    scratch.recent_.emplace_back(j, std::move(faces));
+    return scratch.recent_.back().second;
+  }
+  auto& slot = scratch.recent_[scratch.next_];
+  scratch.next_ = (scratch.next_ + 1) % kRecent;
+  slot = {j, std::move(faces)};
+  return slot.second;
+}
+
+std::vector<KeptFacet> SweepCulling::cull(std::size_t i, CullingCounts& counts, Scratch& scratch) const {
   const ConvexPolytope& tool = sweeps_.tool();
   const Move& move = moves_[i];
   std::vector<Placed> facets;
@@ -226,16 +284,10 @@ std::vector<KeptFacet> SweepCulling::cull(std::size_t i, CullingCounts& counts) 
   std::sort(live.begin(), live.end(), [](const Placed& x, const Placed& y) {
     return x.cluster < y.cluster || (x.cluster == y.cluster && x.facet < y.facet);
   });
-  std::vector<std::pair<std::uint32_t, std::vector<Halfspace>>> planes_of;
-  auto planes = [&](const Candidate& c) -> const std::vector<Halfspace>& {
-    for (const auto& [j, p] : planes_of)
-      if (j == c.move) return p;
-    planes_of.emplace_back(c.move, sweeps_.halfspaces(moves_[c.move].start, moves_[c.move].end));
-    return planes_of.back().second;
-  };
   std::vector<KeptFacet> kept;
   std::vector<const Candidate*> near;
   std::vector<Vector3d> vertices;
+  std::vector<double> highest;  // per point of the facet, its largest value over a candidate's planes
   for (std::size_t begin = 0, end; begin < live.size(); begin = end) {
     for (end = begin + 1; end < live.size() && live[end].cluster == live[begin].cluster;) ++end;
     Vector3d centre = Vector3d::Zero();
@@ -277,12 +329,6 @@ std::vector<KeptFacet> SweepCulling::cull(std::size_t i, CullingCounts& counts) 
             }
           }
         }
-        ++counts.bound_tests;
-        if (ball_inside_sweep(bounds_, c->a, c->b, p.centre, p.radius)) {
-          culled_by = Bound;
-          break;
-        }
-        if (ball_misses_sweep(bounds_, c->a, c->b, p.centre, p.radius)) continue;
         if (vertices.empty()) {
           auto add = [&](int v) {
             if (p.placement <= 0) vertices.push_back(tool.vertices[v] + a);
@@ -294,23 +340,46 @@ std::vector<KeptFacet> SweepCulling::cull(std::size_t i, CullingCounts& counts) 
             add(sweeps_.edges()[p.edge].from);
             add(sweeps_.edges()[p.edge].to);
           }
+          Vector3d centroid = Vector3d::Zero();
+          for (const Vector3d& x : vertices) centroid += x;
+          vertices.push_back(centroid / static_cast<double>(vertices.size()));  // inside the facet
         }
+        ++counts.bound_tests;
+        if (ball_inside_sweep(bounds_, c->a, c->b, p.centre, p.radius) ||
+            points_inside_sweep(bounds_, c->a, c->b, vertices)) {
+          culled_by = Bound;
+          break;
+        }
+        if (ball_misses_sweep(bounds_, c->a, c->b, p.centre, p.radius)) continue;
         ++counts.plane_tests;
-        const std::vector<Halfspace>& halfspaces = planes(*c);
+        const std::vector<Face>& cutter_faces = faces(c->move, scratch);
         FacetCutter cutter{c->move, {}};
+        // The candidate's planes of the facet's own tool facets first: where the two sweeps are
+        // apart, one of them usually shows it.
         bool apart = false;
-        for (int h = 0; h < static_cast<int>(halfspaces.size()) && !apart; ++h) {
-          const Halfspace& plane = halfspaces[h];
+        for (int h : {p.tool_facet, p.edge >= 0 ? sweeps_.edges()[p.edge].left : -1,
+                      p.edge >= 0 ? sweeps_.edges()[p.edge].right : -1}) {
+          if (h < 0 || apart || same_plane(cutter_faces[h].plane, p.plane)) continue;
+          const Halfspace& plane = cutter_faces[h].plane;
+          apart = std::all_of(vertices.begin(), vertices.end(), [&](const Vector3d& x) {
+            return plane.normal.dot(x) - plane.offset >= rounding_;
+          });
+        }
+        if (apart) continue;
+        highest.assign(vertices.size(), -std::numeric_limits<double>::infinity());
+        for (int h = 0; h < static_cast<int>(cutter_faces.size()) && !apart; ++h) {
+          const Halfspace& plane = cutter_faces[h].plane;
           if (same_plane(plane,
                          p.plane)) {  // the tie: below an earlier polytope's plane, above a later one's
             apart = c->move > i;
             continue;
           }
           double lo = std::numeric_limits<double>::infinity(), hi = -lo;
-          for (const Vector3d& x : vertices) {
-            const double value = plane.normal.dot(x) - plane.offset;
+          for (std::size_t v = 0; v < vertices.size(); ++v) {
+            const double value = plane.normal.dot(vertices[v]) - plane.offset;
             lo = std::min(lo, value);
             hi = std::max(hi, value);
+            highest[v] = std::max(highest[v], value);
           }
           if (lo >= rounding_)
             apart = true;
@@ -318,6 +387,26 @@ std::vector<KeptFacet> SweepCulling::cull(std::size_t i, CullingCounts& counts) 
             cutter.planes.push_back(h);
         }
         if (apart) continue;
+        // With a point of the facet inside the candidate, the facet's part inside it is its part
+        // below the planes of the candidate's faces that meet the facet (a segment from that
+        // point leaves the candidate through such a face); if none meets it, all of it is inside.
+        bool witness =
+            std::any_of(highest.begin(), highest.end(), [&](double value) { return value <= -rounding_; });
+        if (!cutter.planes.empty()) {
+          AlignedBox3d box = p.box;
+          box.min().array() -= rounding_;
+          box.max().array() += rounding_;
+          std::vector<int> meeting;
+          for (int h : cutter.planes)
+            if (cutter_faces[h].box.intersects(box)) meeting.push_back(h);
+          if (!witness && !meeting.empty() && !(p.tool_facet >= 0 && p.placement == 0))
+            witness = clipped_centroid_inside(ordered_polygon(p.edge >= 0, vertices), cutter_faces, meeting,
+                                              rounding_);
+          if (witness)
+            cutter.planes.swap(meeting);
+          else
+            ++counts.without_witness;
+        }
         if (cutter.planes.empty()) {
           culled_by = Planes;
           break;

@@ -101,17 +101,39 @@ ToolBounds tool_bounds(const ConvexPolytope& tool) {
   return bounds;
 }
 
-bool ball_inside_sweep(const ToolBounds& bounds, const Vector3d& a, const Vector3d& b, const Vector3d& centre,
-                       double radius) {
+namespace {
+
+bool in_capsule(const ToolBounds& bounds, const Vector3d& a, const Vector3d& b, const Vector3d& centre,
+                double radius) {
   const Vector3d c(0.0, 0.0, bounds.centre_height);
-  if (point_segment_distance(centre, a + c, b + c) + radius <= bounds.inner_radius - kSlack) return true;
+  return point_segment_distance(centre, a + c, b + c) + radius <= bounds.inner_radius - kSlack;
+}
+
+// Inside the inner cylinder at one position a + t(b - a): its [z + centre_height, z + top]
+// holds the ball's heights, and its axis is near enough in xy.
+bool in_swept_cylinder(const ToolBounds& bounds, const Vector3d& a, const Vector3d& b, const Vector3d& centre,
+                       double radius) {
   if (bounds.cylinder_radius <= radius + kSlack) return false;
-  // One position a + t(b - a) whose cylinder [z + centre_height, z + top] holds the ball's heights.
   double t0, t1;
   if (!height_interval(a.z(), b.z() - a.z(), centre.z() + radius - bounds.top,
                        centre.z() - radius - bounds.centre_height, t0, t1))
     return false;
   return xy_distance(centre, a, b, t0, t1) + radius <= bounds.cylinder_radius - kSlack;
+}
+
+}  // namespace
+
+bool ball_inside_sweep(const ToolBounds& bounds, const Vector3d& a, const Vector3d& b, const Vector3d& centre,
+                       double radius) {
+  return in_capsule(bounds, a, b, centre, radius) || in_swept_cylinder(bounds, a, b, centre, radius);
+}
+
+bool points_inside_sweep(const ToolBounds& bounds, const Vector3d& a, const Vector3d& b,
+                         const std::vector<Vector3d>& points) {
+  return std::all_of(points.begin(), points.end(),
+                     [&](const Vector3d& x) { return in_capsule(bounds, a, b, x, 0.0); }) ||
+         std::all_of(points.begin(), points.end(),
+                     [&](const Vector3d& x) { return in_swept_cylinder(bounds, a, b, x, 0.0); });
 }
 
 bool ball_misses_sweep(const ToolBounds& bounds, const Vector3d& a, const Vector3d& b, const Vector3d& centre,
