@@ -52,8 +52,10 @@ struct CullingCounts {
          by_facet_bound = 0;
   double by_shared_cap = 0, by_planes = 0, kept = 0, cutters = 0, cutting_planes = 0;
   double candidates = 0, bound_tests = 0, plane_tests = 0;
-  double without_witness =
-      0;  ///< cutters kept with every crossing plane: no point of the facet proven inside
+  /// Candidates' faces placed (not found in the scratch).
+  double candidates_placed = 0;
+  /// Cutters kept with every crossing plane: no point of the facet proven inside within rounding.
+  double without_witness = 0;
   CullingCounts& operator+=(const CullingCounts& o);
 };
 
@@ -90,7 +92,10 @@ class SweepCulling {
  private:
   struct Placed;
   void place(std::size_t i, std::vector<Placed>& facets) const;
-  const std::vector<Face>& faces(std::uint32_t j, Scratch& scratch) const;
+  const std::vector<Face>& faces(std::uint32_t j, Scratch& scratch, CullingCounts& counts) const;
+  enum class Against { Apart, Inside, Cuts };
+  Against against(const Placed& p, std::size_t i, std::uint32_t j, const std::vector<Eigen::Vector3d>& points,
+                  const std::vector<Face>& faces, std::vector<int>& planes, CullingCounts& counts) const;
 
   const SweepPolytopeBuilder& sweeps_;
   std::vector<Move> moves_;

@@ -75,7 +75,7 @@ CullingCounts& CullingCounts::operator+=(const CullingCounts& o) {
       by_shared_cap += o.by_shared_cap;
   by_planes += o.by_planes, kept += o.kept, cutters += o.cutters, cutting_planes += o.cutting_planes;
   candidates += o.candidates, bound_tests += o.bound_tests, plane_tests += o.plane_tests;
-  without_witness += o.without_witness;
+  without_witness += o.without_witness, candidates_placed += o.candidates_placed;
   return *this;
 }
 
@@ -193,9 +193,11 @@ void SweepCulling::place(std::size_t i, std::vector<Placed>& facets) const {
   }
 }
 
-const std::vector<SweepCulling::Face>& SweepCulling::faces(std::uint32_t j, Scratch& scratch) const {
+const std::vector<SweepCulling::Face>& SweepCulling::faces(std::uint32_t j, Scratch& scratch,
+                                                           CullingCounts& counts) const {
   for (const auto& [move, faces] : scratch.recent_)
     if (move == j) return faces;
+  ++counts.candidates_placed;
   std::vector<Placed> placed;
   place(j, placed);
   std::vector<Face> faces;
@@ -212,6 +214,90 @@ const std::vector<SweepCulling::Face>& SweepCulling::faces(std::uint32_t j, Scra
   scratch.next_ = (scratch.next_ + 1) % kRecent;
   slot = {j, std::move(faces)};
   return slot.second;
+}
+
+// Facet p of move i against candidate j's faces, by halfspaces. `points`: the facet's corners
+// and, last, its centroid. On Cuts, `planes` are the candidate's planes that cut it.
+SweepCulling::Against SweepCulling::against(const Placed& p, std::size_t i, std::uint32_t j,
+                                            const std::vector<Vector3d>& points,
+                                            const std::vector<Face>& faces, std::vector<int>& planes,
+                                            CullingCounts& counts) const {
+  auto value = [](const Halfspace& h, const Vector3d& x) { return h.normal.dot(x) - h.offset; };
+  // A face in the facet's own plane is the tie: below an earlier polytope's plane, above a later one's.
+  // Only the same tool facet, or a silhouette face, can have the facet's plane bit for bit.
+  int tie_face = -1;
+  if (p.tool_facet >= 0) {
+    if (same_plane(faces[p.tool_facet].plane, p.plane)) tie_face = p.tool_facet;
+  } else {
+    for (std::size_t h = sweeps_.tool().facets.size(); h < faces.size() && tie_face < 0; ++h)
+      if (same_plane(faces[h].plane, p.plane)) tie_face = static_cast<int>(h);
+  }
+  auto tie = [&](int h) { return h == tie_face; };
+  auto above = [&](int h) {
+    return std::all_of(points.begin(), points.end(),
+                       [&](const Vector3d& x) { return value(faces[h].plane, x) >= rounding_; });
+  };
+  auto inside = [&](const Vector3d& x) {
+    for (int h = 0; h < static_cast<int>(faces.size()); ++h)
+      if (!tie(h) && value(faces[h].plane, x) > -rounding_) return false;
+    return true;
+  };
+  // The candidate's planes of the facet's own tool facets first: where two sweeps are apart,
+  // one of them usually shows it.
+  const int left = p.edge >= 0 ? sweeps_.edges()[p.edge].left : p.tool_facet;
+  const int right = p.edge >= 0 ? sweeps_.edges()[p.edge].right : -1;
+  for (int h : {left, right})
+    if (h >= 0 && !tie(h) && above(h)) return Against::Apart;
+  // Only the faces whose boxes meet the facet's can meet it: their planes either show it apart,
+  // or leave it below (then it meets no face: wholly inside or wholly outside), or cross it.
+  AlignedBox3d box = p.box;
+  box.min().array() -= rounding_;
+  box.max().array() += rounding_;
+  planes.clear();
+  for (int h = 0; h < static_cast<int>(faces.size()); ++h) {
+    if (!faces[h].box.intersects(box)) continue;
+    if (tie(h)) {
+      if (j > i) return Against::Apart;
+      continue;
+    }
+    double lo = std::numeric_limits<double>::infinity(), hi = -lo;
+    for (const Vector3d& x : points) {
+      const double v = value(faces[h].plane, x);
+      lo = std::min(lo, v);
+      hi = std::max(hi, v);
+    }
+    if (lo >= rounding_) return Against::Apart;
+    if (hi > -rounding_) planes.push_back(h);
+  }
+  const Vector3d& centroid = points.back();
+  if (planes.empty()) {
+    if (inside(centroid)) return Against::Inside;
+    for (const Face& f : faces)
+      if (value(f.plane, centroid) >= rounding_) return Against::Apart;
+  } else {
+    // With a point of the facet inside the candidate, the facet's part inside it is its part
+    // below the crossing planes (a segment from that point leaves the candidate through a face
+    // meeting the facet).
+    const bool swept = p.tool_facet >= 0 && p.placement == 0;
+    if (std::any_of(points.begin(), points.end(), inside) ||
+        (!swept && clipped_centroid_inside(ordered_polygon(p.edge >= 0, points), faces, planes, rounding_)))
+      return Against::Cuts;
+  }
+  // Undecided within the rounding: every plane that crosses the facet.
+  ++counts.without_witness;
+  planes.clear();
+  for (int h = 0; h < static_cast<int>(faces.size()); ++h) {
+    if (tie(h)) continue;
+    double lo = std::numeric_limits<double>::infinity(), hi = -lo;
+    for (const Vector3d& x : points) {
+      const double v = value(faces[h].plane, x);
+      lo = std::min(lo, v);
+      hi = std::max(hi, v);
+    }
+    if (lo >= rounding_) return Against::Apart;
+    if (hi > -rounding_) planes.push_back(h);
+  }
+  return planes.empty() ? Against::Inside : Against::Cuts;
 }
 
 std::vector<KeptFacet> SweepCulling::cull(std::size_t i, CullingCounts& counts, Scratch& scratch) const {
@@ -287,7 +373,6 @@ std::vector<KeptFacet> SweepCulling::cull(std::size_t i, CullingCounts& counts, 
   std::vector<KeptFacet> kept;
   std::vector<const Candidate*> near;
   std::vector<Vector3d> vertices;
-  std::vector<double> highest;  // per point of the facet, its largest value over a candidate's planes
   for (std::size_t begin = 0, end; begin < live.size(); begin = end) {
     for (end = begin + 1; end < live.size() && live[end].cluster == live[begin].cluster;) ++end;
     Vector3d centre = Vector3d::Zero();
@@ -352,62 +437,11 @@ std::vector<KeptFacet> SweepCulling::cull(std::size_t i, CullingCounts& counts, 
         }
         if (ball_misses_sweep(bounds_, c->a, c->b, p.centre, p.radius)) continue;
         ++counts.plane_tests;
-        const std::vector<Face>& cutter_faces = faces(c->move, scratch);
         FacetCutter cutter{c->move, {}};
-        // The candidate's planes of the facet's own tool facets first: where the two sweeps are
-        // apart, one of them usually shows it.
-        bool apart = false;
-        for (int h : {p.tool_facet, p.edge >= 0 ? sweeps_.edges()[p.edge].left : -1,
-                      p.edge >= 0 ? sweeps_.edges()[p.edge].right : -1}) {
-          if (h < 0 || apart || same_plane(cutter_faces[h].plane, p.plane)) continue;
-          const Halfspace& plane = cutter_faces[h].plane;
-          apart = std::all_of(vertices.begin(), vertices.end(), [&](const Vector3d& x) {
-            return plane.normal.dot(x) - plane.offset >= rounding_;
-          });
-        }
-        if (apart) continue;
-        highest.assign(vertices.size(), -std::numeric_limits<double>::infinity());
-        for (int h = 0; h < static_cast<int>(cutter_faces.size()) && !apart; ++h) {
-          const Halfspace& plane = cutter_faces[h].plane;
-          if (same_plane(plane,
-                         p.plane)) {  // the tie: below an earlier polytope's plane, above a later one's
-            apart = c->move > i;
-            continue;
-          }
-          double lo = std::numeric_limits<double>::infinity(), hi = -lo;
-          for (std::size_t v = 0; v < vertices.size(); ++v) {
-            const double value = plane.normal.dot(vertices[v]) - plane.offset;
-            lo = std::min(lo, value);
-            hi = std::max(hi, value);
-            highest[v] = std::max(highest[v], value);
-          }
-          if (lo >= rounding_)
-            apart = true;
-          else if (hi > -rounding_)
-            cutter.planes.push_back(h);
-        }
-        if (apart) continue;
-        // With a point of the facet inside the candidate, the facet's part inside it is its part
-        // below the planes of the candidate's faces that meet the facet (a segment from that
-        // point leaves the candidate through such a face); if none meets it, all of it is inside.
-        bool witness =
-            std::any_of(highest.begin(), highest.end(), [&](double value) { return value <= -rounding_; });
-        if (!cutter.planes.empty()) {
-          AlignedBox3d box = p.box;
-          box.min().array() -= rounding_;
-          box.max().array() += rounding_;
-          std::vector<int> meeting;
-          for (int h : cutter.planes)
-            if (cutter_faces[h].box.intersects(box)) meeting.push_back(h);
-          if (!witness && !meeting.empty() && !(p.tool_facet >= 0 && p.placement == 0))
-            witness = clipped_centroid_inside(ordered_polygon(p.edge >= 0, vertices), cutter_faces, meeting,
-                                              rounding_);
-          if (witness)
-            cutter.planes.swap(meeting);
-          else
-            ++counts.without_witness;
-        }
-        if (cutter.planes.empty()) {
+        const Against verdict =
+            against(p, i, c->move, vertices, faces(c->move, scratch, counts), cutter.planes, counts);
+        if (verdict == Against::Apart) continue;
+        if (verdict == Against::Inside) {
           culled_by = Planes;
           break;
         }
