@@ -95,7 +95,7 @@ TEST(ToolBounds, SweptBoundsProveInsideAndApartSoundlyAndOften) {
       box.min().array() -= 1.0;
       box.max().array() += 1.0;
       std::uniform_real_distribution<double> radius(0.0, 0.1 * tool_box.diagonal().norm());
-      int inside = 0, apart = 0;
+      int inside = 0, apart = 0, capsules_apart = 0;
       for (int k = 0; k < 1500; ++k) {
         const Vector3d centre = box.sample();
         const double rho = radius(random);
@@ -112,7 +112,17 @@ TEST(ToolBounds, SweptBoundsProveInsideAndApartSoundlyAndOften) {
         }
         inside += in;
         apart += out;
+        // A capsule from the centre along a random direction: apart means no sampled point of it
+        // lies in the sweep.
+        const Vector3d to = centre + 3.0 * rho * directions(7)[k % 7];
+        if (k % 5 == 0 && morph::capsule_misses_sweep(b, a, e, centre, to, rho)) {
+          ++capsules_apart;
+          for (int s = 0; s <= 5; ++s)
+            for (const Vector3d& q : ball_points)
+              EXPECT_GT(sweep.plane_value(centre + 0.2 * s * (to - centre) + rho * q), 0.0);
+        }
       }
+      EXPECT_GT(capsules_apart, name.rfind("tapered", 0) == 0 ? 3 : 10);
       EXPECT_GT(inside, 50);
       // A ball and a cylinder bound a taper loosely (the outer ball holds all below the widest
       // inscribed ball, high up the cone), so its proofs of "apart" are rarer.

@@ -27,6 +27,7 @@
 #include <Eigen/Geometry>
 #include <cstdint>
 #include <memory>
+#include <unordered_map>
 #include <vector>
 
 namespace morph {
@@ -69,6 +70,7 @@ class SweepCulling {
   /// Per-thread working memory: the faces of recent candidates, which the next moves share.
   class Scratch {
     friend class SweepCulling;
+    std::unordered_map<std::uint32_t, std::size_t> slot_of_;  ///< move -> index in recent_
     std::vector<std::pair<std::uint32_t, std::vector<Face>>> recent_;
     std::size_t next_ = 0;
   };

@@ -43,4 +43,11 @@ bool points_inside_sweep(const ToolBounds& bounds, const Eigen::Vector3d& a, con
 bool ball_misses_sweep(const ToolBounds& bounds, const Eigen::Vector3d& a, const Eigen::Vector3d& b,
                        const Eigen::Vector3d& centre, double radius);
 
+/// True when the capsule (segment [from, to] grown by `radius`) is proven apart from
+/// tool ⊕ [a, b]: farther than the outer ball's radius from its swept centre (segment to
+/// segment), and its bounding ball apart from the swept outer cylinder. Long thin facets (a
+/// silhouette edge swept along its move) fit a capsule far better than a ball.
+bool capsule_misses_sweep(const ToolBounds& bounds, const Eigen::Vector3d& a, const Eigen::Vector3d& b,
+                          const Eigen::Vector3d& from, const Eigen::Vector3d& to, double radius);
+
 }  // namespace morph

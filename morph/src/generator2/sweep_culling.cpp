@@ -86,6 +86,8 @@ struct SweepCulling::Placed {
   AlignedBox3d box;
   Vector3d centre;
   double radius = 0.0;
+  Vector3d from, to;  // the facet lies within `thickness` of the segment [from, to]
+  double thickness = 0.0;
   Halfspace plane;
   ClusterKey cluster{};
 };
@@ -156,6 +158,7 @@ void SweepCulling::place(std::size_t i, std::vector<Placed>& facets) const {
     const PolytopeFacet& facet = tool.facets[f];
     Placed p;
     p.facet = p.tool_facet = static_cast<int>(f);
+    p.thickness = tool_facet_radii_[f];
     p.placement = side[f];
     const AlignedBox3d& box = tool_facet_boxes_[f];
     const Vector3d& at = side[f] > 0 ? b : a;
@@ -165,9 +168,11 @@ void SweepCulling::place(std::size_t i, std::vector<Placed>& facets) const {
       p.box.extend(AlignedBox3d(box.min() + b, box.max() + b));
       p.centre = tool_facet_centres_[f] + middle;
       p.radius = tool_facet_radii_[f] + half;
+      p.from = tool_facet_centres_[f] + a;
+      p.to = tool_facet_centres_[f] + b;
     } else {
       p.box = AlignedBox3d(box.min() + at, box.max() + at);
-      p.centre = tool_facet_centres_[f] + at;
+      p.centre = p.from = p.to = tool_facet_centres_[f] + at;
       p.radius = tool_facet_radii_[f];
     }
     p.cluster = {tool_facet_cell_[f], p.placement};
@@ -188,6 +193,9 @@ void SweepCulling::place(std::size_t i, std::vector<Placed>& facets) const {
     p.box.extend(w + a).extend(u + b).extend(w + b);
     p.centre = 0.5 * (u + w) + middle;
     p.radius = 0.5 * (u - w).norm() + half;
+    p.from = 0.5 * (u + w) + a;
+    p.to = 0.5 * (u + w) + b;
+    p.thickness = 0.5 * (u - w).norm();
     p.cluster = {tool_facet_cell_[edges[e].left], 2};
     facets.push_back(p);
   }
@@ -195,8 +203,8 @@ void SweepCulling::place(std::size_t i, std::vector<Placed>& facets) const {
 
 const std::vector<SweepCulling::Face>& SweepCulling::faces(std::uint32_t j, Scratch& scratch,
                                                            CullingCounts& counts) const {
-  for (const auto& [move, faces] : scratch.recent_)
-    if (move == j) return faces;
+  const auto found = scratch.slot_of_.find(j);
+  if (found != scratch.slot_of_.end()) return scratch.recent_[found->second].second;
   ++counts.candidates_placed;
   std::vector<Placed> placed;
   place(j, placed);
@@ -205,15 +213,19 @@ const std::vector<SweepCulling::Face>& SweepCulling::faces(std::uint32_t j, Scra
   for (const Placed& p : placed)
     faces.push_back(
         {p.plane, AlignedBox3d(p.box.min().array() - rounding_, p.box.max().array() + rounding_)});
-  constexpr std::size_t kRecent = 48;  // candidates of a few consecutive moves
-  if (scratch.recent_.size() < kRecent) {
+  // The candidates of the last few hundred moves: a raster's neighbouring rows (about 60 kB each).
+  constexpr std::size_t kRecent = 1024;
+  std::size_t slot = scratch.recent_.size();
+  if (slot < kRecent) {
     scratch.recent_.emplace_back(j, std::move(faces));
-    return scratch.recent_.back().second;
+  } else {
+    slot = scratch.next_;
+    scratch.next_ = (scratch.next_ + 1) % kRecent;
+    scratch.slot_of_.erase(scratch.recent_[slot].first);
+    scratch.recent_[slot] = {j, std::move(faces)};
   }
-  auto& slot = scratch.recent_[scratch.next_];
-  scratch.next_ = (scratch.next_ + 1) % kRecent;
-  slot = {j, std::move(faces)};
-  return slot.second;
+  scratch.slot_of_[j] = slot;
+  return scratch.recent_[slot].second;
 }
 
 // Facet p of move i against candidate j's faces, by halfspaces. `points`: the facet's corners
@@ -435,7 +447,9 @@ std::vector<KeptFacet> SweepCulling::cull(std::size_t i, CullingCounts& counts, 
           culled_by = Bound;
           break;
         }
-        if (ball_misses_sweep(bounds_, c->a, c->b, p.centre, p.radius)) continue;
+        if (ball_misses_sweep(bounds_, c->a, c->b, p.centre, p.radius) ||
+            (p.placement == 0 && capsule_misses_sweep(bounds_, c->a, c->b, p.from, p.to, p.thickness)))
+          continue;
         ++counts.plane_tests;
         FacetCutter cutter{c->move, {}};
         const Against verdict =

@@ -56,6 +56,25 @@ double point_segment_distance(const Vector3d& p, const Vector3d& a, const Vector
   return (p - (a + t * d)).norm();
 }
 
+// Distance between the segments [p0, p1] and [q0, q1] (closest points by clamped parameters).
+double segment_distance(const Vector3d& p0, const Vector3d& p1, const Vector3d& q0, const Vector3d& q1) {
+  const Vector3d d1 = p1 - p0, d2 = q1 - q0, r = p0 - q0;
+  const double a = d1.squaredNorm(), e = d2.squaredNorm(), f = d2.dot(r);
+  if (a <= 0.0) return point_segment_distance(p0, q0, q1);
+  if (e <= 0.0) return point_segment_distance(q0, p0, p1);
+  const double b = d1.dot(d2), c = d1.dot(r), denominator = a * e - b * b;
+  double s = denominator > 0.0 ? std::clamp((b * f - c * e) / denominator, 0.0, 1.0) : 0.0;
+  double t = (b * s + f) / e;
+  if (t < 0.0) {
+    t = 0.0;
+    s = std::clamp(-c / a, 0.0, 1.0);
+  } else if (t > 1.0) {
+    t = 1.0;
+    s = std::clamp((b - c) / a, 0.0, 1.0);
+  }
+  return (p0 + s * d1 - (q0 + t * d2)).norm();
+}
+
 // Distance in the xy plane from p to the segment a + t·(b - a), t in [t0, t1].
 double xy_distance(const Vector3d& p, const Vector3d& a, const Vector3d& b, double t0, double t1) {
   const Vector2d q = p.head<2>(), from = a.head<2>(), d = (b - a).head<2>();
@@ -146,6 +165,24 @@ bool ball_misses_sweep(const ToolBounds& bounds, const Vector3d& a, const Vector
                        centre.z() + radius - bounds.centre_height, t0, t1))
     return true;
   return xy_distance(centre, a, b, t0, t1) > bounds.max_radius + radius + kSlack;
+}
+
+}  // namespace morph
+
+namespace morph {
+
+bool capsule_misses_sweep(const ToolBounds& bounds, const Vector3d& a, const Vector3d& b,
+                          const Vector3d& from, const Vector3d& to, double radius) {
+  const Vector3d c(0.0, 0.0, bounds.centre_height);
+  if (segment_distance(from, to, a + c, b + c) <= bounds.outer_radius + radius + kSlack) return false;
+  // The upper cylinder against the ball holding the capsule.
+  const double half = 0.5 * (to - from).norm() + radius;
+  const Vector3d centre = 0.5 * (from + to);
+  double t0, t1;
+  if (!height_interval(a.z(), b.z() - a.z(), centre.z() - half - bounds.top,
+                       centre.z() + half - bounds.centre_height, t0, t1))
+    return true;
+  return xy_distance(centre, a, b, t0, t1) > bounds.max_radius + half + kSlack;
 }
 
 }  // namespace morph
