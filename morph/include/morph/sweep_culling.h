@@ -67,12 +67,21 @@ class SweepCulling {
     Halfspace plane;
     Eigen::AlignedBox3d box;  ///< grown by the rounding bound
   };
+  /// A candidate sweep's faces, in facet order, with what finds them from the tool's facets
+  /// and edges: the side of each tool facet and the face of each silhouette edge (-1: none).
+  struct Faces {
+    std::vector<Face> face;
+    std::vector<signed char> side;
+    std::vector<int> face_of_edge;
+    Eigen::Vector3d a, b;  ///< the ordered ends (both the start for a degenerate move)
+  };
   /// Per-thread working memory: the faces of recent candidates, which the next moves share.
   class Scratch {
     friend class SweepCulling;
     std::unordered_map<std::uint32_t, std::size_t> slot_of_;  ///< move -> index in recent_
-    std::vector<std::pair<std::uint32_t, std::vector<Face>>> recent_;
+    std::vector<std::pair<std::uint32_t, Faces>> recent_;
     std::size_t next_ = 0;
+    std::vector<int> near_faces_;
   };
 
   /// `moves`: straight moves of the one tool of `sweeps`, in job order (the tie order), paths
@@ -94,10 +103,11 @@ class SweepCulling {
  private:
   struct Placed;
   void place(std::size_t i, std::vector<Placed>& facets) const;
-  const std::vector<Face>& faces(std::uint32_t j, Scratch& scratch, CullingCounts& counts) const;
+  const Faces& faces(std::uint32_t j, Scratch& scratch, CullingCounts& counts) const;
   enum class Against { Apart, Inside, Cuts };
   Against against(const Placed& p, std::size_t i, std::uint32_t j, const std::vector<Eigen::Vector3d>& points,
-                  const std::vector<Face>& faces, std::vector<int>& planes, CullingCounts& counts) const;
+                  const Faces& faces, std::vector<int>& near_faces, std::vector<int>& planes,
+                  CullingCounts& counts) const;
 
   const SweepPolytopeBuilder& sweeps_;
   std::vector<Move> moves_;
@@ -109,7 +119,9 @@ class SweepCulling {
   std::vector<double> tool_facet_radii_;
   std::vector<std::int64_t> tool_facet_cell_;  ///< cluster of each tool facet (a grid cell of its centre)
   double rounding_ = 0.0;                      ///< plane values within this of zero are undecided
-  std::unique_ptr<AabbTree> tree_;
+  std::unique_ptr<AabbTree> tree_;             ///< the sweeps' boxes
+  std::unique_ptr<AabbTree> tool_facet_tree_;  ///< the tool facets' boxes (grown by the rounding)
+  std::unique_ptr<AabbTree> tool_edge_tree_;   ///< the tool edges' boxes (grown by the rounding)
 };
 
 }  // namespace morph

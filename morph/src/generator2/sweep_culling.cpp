@@ -137,6 +137,16 @@ SweepCulling::SweepCulling(const SweepPolytopeBuilder& sweeps, std::vector<Move>
     box.max().array() += rounding_;
   }
   tree_ = std::make_unique<AabbTree>(std::move(boxes));
+  std::vector<AlignedBox3d> facet_boxes, edge_boxes;
+  for (const AlignedBox3d& box : tool_facet_boxes_)
+    facet_boxes.emplace_back(box.min().array() - rounding_, box.max().array() + rounding_);
+  for (const SweepPolytopeBuilder::Edge& e : sweeps_.edges()) {
+    AlignedBox3d box(tool.vertices[e.from]);
+    box.extend(tool.vertices[e.to]);
+    edge_boxes.emplace_back(box.min().array() - rounding_, box.max().array() + rounding_);
+  }
+  tool_facet_tree_ = std::make_unique<AabbTree>(std::move(facet_boxes));
+  tool_edge_tree_ = std::make_unique<AabbTree>(std::move(edge_boxes));
 }
 
 SweepCulling::~SweepCulling() = default;
@@ -201,18 +211,29 @@ void SweepCulling::place(std::size_t i, std::vector<Placed>& facets) const {
   }
 }
 
-const std::vector<SweepCulling::Face>& SweepCulling::faces(std::uint32_t j, Scratch& scratch,
-                                                           CullingCounts& counts) const {
+const SweepCulling::Faces& SweepCulling::faces(std::uint32_t j, Scratch& scratch,
+                                               CullingCounts& counts) const {
   const auto found = scratch.slot_of_.find(j);
   if (found != scratch.slot_of_.end()) return scratch.recent_[found->second].second;
   ++counts.candidates_placed;
   std::vector<Placed> placed;
   place(j, placed);
-  std::vector<Face> faces;
-  faces.reserve(placed.size());
-  for (const Placed& p : placed)
-    faces.push_back(
+  Faces faces;
+  faces.face.reserve(placed.size());
+  faces.side.assign(sweeps_.tool().facets.size(), -1);
+  faces.face_of_edge.assign(sweeps_.edges().size(), -1);
+  for (const Placed& p : placed) {
+    faces.face.push_back(
         {p.plane, AlignedBox3d(p.box.min().array() - rounding_, p.box.max().array() + rounding_)});
+    if (p.tool_facet >= 0) faces.side[p.tool_facet] = static_cast<signed char>(p.placement);
+    if (p.edge >= 0) faces.face_of_edge[p.edge] = p.facet;
+  }
+  const Move& m = moves_[j];
+  const bool degenerate = sweeps_.degenerate(m.start, m.end);
+  const std::pair<Vector3d, Vector3d> ends =
+      degenerate ? std::pair{m.start, m.start} : SweepPolytopeBuilder::ordered(m.start, m.end);
+  faces.a = ends.first;
+  faces.b = ends.second;
   // The candidates of the last few hundred moves: a raster's neighbouring rows (about 60 kB each).
   constexpr std::size_t kRecent = 1024;
   std::size_t slot = scratch.recent_.size();
@@ -231,9 +252,10 @@ const std::vector<SweepCulling::Face>& SweepCulling::faces(std::uint32_t j, Scra
 // Facet p of move i against candidate j's faces, by halfspaces. `points`: the facet's corners
 // and, last, its centroid. On Cuts, `planes` are the candidate's planes that cut it.
 SweepCulling::Against SweepCulling::against(const Placed& p, std::size_t i, std::uint32_t j,
-                                            const std::vector<Vector3d>& points,
-                                            const std::vector<Face>& faces, std::vector<int>& planes,
+                                            const std::vector<Vector3d>& points, const Faces& candidate,
+                                            std::vector<int>& near_faces, std::vector<int>& planes,
                                             CullingCounts& counts) const {
+  const std::vector<Face>& faces = candidate.face;
   auto value = [](const Halfspace& h, const Vector3d& x) { return h.normal.dot(x) - h.offset; };
   // A face in the facet's own plane is the tie: below an earlier polytope's plane, above a later one's.
   // Only the same tool facet, or a silhouette face, can have the facet's plane bit for bit.
@@ -250,6 +272,8 @@ SweepCulling::Against SweepCulling::against(const Placed& p, std::size_t i, std:
                        [&](const Vector3d& x) { return value(faces[h].plane, x) >= rounding_; });
   };
   auto inside = [&](const Vector3d& x) {
+    // The inner bounds first: deeper than the slack inside the tool's inscribed ball or cylinder.
+    if (ball_inside_sweep(bounds_, candidate.a, candidate.b, x, 0.0)) return true;
     for (int h = 0; h < static_cast<int>(faces.size()); ++h)
       if (!tie(h) && value(faces[h].plane, x) > -rounding_) return false;
     return true;
@@ -265,8 +289,28 @@ SweepCulling::Against SweepCulling::against(const Placed& p, std::size_t i, std:
   AlignedBox3d box = p.box;
   box.min().array() -= rounding_;
   box.max().array() += rounding_;
+  // Found from the tool's facets and edges: a face placed at a (or b) meets the box only if its
+  // tool facet meets the box moved by -a (or -b); a face swept along [a, b] only if it meets the
+  // box swept along [-b, -a].
+  near_faces.clear();
+  const Vector3d& a = candidate.a;
+  const Vector3d& b = candidate.b;
+  tool_facet_tree_->for_each_overlapping(AlignedBox3d(box.min() - a, box.max() - a), [&](std::size_t k) {
+    if (candidate.side[k] < 0) near_faces.push_back(static_cast<int>(k));
+  });
+  tool_facet_tree_->for_each_overlapping(AlignedBox3d(box.min() - b, box.max() - b), [&](std::size_t k) {
+    if (candidate.side[k] > 0) near_faces.push_back(static_cast<int>(k));
+  });
+  const AlignedBox3d swept(box.min() - a.cwiseMax(b), box.max() - a.cwiseMin(b));
+  tool_facet_tree_->for_each_overlapping(swept, [&](std::size_t k) {
+    if (candidate.side[k] == 0) near_faces.push_back(static_cast<int>(k));
+  });
+  tool_edge_tree_->for_each_overlapping(swept, [&](std::size_t e) {
+    if (candidate.face_of_edge[e] >= 0) near_faces.push_back(candidate.face_of_edge[e]);
+  });
+  std::sort(near_faces.begin(), near_faces.end());
   planes.clear();
-  for (int h = 0; h < static_cast<int>(faces.size()); ++h) {
+  for (int h : near_faces) {
     if (!faces[h].box.intersects(box)) continue;
     if (tie(h)) {
       if (j > i) return Against::Apart;
@@ -452,8 +496,8 @@ std::vector<KeptFacet> SweepCulling::cull(std::size_t i, CullingCounts& counts, 
           continue;
         ++counts.plane_tests;
         FacetCutter cutter{c->move, {}};
-        const Against verdict =
-            against(p, i, c->move, vertices, faces(c->move, scratch, counts), cutter.planes, counts);
+        const Against verdict = against(p, i, c->move, vertices, faces(c->move, scratch, counts),
+                                        scratch.near_faces_, cutter.planes, counts);
         if (verdict == Against::Apart) continue;
         if (verdict == Against::Inside) {
           culled_by = Planes;
