@@ -458,7 +458,8 @@ std::vector<KeptFacet> SweepCulling::cull(std::size_t i, CullingCounts& counts, 
       enum { Open, Bound, Shared, Planes } culled_by = Open;
       vertices.clear();
       const Vector3d& n = p.plane.normal;
-      const double reach_i = std::max(n.dot(a), n.dot(b));
+      // A swept face's plane holds a, and b only to within 1e-12·|b - a| (motion_side()).
+      const double reach_i = p.tool_facet >= 0 && p.placement == 0 ? n.dot(a) : std::max(n.dot(a), n.dot(b));
       for (const Candidate* c : near) {
         // The candidate wholly below the facet's plane: both sweeps' support in the normal n is
         // the tool's plus the larger of n·a, n·b, so two dot products compare them exactly.
