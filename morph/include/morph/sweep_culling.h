@@ -11,7 +11,8 @@
 /// 3. move against move: candidates from the sweeps' boxes (AabbTree), a retraced move (the same
 ///    polytope bit for bit) culled whole or dropped whole by the tie order;
 /// 4. clusters of facets, then facets, against each candidate's capsules and swept cylinders
-///    (tool_bounds.h): inside proves culled, missing drops the candidate;
+///    (tool_bounds.h): inside proves culled, missing drops the candidate; a candidate wholly
+///    below the facet's plane (the sweeps' support functions differ only by their ends) drops too;
 /// 5. what is left, by the candidate's halfspaces: every vertex below every plane culls the facet
 ///    (a convex facet in a convex polytope), every vertex above one plane drops the candidate,
 ///    else the candidate cuts the facet with the planes that cross it; when a point of the facet
@@ -53,6 +54,8 @@ struct CullingCounts {
          by_facet_bound = 0;
   double by_shared_cap = 0, by_planes = 0, kept = 0, cutters = 0, cutting_planes = 0;
   double candidates = 0, bound_tests = 0, plane_tests = 0;
+  /// Candidates dropped for a facet because they lie wholly below its plane (support functions).
+  double apart_by_support = 0;
   /// Candidates' faces placed (not found in the scratch).
   double candidates_placed = 0;
   /// Cutters kept with every crossing plane: no point of the facet proven inside within rounding.

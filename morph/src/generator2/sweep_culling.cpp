@@ -75,7 +75,8 @@ CullingCounts& CullingCounts::operator+=(const CullingCounts& o) {
       by_shared_cap += o.by_shared_cap;
   by_planes += o.by_planes, kept += o.kept, cutters += o.cutters, cutting_planes += o.cutting_planes;
   candidates += o.candidates, bound_tests += o.bound_tests, plane_tests += o.plane_tests;
-  without_witness += o.without_witness, candidates_placed += o.candidates_placed;
+  without_witness += o.without_witness, apart_by_support += o.apart_by_support,
+      candidates_placed += o.candidates_placed;
   return *this;
 }
 
@@ -456,7 +457,16 @@ std::vector<KeptFacet> SweepCulling::cull(std::size_t i, CullingCounts& counts, 
       KeptFacet keep{p.facet, {}};
       enum { Open, Bound, Shared, Planes } culled_by = Open;
       vertices.clear();
+      const Vector3d& n = p.plane.normal;
+      // A swept face's plane holds a, and b only to within 1e-12·|b - a| (motion_side()).
+      const double reach_i = p.tool_facet >= 0 && p.placement == 0 ? n.dot(a) : std::max(n.dot(a), n.dot(b));
       for (const Candidate* c : near) {
+        // The candidate wholly below the facet's plane: both sweeps' support in the normal n is
+        // the tool's plus the larger of n·a, n·b, so two dot products compare them exactly.
+        if (std::max(n.dot(c->a), n.dot(c->b)) <= reach_i - rounding_) {
+          ++counts.apart_by_support;
+          continue;
+        }
         // A cap placed at an end of the candidate, where the candidate places the same cap: one
         // facet of two polytopes, owned by the earlier move.
         if (p.tool_facet >= 0 && p.placement != 0) {
