@@ -7,9 +7,12 @@
 
 #include <array>
 #include <cstdio>
+#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <string>
+#include <system_error>
+#include <vector>
 
 namespace morphmill_test {
 
@@ -31,11 +34,27 @@ inline CommandResult run_command(const std::string& command) {
 
 /// A fresh, empty directory under the system temporary directory, unique to this process: ctest
 /// runs every test in its own process, several at once.
+/// Every scratch directory of this test process, removed when it exits (a command's outputs can be
+/// hundreds of MB; test runs must not fill /tmp). MORPHMILL_KEEP_SCRATCH=1 keeps them to look at.
+struct ScratchDirs {
+  std::vector<std::filesystem::path> dirs;
+  ~ScratchDirs() {
+    if (std::getenv("MORPHMILL_KEEP_SCRATCH")) return;
+    std::error_code ignored;
+    for (const std::filesystem::path& dir : dirs) std::filesystem::remove_all(dir, ignored);
+  }
+};
+inline ScratchDirs& scratch_dirs() {
+  static ScratchDirs all;
+  return all;
+}
+
 inline std::filesystem::path scratch_dir(const std::string& suite, const std::string& name) {
   const std::filesystem::path dir = std::filesystem::temp_directory_path() /
                                     ("morphmill_" + suite + "_" + std::to_string(::getpid()) + "_" + name);
   std::filesystem::remove_all(dir);
   std::filesystem::create_directories(dir);
+  scratch_dirs().dirs.push_back(dir);
   return dir;
 }
 
