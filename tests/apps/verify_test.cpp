@@ -148,11 +148,65 @@ TEST_F(VerifySingleSlot, ReportLoadsInAHeadlessBrowser) {
   ASSERT_TRUE(std::regex_search(browser.output, match, std::regex("data-images-loaded=\"(\\d+)/(\\d+)\"")))
       << browser.output.substr(0, 2000);
   EXPECT_EQ(match[1], match[2]);
-  EXPECT_EQ(match[2], "5");
+  EXPECT_EQ(match[2], "8");  // plain views of both sides, iso/top/front/close-up against the exact
+                             // surface, and the two other heatmaps
   for (const char* heading : {"Stages", "Pieces", "Signed deviation", "Histogram", "Worst moves",
                               "Regions out of the band", "Decisive place", "Verdict", "Provenance"})
     EXPECT_NE(browser.output.find(std::string("<h3>") + heading), std::string::npos) << heading;
   EXPECT_GE(std::count(browser.output.begin(), browser.output.end(), '<'), 100);
+}
+
+TEST_F(VerifySingleSlot, PicturesShowEveryViewAtTheResolutionAsked) {
+  ASSERT_EQ(result_->exit_code, 0) << result_->output;
+  for (const char* view : {"", "_top", "_front", "_closeup"}) {
+    const fs::path png = *out_ / ("morph_vs_exact" + std::string(view) + ".png");
+    ASSERT_TRUE(fs::exists(png)) << png;
+    // PNG header: width and height, big-endian, at bytes 16..23.
+    const std::string bytes = slurp(png).substr(0, 24);
+    auto be32 = [&](std::size_t at) {
+      return (unsigned(std::uint8_t(bytes[at])) << 24) | (unsigned(std::uint8_t(bytes[at + 1])) << 16) |
+             (unsigned(std::uint8_t(bytes[at + 2])) << 8) | unsigned(std::uint8_t(bytes[at + 3]));
+    };
+    EXPECT_EQ(be32(16), 1200u) << png;
+    EXPECT_EQ(be32(20), 900u) << png;
+  }
+}
+
+// The interactive 3D view in a real browser: three.js loads from the report itself (no network),
+// WebGL draws, and a click on the decisive vertex reads its deviation and move back.
+TEST_F(VerifySingleSlot, ThreeDViewLoadsAndAClickReadsTheDeviation) {
+  const fs::path report = *out_ / "report.html";
+  const std::string page = slurp(report);
+  EXPECT_EQ(page.find("<script src="), std::string::npos) << "the report must not load anything";
+  EXPECT_EQ(page.find("http://"), std::string::npos);
+  const std::string open = "<script type=\"application/json\" id=\"view3d-data\">";
+  const std::size_t begin = page.find(open);
+  ASSERT_NE(begin, std::string::npos);
+  const std::size_t end = page.find("</script>", begin);
+  const auto data = nlohmann::json::parse(page.substr(begin + open.size(), end - begin - open.size()));
+  EXPECT_EQ(data["unit"], "mm");
+  EXPECT_DOUBLE_EQ(data["band"][1].get<double>(), 0.01);
+  const double probe = data["probe"]["value"].get<double>();
+  const CommandResult browser =
+      run("chromium --headless --no-sandbox --disable-gpu --disable-quic --no-first-run "
+          "--disable-background-networking --disable-component-update --disable-sync --user-data-dir=" +
+          scratch("chromium_profile_3d").string() +
+          " --window-size=1200,2400 --virtual-time-budget=20000 --dump-dom 'file://" + report.string() +
+          "#selftest'");
+  ASSERT_EQ(browser.exit_code, 0) << browser.output.substr(0, 2000);
+  std::smatch ready;
+  ASSERT_TRUE(std::regex_search(browser.output, ready, std::regex("data-view3d=\"ready (\\d+) triangles, (\\d+) frames")))
+      << browser.output.substr(0, 3000);
+  EXPECT_GT(std::stoi(ready[1]), 1000);
+  EXPECT_GE(std::stoi(ready[2]), 1);
+  std::smatch picked;
+  ASSERT_TRUE(std::regex_search(browser.output, picked,
+                                std::regex("data-selftest=\"picked ([-+0-9.e]+) move (-?\\d+) line (-?\\d+)")))
+      << browser.output.substr(0, 3000);
+  EXPECT_NEAR(std::stod(picked[1]), probe, 0.05 * std::abs(probe) + 1e-9);
+  EXPECT_EQ(std::stoi(picked[2]), data["probe"]["move"].get<int>());
+  EXPECT_NE(browser.output.find("id=\"view3d-readout\""), std::string::npos);
+  EXPECT_NE(browser.output.find("deviation +"), std::string::npos) << "the read-out shows the signed value";
 }
 
 TEST(VerifyBadInput, TruncatedGcodeAndMissingStockMeshExitWithTwo) {

@@ -25,7 +25,7 @@ struct VerifyOptions {
   double tolerance = 0.0;   ///< generator tolerance, job units; 0 uses the job's
   std::size_t face_samples = 100000;  ///< area-uniform samples per surface, on top of every vertex
   std::uint64_t seed = 1;
-  int image_width = 640, image_height = 480;
+  int image_width = 1200, image_height = 900;  ///< pixels of each picture
   /// Check only the reference against the exact surface (the generator is not run). Without it,
   /// a job with a tool the generator cannot build yet runs the same way but its verdict fails.
   bool reference_only = false;
@@ -166,8 +166,10 @@ VerifyOutcome run_verify(const VerifyOptions& options);
 nlohmann::json outcome_to_json(const VerifyOutcome& outcome);
 nlohmann::json stats_to_json(const raytest::DeviationStats& stats);
 
-/// report.md and report.html (self-contained: pictures embedded as data URIs).
+/// report.md and report.html (self-contained: pictures embedded as data URIs; `view3d_html`, the
+/// interactive 3D view's block, goes into the HTML before the pictures).
 void write_reports(const VerifyOutcome& outcome, const std::string& out_dir,
-                   const std::vector<std::pair<std::string, std::string>>& pictures);
+                   const std::vector<std::pair<std::string, std::string>>& pictures,
+                   const std::string& view3d_html = "");
 
 }  // namespace morphmill
