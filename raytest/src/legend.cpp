@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #include "legend.h"
 
 #include <cairo.h>
@@ -42,7 +43,8 @@ constexpr int kTicks = 4;
 std::vector<std::string> labels_of(const Legend& legend) {
   std::vector<std::string> labels;
   const double step = (legend.range.high - legend.range.low) / kTicks;
-  for (int tick = 0; tick <= kTicks; ++tick) labels.push_back(tick_label(legend.range.low + step * tick, step));
+  for (int tick = 0; tick <= kTicks; ++tick)
+    labels.push_back(tick_label(legend.range.low + step * tick, step));
   return labels;
 }
 

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // The colour legend and captions of a picture, drawn with cairo (real fonts, antialiased text).
 #include <raytest/heatmap.h>
@@ -11,10 +12,10 @@ namespace raytest::detail {
 struct Legend {
   ColorMap color_map = ColorMap::CoolWarm;
   ScalarRange range;
-  std::string title;                ///< e.g. "deviation_exact [mm]"
-  std::string low_caption;          ///< under the bar, e.g. "- gouge"
-  std::string high_caption;         ///< above the bar, e.g. "+ excess"
-  int panel_x = 0;                  ///< left edge of the legend panel, pixels
+  std::string title;         ///< e.g. "deviation_exact [mm]"
+  std::string low_caption;   ///< under the bar, e.g. "- gouge"
+  std::string high_caption;  ///< above the bar, e.g. "+ excess"
+  int panel_x = 0;           ///< left edge of the legend panel, pixels
 };
 
 /// Width in pixels the legend needs for an image of this height.

@@ -98,7 +98,8 @@ Framing frame(const morph::TriangleMesh& mesh, const RenderOptions& options, int
   return f;
 }
 
-detail::Legend legend_of(const morph::VertexScalar& scalar, const RenderOptions& options, const ScalarRange& range) {
+detail::Legend legend_of(const morph::VertexScalar& scalar, const RenderOptions& options,
+                         const ScalarRange& range) {
   detail::Legend legend;
   legend.color_map = options.color_map;
   legend.range = range;
@@ -114,8 +115,8 @@ int view_width_of(const morph::TriangleMesh& mesh, const RenderOptions& options,
   if (!scalar) return options.width;
   const ScalarRange range = options.range ? *options.range : auto_range(scalar->values, options.symmetric);
   if (range_out) *range_out = range;
-  const int panel = std::min(detail::legend_width(legend_of(*scalar, options, range), options.height),
-                             options.width / 2);
+  const int panel =
+      std::min(detail::legend_width(legend_of(*scalar, options, range), options.height), options.width / 2);
   return options.width - panel;
 }
 
@@ -171,7 +172,8 @@ Image render_mesh(const morph::TriangleMesh& mesh, const RenderOptions& options)
       // Ambient, headlight and a key light from above-left, so faces at equal angles to the view
       // (a box seen in iso view) still differ; two-sided so open meshes and inverted faces show.
       const double light =
-          options.lighting ? 0.2 + 0.5 * std::abs(n.dot(camera.direction)) + 0.3 * std::abs(n.dot(key_light)) : 1.0;
+          options.lighting ? 0.2 + 0.5 * std::abs(n.dot(camera.direction)) + 0.3 * std::abs(n.dot(key_light))
+                           : 1.0;
       std::array<double, 3> base{200, 200, 200};
       if (scalar) {
         const double value =

@@ -227,8 +227,9 @@ double pixel_length(const morph::TriangleMesh& mesh, const raytest::RenderOption
   const Eigen::Vector3d along =
       render.view == raytest::View::Iso ? Eigen::Vector3d(1, 1, 0).normalized() : Eigen::Vector3d::UnitX();
   const Eigen::Vector3d p = render.focus ? render.focus->center() : morph::bounds(mesh).center();
-  const double pixels = (raytest::project_to_pixel(mesh, render, p + along) -
-                         raytest::project_to_pixel(mesh, render, p)).norm();
+  const double pixels =
+      (raytest::project_to_pixel(mesh, render, p + along) - raytest::project_to_pixel(mesh, render, p))
+          .norm();
   return pixels > 0 ? 1.0 / pixels : 0.0;
 }
 
@@ -237,9 +238,9 @@ double pixel_length(const morph::TriangleMesh& mesh, const raytest::RenderOption
 // pixel, then mapped. The PLY and a VTK PolyData beside it (same name, .vtp) carry the values for
 // other tools. Returns the PNG names written (png's stem + each view's suffix).
 std::vector<std::string> write_heatmap(morph::TriangleMesh mesh, const std::string& scalar,
-                                       const std::vector<double>& values, const fs::path& ply, const fs::path& png,
-                                       const std::string& unit, int width, int height, double band,
-                                       const Provenance& provenance,
+                                       const std::vector<double>& values, const fs::path& ply,
+                                       const fs::path& png, const std::string& unit, int width, int height,
+                                       double band, const Provenance& provenance,
                                        const std::vector<PictureSpec>& views = iso_only()) {
   const raytest::ScalarRange range{-2.0 * band, 2.0 * band};
   raytest::apply_heatmap(mesh, scalar, values, raytest::ColorMap::CoolWarm, range);
@@ -574,8 +575,8 @@ VerifyOutcome run_verify(const VerifyOptions& options) {
                     dir / "reference_vs_exact.png", unit, options.image_width, options.image_height, bound,
                     provenance);
       view3d = view3d_html(view3d_of(
-                               reference_mesh, [&](const Eigen::Vector3d& p) { return field.value(p); }, bound,
-                               unit, "Reference against the exact surface"),
+                               reference_mesh, [&](const Eigen::Vector3d& p) { return field.value(p); },
+                               bound, unit, "Reference against the exact surface"),
                            default_three_dir());
       raytest::RenderOptions plain;
       plain.width = options.image_width;
@@ -630,13 +631,13 @@ VerifyOutcome run_verify(const VerifyOptions& options) {
         closeup = closeup_of(morph_display.vertices[worst], Eigen::AlignedBox3d(), out.tolerance, part,
                              fmt::format("largest deviation {:+.4g} {}", morph_exact[worst], unit));
       }
-      const std::vector<std::string> views =
-          write_heatmap(morph_display, "deviation_exact", morph_exact, dir / "morph_vs_exact.ply",
-                        dir / "morph_vs_exact.png", unit, w, h, out.tolerance, provenance, standard_views(closeup));
+      const std::vector<std::string> views = write_heatmap(
+          morph_display, "deviation_exact", morph_exact, dir / "morph_vs_exact.ply",
+          dir / "morph_vs_exact.png", unit, w, h, out.tolerance, provenance, standard_views(closeup));
       out.files.insert(out.files.end(), views.begin() + 1, views.end());
       view3d = view3d_html(view3d_of(
-                               morph_mesh, [&](const Eigen::Vector3d& p) { return field.value(p); }, out.tolerance,
-                               unit, "Generator against the exact surface"),
+                               morph_mesh, [&](const Eigen::Vector3d& p) { return field.value(p); },
+                               out.tolerance, unit, "Generator against the exact surface"),
                            default_three_dir());
       write_heatmap(morph_display, "deviation_reference", morph_reference, dir / "morph_vs_reference.ply",
                     dir / "morph_vs_reference.png", unit, w, h, out.agreement_bound, provenance);
@@ -666,21 +667,22 @@ VerifyOutcome run_verify(const VerifyOptions& options) {
       std::vector<PictureSpec> design_views = iso_only();
       if (!out.design.regions.empty()) {
         const raytest::DeviationRegion& r = out.design.regions.front().region;
-        design_views.push_back(closeup_of(
-            r.location, r.bounds, reach / 2.0, morph::bounds(morph_mesh),
-            fmt::format("deepest {} {:+.4g} {}", raytest::to_string(r.kind), r.worst, unit)));
+        design_views.push_back(
+            closeup_of(r.location, r.bounds, reach / 2.0, morph::bounds(morph_mesh),
+                       fmt::format("deepest {} {:+.4g} {}", raytest::to_string(r.kind), r.worst, unit)));
       }
-      const std::vector<std::string> views = write_heatmap(
-          out.design.refined.mesh, "deviation_design", out.design.point_values, dir / "machined_vs_design.ply",
-          dir / "machined_vs_design.png", unit, options.image_width, options.image_height, reach / 2.0, provenance,
-          design_views);
+      const std::vector<std::string> views =
+          write_heatmap(out.design.refined.mesh, "deviation_design", out.design.point_values,
+                        dir / "machined_vs_design.ply", dir / "machined_vs_design.png", unit,
+                        options.image_width, options.image_height, reach / 2.0, provenance, design_views);
       out.files.insert(out.files.end(), views.begin() + 1, views.end());
       // What a machinist acts on: the 3D view shows the machined part against the design.
       const raytest::SurfaceQuery design_query(design_mesh);
       View3d design_view = view3d_of(
           morph_mesh, [](const Eigen::Vector3d&) { return 0.0; }, reach / 2.0, unit,
           "Machined result against the design");
-      design_view.values = raytest::vertex_deviation(design_view.mesh, design_query, raytest::DeviationMode::Signed);
+      design_view.values =
+          raytest::vertex_deviation(design_view.mesh, design_query, raytest::DeviationMode::Signed);
       design_view.band_low = compare.band.low;
       design_view.band_high = compare.band.high;
       view3d = view3d_html(design_view, default_three_dir());

@@ -13,8 +13,8 @@
 
 #include <string>
 #include <vector>
-#include "verify/compare.h"
 #include "io/provenance.h"
+#include "verify/compare.h"
 
 namespace morphmill {
 

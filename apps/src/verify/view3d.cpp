@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #include "verify/view3d.h"
 
 #include <fmt/format.h>
@@ -23,30 +24,36 @@ std::string base64_of(const std::vector<T>& values) {
   return base64(bytes);
 }
 
-// The vertex that decides the picture (largest |deviation|), with the outward normal of a face
-// using it: the self-test looks at it straight on.
+// The triangle that decides the picture (largest |deviation| at its centroid, where the value is
+// the mean of its corners'): the self-test looks at its centroid along its normal and clicks there,
+// so the read-out must give exactly this value, move and G-code line.
 struct Probe {
-  std::size_t vertex = 0;
+  Eigen::Vector3d at = Eigen::Vector3d::Zero();
   Eigen::Vector3d normal = Eigen::Vector3d::UnitZ();
+  double value = 0;
   int move = -1, line = 0;
 };
 
-Probe worst_vertex(const View3d& view) {
+Probe worst_triangle(const View3d& view) {
   Probe p;
-  for (std::size_t v = 1; v < view.values.size(); ++v)
-    if (std::abs(view.values[v]) > std::abs(view.values[p.vertex])) p.vertex = v;
-  Eigen::Vector3d normal = Eigen::Vector3d::Zero();
-  for (std::size_t t = 0; t < view.mesh.triangles.size(); ++t) {
-    const morph::Triangle& tri = view.mesh.triangles[t];
-    if (tri[0] != p.vertex && tri[1] != p.vertex && tri[2] != p.vertex) continue;
-    const Eigen::Vector3d n = morph::face_normal(view.mesh, t);
-    normal += n;
-    if (!view.mesh.tags.empty() && p.move < 0) {
-      p.move = view.mesh.tags[t].source;
-      p.line = view.mesh.tags[t].line;
+  const morph::TriangleMesh& mesh = view.mesh;
+  std::size_t worst = mesh.triangles.size();
+  for (std::size_t t = 0; t < mesh.triangles.size(); ++t) {
+    const morph::Triangle& tri = mesh.triangles[t];
+    const double value = (view.values[tri[0]] + view.values[tri[1]] + view.values[tri[2]]) / 3.0;
+    if (worst == mesh.triangles.size() || std::abs(value) > std::abs(p.value)) {
+      worst = t;
+      p.value = value;
     }
   }
-  if (normal.norm() > 0) p.normal = normal.normalized();
+  if (worst == mesh.triangles.size()) return p;
+  const morph::Triangle& tri = mesh.triangles[worst];
+  p.at = (mesh.vertices[tri[0]] + mesh.vertices[tri[1]] + mesh.vertices[tri[2]]) / 3.0;
+  p.normal = morph::face_normal(mesh, worst);
+  if (!mesh.tags.empty()) {
+    p.move = mesh.tags[worst].source;
+    p.line = mesh.tags[worst].line;
+  }
   return p;
 }
 
@@ -150,7 +157,7 @@ const char* kViewerScript = R"JS(
   });
   draw();
   section.setAttribute('data-view3d', 'ready ' + indices.length / 3 + ' triangles, ' + frames + ' frames');
-  // report.html#selftest: look at the decisive vertex straight on and click the middle of the view,
+  // report.html#selftest: look at the decisive triangle's centroid straight on and click the middle of the view,
   // as a person would; the browser test reads the result.
   if (location.hash === '#selftest') {
     var probe = new THREE.Vector3().fromArray(D.probe.position);
@@ -163,8 +170,9 @@ const char* kViewerScript = R"JS(
     var cx = rect.left + rect.width / 2, cy = rect.top + rect.height / 2;
     renderer.domElement.dispatchEvent(new MouseEvent('pointerdown', {clientX: cx, clientY: cy, bubbles: true}));
     renderer.domElement.dispatchEvent(new MouseEvent('click', {clientX: cx, clientY: cy, bubbles: true}));
+    // A pixel of the part beside the marker: not the white background when WebGL really drew.
     var gl = renderer.getContext(), pixel = new Uint8Array(4);
-    gl.readPixels(Math.floor(gl.drawingBufferWidth / 2) + 3, Math.floor(gl.drawingBufferHeight / 2) + 3, 1, 1,
+    gl.readPixels(Math.floor(gl.drawingBufferWidth / 2) + 20, Math.floor(gl.drawingBufferHeight / 2), 1, 1,
                   gl.RGBA, gl.UNSIGNED_BYTE, pixel);
     section.setAttribute('data-selftest', 'picked ' + readout.getAttribute('data-deviation') + ' move ' +
                          readout.getAttribute('data-move') + ' line ' + readout.getAttribute('data-line') +
@@ -202,12 +210,13 @@ std::string view3d_html(const View3d& view, const std::string& three_dir) {
   namespace fs = std::filesystem;
   const fs::path three = fs::path(three_dir) / "three.min.js";
   const fs::path orbit = fs::path(three_dir) / "examples" / "js" / "controls" / "OrbitControls.js";
-  std::string out = "<section id=\"view3d\" data-view3d=\"loading\">\n<h3>3D view: " + html_escape(view.title) +
-                    "</h3>\n<p>Drag to rotate, wheel to zoom, right-drag to pan; click the part to read the "
-                    "deviation there and the move that made it.</p>\n" +
-                    legend_html(view) +
-                    "<div id=\"view3d-canvas\" style=\"width:100%;max-width:1000px;height:640px;"
-                    "border:1px solid #bbb\"></div>\n<p id=\"view3d-readout\">Click the part.</p>\n";
+  std::string out =
+      "<section id=\"view3d\" data-view3d=\"loading\">\n<h3>3D view: " + html_escape(view.title) +
+      "</h3>\n<p>Drag to rotate, wheel to zoom, right-drag to pan; click the part to read the "
+      "deviation there and the move that made it.</p>\n" +
+      legend_html(view) +
+      "<div id=\"view3d-canvas\" style=\"width:100%;max-width:1000px;height:640px;"
+      "border:1px solid #bbb\"></div>\n<p id=\"view3d-readout\">Click the part.</p>\n";
   std::error_code error;
   if (!fs::is_regular_file(three, error) || !fs::is_regular_file(orbit, error)) {
     return out + "<p>3D view unavailable: three.js not found in " + html_escape(three_dir) +
@@ -234,8 +243,8 @@ std::string view3d_html(const View3d& view, const std::string& three_dir) {
     moves[t] = mesh.tags[t].source;
     lines[t] = mesh.tags[t].line;
   }
-  const Probe probe = worst_vertex(view);
-  const Eigen::Vector3d probe_at = mesh.vertices.empty() ? center : mesh.vertices[probe.vertex];
+  const Probe probe = worst_triangle(view);
+  const Eigen::Vector3d probe_at = mesh.triangles.empty() ? center : probe.at;
   nlohmann::json data = {
       {"unit", view.unit},
       {"band", {view.band_low, view.band_high}},
@@ -249,7 +258,7 @@ std::string view3d_html(const View3d& view, const std::string& three_dir) {
       {"probe",
        {{"position", {probe_at.x() - center.x(), probe_at.y() - center.y(), probe_at.z() - center.z()}},
         {"normal", {probe.normal.x(), probe.normal.y(), probe.normal.z()}},
-        {"value", view.values.empty() ? 0.0 : view.values[probe.vertex]},
+        {"value", probe.value},
         {"move", probe.move},
         {"line", probe.line}}}};
   out += "<script type=\"application/json\" id=\"view3d-data\">" + script_safe(data.dump()) + "</script>\n";

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 // The interactive 3D view of report.html: the part coloured by deviation, rotate and zoom
 // (three.js OrbitControls), click a point to read its deviation and the move that made it.
@@ -11,12 +12,12 @@
 namespace morphmill {
 
 struct View3d {
-  morph::TriangleMesh mesh;    ///< with face tags (move, G-code line) when known
-  std::vector<double> values;  ///< signed deviation per vertex, `unit`
-  raytest::ScalarRange range;  ///< colour range, centred on zero
+  morph::TriangleMesh mesh;            ///< with face tags (move, G-code line) when known
+  std::vector<double> values;          ///< signed deviation per vertex, `unit`
+  raytest::ScalarRange range;          ///< colour range, centred on zero
   double band_low = 0, band_high = 0;  ///< the tolerance band: gouge below, excess above, `unit`
   std::string unit;
-  std::string title;           ///< e.g. "Generator against the exact surface"
+  std::string title;  ///< e.g. "Generator against the exact surface"
 };
 
 /// The HTML block (a <section> with the canvas, legend, read-out, the embedded data and scripts).

@@ -7,8 +7,8 @@
 /// whose text (ticks, title with units, captions) cairo draws.
 #include <morph/mesh.h>
 
-#include <Eigen/Geometry>
 #include <raytest/heatmap.h>
+#include <Eigen/Geometry>
 
 #include <cstdint>
 #include <optional>
@@ -37,9 +37,9 @@ struct RenderOptions {
   /// Shade by the surface's angle to the light. Off, every pixel of the mesh has exactly its
   /// colour-map colour (for checks and for reading colours off the picture).
   bool lighting = true;
-  std::string caption;        ///< written at the top left (e.g. "iso view"); empty: none
-  std::string low_caption;    ///< under the colour bar (e.g. "- gouge"); empty: none
-  std::string high_caption;   ///< above the colour bar (e.g. "+ excess"); empty: none
+  std::string caption;       ///< written at the top left (e.g. "iso view"); empty: none
+  std::string low_caption;   ///< under the colour bar (e.g. "- gouge"); empty: none
+  std::string high_caption;  ///< above the colour bar (e.g. "+ excess"); empty: none
 };
 
 /// An 8-bit RGB image, rows top to bottom.
