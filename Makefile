@@ -44,8 +44,10 @@ bench: build
 # `make test-asan-full` builds and runs every suite.
 ASAN_TARGETS ?= morph_tests
 ASAN_CTEST ?= -L morph -LE slow
+# Extra CMake options of the sanitizer build, e.g. -DCMAKE_CXX_COMPILER_LAUNCHER=ccache.
+ASAN_CMAKE_FLAGS ?=
 test-asan: deps
-	cmake -S . -B $(ASAN_DIR) -DCMAKE_BUILD_TYPE=RelWithDebInfo -DMORPHMILL_SANITIZE=ON -DMORPHMILL_BUILD_BENCHMARKS=OFF
+	cmake -S . -B $(ASAN_DIR) -DCMAKE_BUILD_TYPE=RelWithDebInfo -DMORPHMILL_SANITIZE=ON -DMORPHMILL_BUILD_BENCHMARKS=OFF $(ASAN_CMAKE_FLAGS)
 	cmake --build $(ASAN_DIR) -j $(JOBS) --target $(ASAN_TARGETS)
 	cd $(ASAN_DIR) && ctest --output-on-failure -j $(JOBS) $(ASAN_CTEST)
 

@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: Apache-2.0
 #include <morph/exceptions.h>
 #include <raytest/deviation.h>
+#include <tbb/parallel_sort.h>
 
 #include <algorithm>
 #include <cmath>
@@ -76,8 +77,9 @@ DeviationStats compute_stats(std::vector<double> values, const StatsOptions& opt
   values.erase(finite_end, values.end());
   stats.count = values.size();
   if (values.empty()) return stats;
-  // Sorting first makes every sum independent of the order the values were produced in.
-  std::sort(values.begin(), values.end());
+  // Sorting first makes every sum independent of the order the values were produced in (and of
+  // the threads: a sort's result is one sequence whatever the algorithm).
+  tbb::parallel_sort(values.begin(), values.end());
   stats.min = values.front();
   stats.max = values.back();
   long double sum = 0, sum_abs = 0, sum_squares = 0;
@@ -92,8 +94,15 @@ DeviationStats compute_stats(std::vector<double> values, const StatsOptions& opt
     const DeviationClass kind = classify(v, stats.band);
     gouge += kind == DeviationClass::Gouge;
     excess += kind == DeviationClass::Excess;
-    magnitudes[i] = std::abs(v);
   }
+  // |v| in ascending order without a second sort: the negative values reversed, merged with the rest.
+  const auto first_non_negative = std::lower_bound(values.begin(), values.end(), 0.0);
+  std::vector<double> negatives_reversed;
+  negatives_reversed.reserve(static_cast<std::size_t>(first_non_negative - values.begin()));
+  for (auto it = first_non_negative; it != values.begin();) negatives_reversed.push_back(-*--it);
+  std::merge(negatives_reversed.begin(), negatives_reversed.end(), first_non_negative, values.end(),
+             magnitudes.begin());
+  for (double& m : magnitudes) m = std::abs(m);  // -0.0 sorts among the non-negative values
   const auto n = static_cast<long double>(values.size());
   stats.mean = static_cast<double>(sum / n);
   stats.mean_abs = static_cast<double>(sum_abs / n);
@@ -104,7 +113,6 @@ DeviationStats compute_stats(std::vector<double> values, const StatsOptions& opt
   stats.share_within_band =
       static_cast<double>(values.size() - gouge - excess) / static_cast<double>(values.size());
   stats.band_histogram = band_histogram(values, stats.band, options.band_bins_per_side);
-  std::sort(magnitudes.begin(), magnitudes.end());
   stats.max_abs = magnitudes.back();
   stats.p50 = percentile_of_sorted(magnitudes, 50);
   stats.p90 = percentile_of_sorted(magnitudes, 90);

@@ -21,6 +21,8 @@
 #include <morph/sweep_polytope.h>
 #include <morph/tool_polytope.h>
 
+#include "generator2_bench_support.h"
+
 #include <cmath>
 #include <ctime>
 #include <deque>
@@ -31,51 +33,7 @@
 
 namespace {
 
-using Eigen::Vector3d;
-using Polygon = std::vector<Vector3d>;
-
-// Seconds of CPU time this thread has used: the machine is shared, so wall time would measure
-// the neighbours too.
-double thread_seconds() {
-  timespec t{};
-  clock_gettime(CLOCK_THREAD_CPUTIME_ID, &t);
-  return static_cast<double>(t.tv_sec) + 1e-9 * static_cast<double>(t.tv_nsec);
-}
-
-constexpr double kOnPlane = 1e-9;  // mm: a vertex this near a plane is on it (float ties)
-
-struct Plane {
-  Vector3d normal;
-  double offset;
-  double value(const Vector3d& p) const { return normal.dot(p) - offset; }
-};
-
-// Splits a convex polygon by a plane into the part above it (value > 0) and the part below.
-void split(const Polygon& polygon, const Plane& plane, Polygon& above, Polygon& below) {
-  above.clear();
-  below.clear();
-  const std::size_t n = polygon.size();
-  for (std::size_t i = 0; i < n; ++i) {
-    const Vector3d &p = polygon[i], &q = polygon[(i + 1) % n];
-    const double vp = plane.value(p), vq = plane.value(q);
-    if (vp >= -kOnPlane) above.push_back(p);
-    if (vp <= kOnPlane) below.push_back(p);
-    if ((vp > kOnPlane && vq < -kOnPlane) || (vp < -kOnPlane && vq > kOnPlane)) {
-      const Vector3d x = p + (q - p) * (vp / (vp - vq));
-      above.push_back(x);
-      below.push_back(x);
-    }
-  }
-  if (above.size() < 3) above.clear();
-  if (below.size() < 3) below.clear();
-}
-
-double area(const Polygon& polygon) {
-  Vector3d sum = Vector3d::Zero();
-  for (std::size_t i = 1; i + 1 < polygon.size(); ++i)
-    sum += (polygon[i] - polygon[0]).cross(polygon[i + 1] - polygon[0]);
-  return 0.5 * sum.norm();
-}
+using namespace generator2_bench;
 
 // A surviving facet piece (inside the stock) and the planes of each sweep that may cut it.
 struct Survivor {
@@ -135,23 +93,6 @@ class CutterCache {
   std::unordered_map<std::size_t, std::unique_ptr<Cutter>> cache_;
   std::deque<std::size_t> order_;
 };
-
-morph::Job bear_job(const std::string& path) {
-  morph::GcodeOptions options;
-  options.initial_tool = 1;
-  morph::GcodeResult program = morph::read_gcode(path, options);
-  morph::Job job;
-  job.name = "bear";
-  job.stock.type = morph::StockType::Box;
-  job.stock.box = Eigen::AlignedBox3d(Vector3d(0, 0, -20), Vector3d(80, 80, 0));
-  morph::Tool tool = morph::ball_tool(1.5875, 25.4);
-  tool.number = 1;
-  job.tools[1] = tool;
-  job.tolerance = 0.01;
-  for (morph::Move& m : program.path.moves) m.tool = 1;
-  job.paths.push_back(program.path);
-  return job;
-}
 
 // Facets of `sweep` inside `stock`, clustered, proven away or kept with their cutters' planes
 // and clipped at once (clip() timed on its own).
@@ -277,37 +218,9 @@ void cull_sweep(std::size_t i, const morph::ConvexPolytope& sweep, const Eigen::
   }
 }
 
-// The naive clipping: the survivor minus the union of its cutters, convex piece by convex piece.
+// The naive clipping of a survivor by the union of its cutters.
 void clip(const Survivor& survivor, Counts& counts) {
-  std::vector<Polygon> pieces{survivor.polygon}, next;
-  Polygon above, below, rest;
-  for (const std::vector<Plane>& cutter : survivor.cutters) {
-    next.clear();
-    for (const Polygon& piece : pieces) {
-      // A piece on or above one of the cutter's planes misses it: kept whole, not split.
-      bool misses = false;
-      for (const Plane& plane : cutter) {
-        misses = true;
-        for (const Vector3d& p : piece) misses = misses && plane.value(p) >= -kOnPlane;
-        if (misses) break;
-      }
-      if (misses) {
-        next.push_back(piece);
-        continue;
-      }
-      rest = piece;
-      for (const Plane& plane : cutter) {
-        split(rest, plane, above, below);
-        if (!above.empty()) next.push_back(above);
-        rest.swap(below);
-        if (rest.empty()) break;
-      }
-    }
-    pieces.swap(next);
-    if (pieces.empty()) break;
-  }
-  counts.pieces += static_cast<double>(pieces.size());
-  for (const Polygon& piece : pieces) counts.kept_area += area(piece);
+  generator2_bench::clip(survivor.polygon, survivor.cutters, counts.pieces, counts.kept_area);
 }
 
 void BM_Generator2SpikeBear(benchmark::State& state) {
@@ -347,16 +260,6 @@ void BM_Generator2SpikeBear(benchmark::State& state) {
     morph::Job cut = job;
     cut.paths.front().moves = moves;
     const morph::ErodeResult today = morph::erode(cut);
-    double sweep_area = 0.0;
-    for (std::size_t t = 0; t < today.mesh.triangles.size(); ++t) {
-      const morph::PatchKind kind = today.mesh.tags[t].kind;
-      if (kind != morph::PatchKind::SideSweep && kind != morph::PatchKind::FrontSweep) continue;
-      const auto& tri = today.mesh.triangles[t];
-      const Vector3d &a = today.mesh.vertices[tri[0]], &b = today.mesh.vertices[tri[1]],
-                     &c = today.mesh.vertices[tri[2]];
-      sweep_area += 0.5 * (b - a).cross(c - a).norm();
-    }
-
     auto& c = state.counters;
     c["moves"] = static_cast<double>(moves.size());
     c["tool_facets"] = static_cast<double>(tool_polytope.polytope.facets.size());
@@ -373,7 +276,7 @@ void BM_Generator2SpikeBear(benchmark::State& state) {
     c["float_ties"] = counts.ties;
     c["pieces_out"] = counts.pieces;
     c["kept_area_mm2"] = counts.kept_area;
-    c["erode_sweep_area_mm2"] = sweep_area;
+    c["erode_sweep_area_mm2"] = sweep_area(today);
     c["s_build_1core"] = build;
     c["s_cull_1core"] = cull;
     c["s_clip_1core"] = clipping;

@@ -9,13 +9,30 @@
 ///   it at the start and at the end: a level move's flat bottom, a plunging cylinder's sides.
 /// The segment is taken unordered (its ends sorted), so a move and its retrace give the same
 /// polytope, bit for bit.
+///
+/// Facet order (later stages name facets by it): facet f < tool.facets.size() is the tool's facet
+/// f, placed at the start, at the end or swept by motion_side(); then one parallelogram per
+/// silhouette edge, in the order of edges().
 #include <morph/convex_polytope.h>
 
 #include <Eigen/Core>
 #include <cstdint>
+#include <utility>
 #include <vector>
 
 namespace morph {
+
+/// Where a tool facet of outward unit normal `normal` goes in the sweep along `motion`: -1 at the
+/// start (n·v < 0), +1 at the end (n·v > 0), 0 swept whole (|n·v| within 1e-12·|v|). Exactly
+/// antisymmetric: motion_side(n, -v) == -motion_side(n, v), so the side does not depend on which
+/// end of the segment the builder takes first.
+int motion_side(const Eigen::Vector3d& normal, const Eigen::Vector3d& motion);
+
+/// A halfspace normal·x <= offset.
+struct Halfspace {
+  Eigen::Vector3d normal;
+  double offset;
+};
 
 /// Builds sweeps of one tool polytope; the tool's edge adjacency is found once.
 class SweepPolytopeBuilder {
@@ -27,13 +44,32 @@ class SweepPolytopeBuilder {
   /// shorter than 1e-12 of the tool's size gives the tool itself at `start`.
   ConvexPolytope operator()(const Eigen::Vector3d& start, const Eigen::Vector3d& end) const;
 
+  /// The facets' halfspaces of operator()(start, end), in its facet order and bit for bit the
+  /// same values, without building the facets' loops (a few microseconds instead of ~100).
+  std::vector<Halfspace> halfspaces(const Eigen::Vector3d& start, const Eigen::Vector3d& end) const;
+
+  /// True when the move is too short to have a direction: its sweep is the tool at `start`.
+  bool degenerate(const Eigen::Vector3d& start, const Eigen::Vector3d& end) const;
+
   const ConvexPolytope& tool() const { return tool_; }
 
- private:
   struct Edge {
     int from, to;     ///< vertices, as they run in facet `left`
     int left, right;  ///< the facet holding from->to, and the one holding to->from
   };
+  /// The tool's edges, sorted by (from, to): the order of the silhouette parallelograms.
+  const std::vector<Edge>& edges() const { return edges_; }
+
+  /// The motion's ends in the builder's order (lexicographically smaller first): facets at the
+  /// start are placed at .first, those at the end at .second.
+  static std::pair<Eigen::Vector3d, Eigen::Vector3d> ordered(const Eigen::Vector3d& start,
+                                                             const Eigen::Vector3d& end);
+
+  /// The halfspace of the parallelogram on silhouette edge `e` along `motion` from the ordered
+  /// start `a` (as operator() computes it).
+  Halfspace silhouette_plane(const Edge& e, const Eigen::Vector3d& a, const Eigen::Vector3d& motion) const;
+
+ private:
   ConvexPolytope tool_;
   std::vector<Edge> edges_;
   double size_ = 0.0;

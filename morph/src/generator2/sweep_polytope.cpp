@@ -65,6 +65,11 @@ std::vector<int> swept_face(const ConvexPolytope& tool, const PolytopeFacet& fac
 
 }  // namespace
 
+int motion_side(const Vector3d& normal, const Vector3d& motion) {
+  const double s = normal.dot(motion), length = motion.norm();
+  return s > kParallel * length ? 1 : s < -kParallel * length ? -1 : 0;
+}
+
 SweepPolytopeBuilder::SweepPolytopeBuilder(ConvexPolytope tool) : tool_(std::move(tool)) {
   if (tool_.facets.empty()) throw InputError("sweep polytope: the tool polytope is empty");
   std::unordered_map<std::uint64_t, int> owner;
@@ -85,21 +90,51 @@ SweepPolytopeBuilder::SweepPolytopeBuilder(ConvexPolytope tool) : tool_(std::mov
   size_ = tool_.bounds().diagonal().norm();
 }
 
-ConvexPolytope SweepPolytopeBuilder::operator()(const Vector3d& start, const Vector3d& end) const {
-  // Unordered: the lexicographically smaller end first.
+std::pair<Vector3d, Vector3d> SweepPolytopeBuilder::ordered(const Vector3d& start, const Vector3d& end) {
   const bool swap = std::lexicographical_compare(end.data(), end.data() + 3, start.data(), start.data() + 3);
-  const Vector3d& a = swap ? end : start;
-  const Vector3d& b = swap ? start : end;
+  return swap ? std::pair{end, start} : std::pair{start, end};
+}
+
+bool SweepPolytopeBuilder::degenerate(const Vector3d& start, const Vector3d& end) const {
+  const auto [a, b] = ordered(start, end);
+  return !((b - a).norm() > 1e-12 * size_);
+}
+
+Halfspace SweepPolytopeBuilder::silhouette_plane(const Edge& e, const Vector3d& a,
+                                                 const Vector3d& motion) const {
+  Vector3d normal = (tool_.vertices[e.to] - tool_.vertices[e.from]).cross(motion).normalized();
+  if (normal.dot(tool_.facets[e.left].normal + tool_.facets[e.right].normal) < 0.0) normal = -normal;
+  return {normal, normal.dot(tool_.vertices[e.from] + a)};
+}
+
+std::vector<Halfspace> SweepPolytopeBuilder::halfspaces(const Vector3d& start, const Vector3d& end) const {
+  std::vector<Halfspace> planes;
+  planes.reserve(tool_.facets.size() + 128);
+  if (degenerate(start, end)) {
+    for (const PolytopeFacet& f : tool_.facets) planes.push_back({f.normal, f.offset + f.normal.dot(start)});
+    return planes;
+  }
+  const auto [a, b] = ordered(start, end);
   const Vector3d motion = b - a;
-  const double length = motion.norm();
-  if (!(length > 1e-12 * size_)) return tool_.translated(start);
+  std::vector<int> side(tool_.facets.size());
+  for (std::size_t f = 0; f < side.size(); ++f) {
+    const PolytopeFacet& facet = tool_.facets[f];
+    side[f] = motion_side(facet.normal, motion);
+    planes.push_back({facet.normal, facet.offset + facet.normal.dot(side[f] > 0 ? b : a)});
+  }
+  for (const Edge& e : edges_)
+    if (side[e.left] * side[e.right] < 0) planes.push_back(silhouette_plane(e, a, motion));
+  return planes;
+}
+
+ConvexPolytope SweepPolytopeBuilder::operator()(const Vector3d& start, const Vector3d& end) const {
+  if (degenerate(start, end)) return tool_.translated(start);
+  const auto [a, b] = ordered(start, end);
+  const Vector3d motion = b - a;
 
   // Side of each tool facet: -1 back (kept at a), +1 forward (kept at b), 0 swept whole.
   std::vector<int> side(tool_.facets.size());
-  for (std::size_t f = 0; f < side.size(); ++f) {
-    const double s = tool_.facets[f].normal.dot(motion);
-    side[f] = s > kParallel * length ? 1 : s < -kParallel * length ? -1 : 0;
-  }
+  for (std::size_t f = 0; f < side.size(); ++f) side[f] = motion_side(tool_.facets[f].normal, motion);
   const int n = static_cast<int>(tool_.vertices.size());
   ConvexPolytope sweep;
   std::vector<int> used(2 * n, -1);
@@ -132,13 +167,11 @@ ConvexPolytope SweepPolytopeBuilder::operator()(const Vector3d& start, const Vec
   for (const Edge& e : edges_) {
     const int s_left = side[e.left], s_right = side[e.right];
     if (s_left * s_right >= 0) continue;  // not a silhouette edge (or a swept face holds it)
-    Vector3d normal = (tool_.vertices[e.to] - tool_.vertices[e.from]).cross(motion).normalized();
-    if (normal.dot(tool_.facets[e.left].normal + tool_.facets[e.right].normal) < 0.0) normal = -normal;
-    const double offset = normal.dot(tool_.vertices[e.from] + a);
+    const Halfspace plane = silhouette_plane(e, a, motion);
     if (s_left < 0)
-      add({e.to, e.from, e.from + n, e.to + n}, normal, offset);
+      add({e.to, e.from, e.from + n, e.to + n}, plane.normal, plane.offset);
     else
-      add({e.from, e.to, e.to + n, e.from + n}, normal, offset);
+      add({e.from, e.to, e.to + n, e.from + n}, plane.normal, plane.offset);
   }
   return sweep;
 }

@@ -1,0 +1,55 @@
+// SPDX-License-Identifier: Apache-2.0
+#pragma once
+/// \file joint_culling.h
+/// Generator 2's first culling step: at a joint between consecutive moves i, i+1 of one path
+/// (the end of i is, bit for bit, the start of i+1; same tool; neither move degenerate), both
+/// sweep polytopes contain the tool at the joint J, and the caps they place there are decided
+/// from the facets' normals alone, with no distance and no plane test.
+///
+/// With v_i, v_{i+1} the motions in path order and F a tool facet of normal n:
+/// - a start cap facet F + J of P_{i+1} (n·v_{i+1} < 0) lies inside P_i when n·v_i < 0 (P_i holds
+///   the tool a little before J, whose interior covers F + J), lies in P_i's swept face of F when
+///   n·v_i = 0, and is P_i's own end cap facet F + J when n·v_i > 0 (a tie);
+/// - an end cap facet F + J of P_i (n·v_i > 0) lies inside P_{i+1} when n·v_{i+1} > 0, and is
+///   shared with P_{i+1} (its start cap or its swept face) otherwise.
+/// Ties follow generator 2's one order (the design's symbolic perturbation: sweeps expand by
+/// ε_0 ≫ ε_1 ≫ … in move order): the earlier move owns a shared facet. So every start cap facet
+/// of a joined P_{i+1} is culled, and P_i keeps exactly the lune n·v_i > 0 >= n·v_{i+1} of its
+/// end cap. "Side" is motion_side() (sweep_polytope.h), the one the sweep builder places facets by,
+/// so both moves read the same side of every facet.
+#include <morph/convex_polytope.h>
+#include <morph/path.h>
+#include <morph/sweep_polytope.h>
+
+#include <Eigen/Core>
+#include <cstdint>
+#include <optional>
+#include <vector>
+
+namespace morph {
+
+enum class JointVerdict : std::uint8_t {
+  Kept,             ///< not decided at a joint (swept faces, unjoined caps, the kept lune)
+  InsidePrevious,   ///< start cap facet inside the previous move's polytope
+  OwnedByPrevious,  ///< start cap facet coinciding with a facet of the previous polytope
+  InsideNext,       ///< end cap facet inside the next move's polytope
+};
+
+/// The joint verdict of every tool facet of a move's sweep (sweep facets 0 … tool.facets.size()-1
+/// in the builder's order; silhouette parallelograms are never decided here). `motion`,
+/// `previous_motion` and `next_motion` are end minus start in path order; a neighbour is given
+/// only when joined (see joined_at_joint()).
+std::vector<JointVerdict> joint_verdicts(const ConvexPolytope& tool, const Eigen::Vector3d& motion,
+                                         const std::optional<Eigen::Vector3d>& previous_motion,
+                                         const std::optional<Eigen::Vector3d>& next_motion);
+
+/// True when `next` follows `move` at a joint the verdicts may use: both straight, the same
+/// tool, `move`'s end is `next`'s start bit for bit, and neither is degenerate for `sweeps`.
+bool joined_at_joint(const SweepPolytopeBuilder& sweeps, const Move& move, const Move& next);
+
+/// True for a culled verdict.
+inline bool culled(JointVerdict v) {
+  return v != JointVerdict::Kept;
+}
+
+}  // namespace morph

@@ -1,0 +1,130 @@
+// SPDX-License-Identifier: Apache-2.0
+#pragma once
+/// \file sweep_culling.h
+/// Generator 2's culling stage: of every move's sweep polytope P_i (sweep_polytope.h), the facets
+/// that can bound the union of the sweeps inside the stock, and for each the moves whose
+/// polytopes may cut it, with the planes of theirs that cross it. The facets' loops are never
+/// built here: a facet is a tool facet or edge placed at the move's ends, so its box, ball and
+/// vertices come from the tool. Cheapest proofs first:
+/// 1. joints, by the facets' normals alone (joint_culling.h);
+/// 2. the stock box (a facet wholly outside one of its planes);
+/// 3. move against move: candidates from the sweeps' boxes (AabbTree), a retraced move (the same
+///    polytope bit for bit) culled whole or dropped whole by the tie order;
+/// 4. clusters of facets, then facets, against each candidate's capsules and swept cylinders
+///    (tool_bounds.h): inside proves culled, missing drops the candidate; a candidate wholly
+///    below the facet's plane (the sweeps' support functions differ only by their ends) drops too;
+/// 5. what is left, by the candidate's halfspaces: every vertex below every plane culls the facet
+///    (a convex facet in a convex polytope), every vertex above one plane drops the candidate,
+///    else the candidate cuts the facet with the planes that cross it; when a point of the facet
+///    is inside the candidate, only the planes of its faces whose boxes meet the facet's.
+/// Signs within a rounding bound of zero are not decided here: the candidate stays a cutter, for
+/// the clipping's exact predicates. Ties are settled by generator 2's one order: sweeps expand
+/// by ε_0 ≫ ε_1 ≫ … in move order, so the earlier move owns a shared facet (a facet in a plane of
+/// an earlier polytope, bit for bit, counts as below it; of a later one, as above it).
+#include <morph/path.h>
+#include <morph/sweep_polytope.h>
+#include <morph/tool_bounds.h>
+
+#include <Eigen/Geometry>
+#include <cstdint>
+#include <memory>
+#include <unordered_map>
+#include <vector>
+
+namespace morph {
+
+class AabbTree;
+
+/// A move whose polytope may cut a kept facet, and the indices of its halfspaces (in
+/// SweepPolytopeBuilder::halfspaces() order) that cross the facet: the facet's part inside the
+/// polytope is its part below all of these.
+struct FacetCutter {
+  std::uint32_t move = 0;
+  std::vector<int> planes;
+};
+
+struct KeptFacet {
+  int facet = 0;  ///< index in the sweep's facet order (sweep_polytope.h)
+  std::vector<FacetCutter> cutters;
+};
+
+/// What each proof decided, summed over the moves culled.
+struct CullingCounts {
+  double facets = 0, by_joint = 0, outside_stock = 0, by_retrace = 0, by_cluster_bound = 0,
+         by_facet_bound = 0;
+  double by_shared_cap = 0, by_planes = 0, kept = 0, cutters = 0, cutting_planes = 0;
+  double candidates = 0, bound_tests = 0, plane_tests = 0;
+  /// Candidates dropped for a facet because they lie wholly below its plane (support functions).
+  double apart_by_support = 0;
+  /// Candidates' faces placed (not found in the scratch).
+  double candidates_placed = 0;
+  /// Cutters kept with every crossing plane: no point of the facet proven inside within rounding.
+  double without_witness = 0;
+  CullingCounts& operator+=(const CullingCounts& o);
+};
+
+class SweepCulling {
+ public:
+  /// A facet of a candidate sweep as the plane tests need it: its halfspace and its box.
+  struct Face {
+    Halfspace plane;
+    Eigen::AlignedBox3d box;  ///< grown by the rounding bound
+  };
+  /// A candidate sweep's faces, in facet order, with what finds them from the tool's facets
+  /// and edges: the side of each tool facet and the face of each silhouette edge (-1: none).
+  struct Faces {
+    std::vector<Face> face;
+    std::vector<signed char> side;
+    std::vector<int> face_of_edge;
+    Eigen::Vector3d a, b;  ///< the ordered ends (both the start for a degenerate move)
+  };
+  /// Per-thread working memory: the faces of recent candidates, which the next moves share.
+  class Scratch {
+    friend class SweepCulling;
+    std::unordered_map<std::uint32_t, std::size_t> slot_of_;  ///< move -> index in recent_
+    std::vector<std::pair<std::uint32_t, Faces>> recent_;
+    std::size_t next_ = 0;
+    std::vector<int> near_faces_;
+  };
+
+  /// `moves`: straight moves of the one tool of `sweeps`, in job order (the tie order), paths
+  /// concatenated; `joined[i]` says move i follows move i-1 at a joint (joined_at_joint()).
+  /// Throws InputError for an arc or mismatched sizes.
+  SweepCulling(const SweepPolytopeBuilder& sweeps, std::vector<Move> moves, std::vector<bool> joined,
+               const Eigen::AlignedBox3d& stock);
+  ~SweepCulling();
+
+  /// The kept facets of move i's sweep, in facet order. Thread-safe with one Scratch per thread.
+  std::vector<KeptFacet> cull(std::size_t i, CullingCounts& counts, Scratch& scratch) const;
+  std::vector<KeptFacet> cull(std::size_t i, CullingCounts& counts) const {
+    Scratch scratch;
+    return cull(i, counts, scratch);
+  }
+
+  std::size_t size() const { return moves_.size(); }
+
+ private:
+  struct Placed;
+  void place(std::size_t i, std::vector<Placed>& facets) const;
+  const Faces& faces(std::uint32_t j, Scratch& scratch, CullingCounts& counts) const;
+  enum class Against { Apart, Inside, Cuts };
+  Against against(const Placed& p, std::size_t i, std::uint32_t j, const std::vector<Eigen::Vector3d>& points,
+                  const Faces& faces, std::vector<int>& near_faces, std::vector<int>& planes,
+                  CullingCounts& counts) const;
+
+  const SweepPolytopeBuilder& sweeps_;
+  std::vector<Move> moves_;
+  std::vector<bool> joined_;
+  Eigen::AlignedBox3d stock_;
+  ToolBounds bounds_;
+  std::vector<Eigen::AlignedBox3d> tool_facet_boxes_;
+  std::vector<Eigen::Vector3d> tool_facet_centres_;
+  std::vector<double> tool_facet_radii_;
+  std::vector<std::int64_t> tool_facet_cell_;  ///< cluster of each tool facet (a grid cell of its centre)
+  double rounding_ = 0.0;                      ///< plane values within this of zero are undecided
+  std::unique_ptr<AabbTree> tree_;             ///< the sweeps' boxes
+  std::unique_ptr<AabbTree> tool_facet_tree_;  ///< the tool facets' boxes (grown by the rounding)
+  std::unique_ptr<AabbTree> tool_edge_tree_;   ///< the tool edges' boxes (grown by the rounding)
+};
+
+}  // namespace morph
