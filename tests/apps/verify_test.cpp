@@ -172,57 +172,6 @@ TEST_F(VerifySingleSlot, PicturesShowEveryViewAtTheResolutionAsked) {
   }
 }
 
-// The interactive 3D view in a real browser: three.js loads from the report itself (no network),
-// WebGL draws, and a click on the decisive vertex reads its deviation and move back.
-TEST_F(VerifySingleSlot, ThreeDViewLoadsAndAClickReadsTheDeviation) {
-  const fs::path report = *out_ / "report.html";
-  const std::string page = slurp(report);
-  EXPECT_EQ(page.find("<script src="), std::string::npos) << "the report must not load anything";
-  EXPECT_EQ(page.find("http://"), std::string::npos);
-  const std::string open = "<script type=\"application/json\" id=\"view3d-data\">";
-  const std::size_t begin = page.find(open);
-  ASSERT_NE(begin, std::string::npos);
-  const std::size_t end = page.find("</script>", begin);
-  const auto data = nlohmann::json::parse(page.substr(begin + open.size(), end - begin - open.size()));
-  EXPECT_EQ(data["unit"], "mm");
-  EXPECT_DOUBLE_EQ(data["band"][1].get<double>(), 0.01);
-  const double probe = data["probe"]["value"].get<double>();
-  // WebGL in headless Chromium runs on SwiftShader (software), which it now wants asked for.
-  const CommandResult browser =
-      run("chromium --headless --no-sandbox --disable-gpu --enable-unsafe-swiftshader --disable-quic "
-          "--no-first-run --disable-background-networking --disable-component-update --disable-sync "
-          "--user-data-dir=" +
-          scratch("chromium_profile_3d").string() +
-          " --window-size=1200,2400 --virtual-time-budget=20000 --dump-dom 'file://" + report.string() +
-          "#selftest'");
-  ASSERT_EQ(browser.exit_code, 0) << browser.output.substr(0, 2000);
-  std::smatch ready;
-  ASSERT_TRUE(std::regex_search(browser.output, ready,
-                                std::regex("data-view3d=\"ready (\\d+) triangles, (\\d+) frames")))
-      << browser.output.substr(0, 3000);
-  EXPECT_GT(std::stoi(ready[1]), 1000);
-  EXPECT_GE(std::stoi(ready[2]), 1);
-  // The self-test clicked the middle of a view looking straight at the decisive triangle's centroid:
-  // the read-out is that triangle's value (the mean of its corners), move and G-code line, and the
-  // part was drawn (a pixel beside the marker is not the white background).
-  std::smatch picked;
-  ASSERT_TRUE(std::regex_search(
-      browser.output, picked,
-      std::regex(
-          "data-selftest=\"picked ([-+0-9.e]+) move (-?\\d+) line (-?\\d+) pixel (\\d+),(\\d+),(\\d+)")))
-      << browser.output.substr(0, 3000);
-  EXPECT_GT(std::abs(probe), 1e-4) << "the decisive triangle of single_slot deviates by a chord's sagitta";
-  EXPECT_NEAR(std::stod(picked[1]), probe, 1e-3 * std::abs(probe));
-  EXPECT_EQ(std::stoi(picked[2]), data["probe"]["move"].get<int>());
-  EXPECT_EQ(std::stoi(picked[3]), data["probe"]["line"].get<int>());
-  EXPECT_GE(std::stoi(picked[2]), 0) << "the decisive place was made by a move";
-  EXPECT_NE(picked[4].str() + "," + picked[5].str() + "," + picked[6].str(), "255,255,255");
-  EXPECT_NE(browser.output.find(probe > 0 ? "deviation +" : "deviation -"), std::string::npos)
-      << "the read-out shows the signed value";
-  EXPECT_NE(browser.output.find("(G-code line " + std::to_string(data["probe"]["line"].get<int>()) + ")"),
-            std::string::npos);
-}
-
 TEST(VerifyBadInput, TruncatedGcodeAndMissingStockMeshExitWithTwo) {
   const fs::path dir = scratch("bad_input");
   {

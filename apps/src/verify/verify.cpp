@@ -3,7 +3,6 @@
 
 #include "cli/commands.h"
 #include "io/deviation_files.h"
-#include "verify/view3d.h"
 
 #include <fmt/format.h>
 #include <morph/aabb_tree.h>
@@ -25,7 +24,6 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
-#include <functional>
 #include <map>
 #include <numeric>
 #include <optional>
@@ -266,24 +264,6 @@ std::vector<std::string> write_heatmap(morph::TriangleMesh mesh, const std::stri
     written.push_back(file.filename().string());
   }
   return written;
-}
-
-// The 3D view's surface: the part refined to about 1/150 of its size (at most 150k triangles, so
-// the report stays a few MB) with `value` at every vertex.
-View3d view3d_of(const morph::TriangleMesh& mesh, const std::function<double(const Eigen::Vector3d&)>& value,
-                 double band, const std::string& unit, const std::string& title) {
-  const double diagonal = morph::bounds(mesh).diagonal().norm();
-  View3d view;
-  view.mesh = raytest::refine_long_edges(mesh, std::max(diagonal / 150.0, 1e-9), 150'000).mesh;
-  view.values.resize(view.mesh.vertex_count());
-  morph::for_each_index(morph::ExecutionPolicy::Parallel, 0, view.values.size(),
-                        [&](std::size_t i) { view.values[i] = value(view.mesh.vertices[i]); });
-  view.range = {-2.0 * band, 2.0 * band};
-  view.band_low = -band;
-  view.band_high = band;
-  view.unit = unit;
-  view.title = title;
-  return view;
 }
 
 }  // namespace
@@ -563,7 +543,6 @@ VerifyOutcome run_verify(const VerifyOptions& options) {
 
   const morph::ErosionField field(out.job);
   StageClock picture_clock(out.stages);
-  std::string view3d;  // the report's interactive 3D view
   if (!generator_ran) {
     picture_clock.run("pictures", [&] {
       std::vector<double> reference_exact(reference_mesh.vertex_count());
@@ -574,10 +553,6 @@ VerifyOutcome run_verify(const VerifyOptions& options) {
       write_heatmap(reference_mesh, "deviation_exact", reference_exact, dir / "reference_vs_exact.ply",
                     dir / "reference_vs_exact.png", unit, options.image_width, options.image_height, bound,
                     provenance);
-      view3d = view3d_html(view3d_of(
-                               reference_mesh, [&](const Eigen::Vector3d& p) { return field.value(p); },
-                               bound, unit, "Reference against the exact surface"),
-                           default_three_dir());
       raytest::RenderOptions plain;
       plain.width = options.image_width;
       plain.height = options.image_height;
@@ -635,10 +610,6 @@ VerifyOutcome run_verify(const VerifyOptions& options) {
           morph_display, "deviation_exact", morph_exact, dir / "morph_vs_exact.ply",
           dir / "morph_vs_exact.png", unit, w, h, out.tolerance, provenance, standard_views(closeup));
       out.files.insert(out.files.end(), views.begin() + 1, views.end());
-      view3d = view3d_html(view3d_of(
-                               morph_mesh, [&](const Eigen::Vector3d& p) { return field.value(p); },
-                               out.tolerance, unit, "Generator against the exact surface"),
-                           default_three_dir());
       write_heatmap(morph_display, "deviation_reference", morph_reference, dir / "morph_vs_reference.ply",
                     dir / "morph_vs_reference.png", unit, w, h, out.agreement_bound, provenance);
       write_heatmap(reference_mesh, "deviation_exact", reference_exact, dir / "reference_vs_exact.ply",
@@ -676,16 +647,6 @@ VerifyOutcome run_verify(const VerifyOptions& options) {
                         dir / "machined_vs_design.ply", dir / "machined_vs_design.png", unit,
                         options.image_width, options.image_height, reach / 2.0, provenance, design_views);
       out.files.insert(out.files.end(), views.begin() + 1, views.end());
-      // What a machinist acts on: the 3D view shows the machined part against the design.
-      const raytest::SurfaceQuery design_query(design_mesh);
-      View3d design_view = view3d_of(
-          morph_mesh, [](const Eigen::Vector3d&) { return 0.0; }, reach / 2.0, unit,
-          "Machined result against the design");
-      design_view.values =
-          raytest::vertex_deviation(design_view.mesh, design_query, raytest::DeviationMode::Signed);
-      design_view.band_low = compare.band.low;
-      design_view.band_high = compare.band.high;
-      view3d = view3d_html(design_view, default_three_dir());
       out.design.refined = {};
       out.design.point_values.clear();
       out.files.insert(out.files.end(),
@@ -712,7 +673,7 @@ VerifyOutcome run_verify(const VerifyOptions& options) {
     if (fs::exists(dir / "machined_vs_design_closeup.png"))
       pictures.push_back({"Machined result against the design, close-up", "machined_vs_design_closeup.png"});
   }
-  write_reports(out, options.out_dir, pictures, view3d);
+  write_reports(out, options.out_dir, pictures);
   out.files.insert(out.files.end(), {"report.md", "report.html"});
   return out;
 }
