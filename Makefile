@@ -6,7 +6,7 @@ JOBS ?= $(shell nproc)
 CMAKE_FLAGS ?= -DCMAKE_BUILD_TYPE=Release
 DEMO_OUT ?= out/demo
 
-.PHONY: all deps configure build test test-slurm demo bench test-asan test-asan-full fuzz format clean
+.PHONY: all deps configure build test test-slurm demo demo-all bench test-asan test-asan-full fuzz format clean
 
 all: build
 
@@ -31,10 +31,15 @@ test-slurm: build
 	bash scripts/slurm-local.sh install || echo "test-slurm: Slurm packages not installed (above); the test says whether it can run"
 	cd $(BUILD_DIR) && MORPHMILL_SLURM_TEST=1 ctest --output-on-failure -L slurm
 
-# Builds only the program (not the tests and benchmarks), then verifies the bundled examples into out/demo.
+# Builds only the program (not the tests and benchmarks), then verifies two bundled examples into
+# out/demo in seconds; demo-all adds the other three CAMotics projects (minutes).
 demo: configure
 	cmake --build $(BUILD_DIR) -j $(JOBS) --target morphmill
 	bash scripts/demo.sh $(BUILD_DIR)/apps/morphmill $(DEMO_OUT)
+
+demo-all: configure
+	cmake --build $(BUILD_DIR) -j $(JOBS) --target morphmill
+	bash scripts/demo.sh $(BUILD_DIR)/apps/morphmill $(DEMO_OUT) --all
 
 bench: build
 	bash scripts/bench.sh $(BUILD_DIR)

@@ -109,6 +109,101 @@ TEST_F(CliConventions, ErodeWritesItsSummaryAsJson) {
   EXPECT_EQ(summary["output"], path("part.ply"));
 }
 
+// verify, compare, stress, stress-merge and study write their JSON summary into --output as
+// before; `--json [FILE]` writes the same document to FILE, or alone on standard output.
+class JsonSummaries : public CliConventions {
+ protected:
+  /// Runs `arguments` with standard error discarded, so the output is standard output alone.
+  morphmill_test::CommandResult stdout_of(const std::string& arguments) const {
+    return run_command(std::string("('") + MORPHMILL_BINARY + "' " + arguments + " 2>/dev/null)");
+  }
+  nlohmann::json read(const std::string& file) const {
+    std::ifstream in(file);
+    return nlohmann::json::parse(in);
+  }
+};
+
+TEST_F(JsonSummaries, VerifyWritesDeviationJsonToAFileOrToStandardOutput) {
+  const std::string job = kData + "/jobs/single_slot.json";
+  const std::string fast = " --reference-only --voxel 0.5 --samples 2000";
+  const auto to_file = morphmill("verify '" + job + "' -o '" + path("a") + "'" + fast + " --json '" +
+                                 path("verify.json") + "'");
+  ASSERT_EQ(to_file.exit_code, 0) << to_file.output;
+  EXPECT_NE(to_file.output.find("verdict HOLDS"), std::string::npos) << to_file.output;
+  const nlohmann::json written = read(path("verify.json"));
+  EXPECT_EQ(written, read(path("a") + "/deviation.json"));
+  EXPECT_EQ(written["format"], "morphmill-verify");
+  EXPECT_TRUE(written["verdict"]["holds"].get<bool>()) << written["verdict"];
+
+  const auto to_stdout = stdout_of("verify '" + job + "' -o '" + path("b") + "'" + fast + " --json");
+  ASSERT_EQ(to_stdout.exit_code, 0) << to_stdout.output;
+  EXPECT_EQ(nlohmann::json::parse(to_stdout.output), read(path("b") + "/deviation.json"));
+}
+
+TEST_F(JsonSummaries, CompareWritesItsSummaryAlsoWithoutAnOutputDirectoryAndWhenOutOfTheBand) {
+  const std::string job = kData + "/jobs/design_gouge_excess.json";
+  const auto with_dir = stdout_of("compare '" + job + "' -o '" + path("c") + "' --samples 2000 --json -");
+  ASSERT_EQ(with_dir.exit_code, 1) << with_dir.output;  // this design is gouged: out of the band
+  const nlohmann::json summary = nlohmann::json::parse(with_dir.output);
+  EXPECT_EQ(summary, read(path("c") + "/compare.json"));
+  EXPECT_EQ(summary["format"], "morphmill-compare");
+  EXPECT_FALSE(summary["within_band"].get<bool>());
+
+  const auto without_dir =
+      morphmill("compare '" + job + "' --samples 2000 --json '" + path("compare.json") + "'");
+  ASSERT_EQ(without_dir.exit_code, 1) << without_dir.output;
+  EXPECT_NE(without_dir.output.find("OUT OF THE BAND"), std::string::npos) << without_dir.output;
+  const nlohmann::json alone = read(path("compare.json"));
+  EXPECT_EQ(alone["per_point"], summary["per_point"]);  // same run, same numbers
+  EXPECT_EQ(alone["regions"], summary["regions"]);
+}
+
+TEST_F(JsonSummaries, StressAndStressMergeWriteSummaryJson) {
+  const auto run = morphmill("stress --cases 2 --seed 3 --samples 200 --threads 1 -o '" + path("s") +
+                             "' --json '" + path("stress.json") + "'");
+  ASSERT_TRUE(run.exit_code == 0 || run.exit_code == 1) << run.output;
+  const nlohmann::json summary = read(path("stress.json"));
+  EXPECT_EQ(summary, read(path("s") + "/summary.json"));
+  EXPECT_EQ(summary["cases_run"], 2);
+  EXPECT_EQ(summary["failed_cases"].get<int>() > 0, run.exit_code == 1);
+
+  const auto merged = stdout_of("stress-merge '" + path("s") + "' -o '" + path("m") + "' --json");
+  ASSERT_EQ(merged.exit_code, run.exit_code) << merged.output;
+  const nlohmann::json merged_summary = nlohmann::json::parse(merged.output);
+  EXPECT_EQ(merged_summary, read(path("m") + "/summary.json"));
+  EXPECT_TRUE(merged_summary["merged"].get<bool>());
+  EXPECT_EQ(merged_summary["cases_run"], 2);
+}
+
+TEST_F(JsonSummaries, DeviationWritesItsStatisticsToStandardOutputAlone) {
+  const std::string cube = kData + "/meshes/cube.stl";
+  const auto r = stdout_of("deviation '" + cube + "' '" + cube + "' --samples 500 --json");
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  const nlohmann::json stats = nlohmann::json::parse(r.output);
+  EXPECT_EQ(stats["format"], "morphmill-deviation");
+  EXPECT_LT(stats["hausdorff"].get<double>(), 1e-9);  // a mesh against itself
+  const auto to_file = morphmill("deviation '" + cube + "' '" + cube + "' --samples 500 --json '" +
+                                 path("deviation.json") + "'");
+  ASSERT_EQ(to_file.exit_code, 0) << to_file.output;
+  EXPECT_NE(to_file.output.find("Hausdorff distance"), std::string::npos) << to_file.output;
+  EXPECT_EQ(read(path("deviation.json"))["a_to_b"], stats["a_to_b"]);
+}
+
+TEST_F(JsonSummaries, StudyWritesStudyJson) {
+  const nlohmann::json study = {{"name", "json"},
+                                {"jobs", {kData + "/jobs/single_slot.json"}},
+                                {"sweep", {{"voxel_size", {0.5}}}},
+                                {"samples", 1000},
+                                {"image_size", {100, 80}}};
+  const std::string file = write_text("study.json", study.dump(2));
+  const auto r = stdout_of("study '" + file + "' -o '" + path("out") + "' --json");
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  const nlohmann::json table = nlohmann::json::parse(r.output);
+  EXPECT_EQ(table, read(path("out") + "/study.json"));
+  ASSERT_EQ(table["rows"].size(), 1u);
+  EXPECT_EQ(table["rows"][0]["error"], "");
+}
+
 TEST_F(CliConventions, ThreadsIsCheckedOnEveryCommand) {
   const auto r = morphmill("info '" + kData + "/jobs/slots.json' --threads -1");
   EXPECT_EQ(r.exit_code, 2) << r.output;

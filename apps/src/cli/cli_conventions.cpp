@@ -151,9 +151,13 @@ CLI::Option* add_json_option(CLI::App& command, std::string& path, const std::st
       ->type_name("[FILE]");
 }
 
+bool is_standard_output(const std::string& json_path) {
+  return json_path.empty() || json_path == "-";
+}
+
 void write_json(const nlohmann::json& document, const std::string& path) {
   const std::string text = document.dump(2) + "\n";
-  if (path.empty() || path == "-")
+  if (is_standard_output(path))
     std::cout << text << std::flush;
   else
     morph::write_file_atomically(path, text);

@@ -43,6 +43,9 @@ std::string suggestion_for(const CLI::App& app, const std::vector<std::string>& 
 /// `--json [FILE]`: write `what` as JSON to FILE (no value or '-': standard output).
 CLI::Option* add_json_option(CLI::App& command, std::string& path, const std::string& what);
 
+/// True when a `--json` value names standard output (no FILE, or '-').
+bool is_standard_output(const std::string& json_path);
+
 /// Writes `document` to `path` whole or not at all (morph::write_file_atomically), or to standard
 /// output when `path` is empty or '-'.
 void write_json(const nlohmann::json& document, const std::string& path);

@@ -13,6 +13,7 @@
 #include <iostream>
 #include <memory>
 
+#include "cli/cli_conventions.h"
 #include "cli/commands.h"
 #include "cli/terminal_progress.h"
 #include "io/deviation_files.h"
@@ -30,6 +31,8 @@ struct CompareArgs {
   double resolution = 0.0;
   std::size_t face_samples = 100000;
   std::uint64_t seed = 1;
+  std::string json_path;
+  CLI::Option* json_option = nullptr;
 };
 
 void print_comparison(const DesignComparison& c, const morph::Job& job, const std::string& design) {
@@ -83,7 +86,27 @@ void run_compare(const CompareArgs& args) {
   erode_options.progress = &progress;
   const morph::ErodeResult machined = morph::erode(job, erode_options);
   const DesignComparison comparison = compare_with_design(job, machined.mesh, design, options);
-  print_comparison(comparison, job, design_path);
+  const bool json_on_stdout = args.json_option->count() > 0 && is_standard_output(args.json_path);
+  if (!json_on_stdout) print_comparison(comparison, job, design_path);
+
+  std::vector<std::string> inputs = job_input_files(job);
+  inputs.push_back(design_path);
+  const Provenance provenance = make_provenance(inputs,
+                                                {{"command", "compare"},
+                                                 {"band", {options.band.low, options.band.high}},
+                                                 {"tolerance", erode_options.tolerance},
+                                                 {"resolution", args.resolution},
+                                                 {"samples", args.face_samples},
+                                                 {"seed", args.seed}},
+                                                morph::to_string(job.units));
+  nlohmann::json summary;
+  summary["format"] = "morphmill-compare";
+  summary["format_version"] = 1;  // docs/summary-schema.md
+  summary["provenance"] = to_json(provenance);
+  summary["units"] = morph::to_string(job.units);
+  summary.update(comparison_to_json(comparison, job));
+  summary["job"] = {{"name", job.name}, {"file", job.file}};
+  summary["design"] = design_path;
 
   if (!args.out_dir.empty()) {
     namespace fs = std::filesystem;
@@ -91,34 +114,18 @@ void run_compare(const CompareArgs& args) {
     fs::create_directories(args.out_dir, error);
     if (error)
       throw morph::IoError(args.out_dir + ": cannot create the output directory: " + error.message());
-    std::vector<std::string> inputs = job_input_files(job);
-    inputs.push_back(design_path);
-    const Provenance provenance = make_provenance(inputs,
-                                                  {{"command", "compare"},
-                                                   {"band", {options.band.low, options.band.high}},
-                                                   {"tolerance", erode_options.tolerance},
-                                                   {"resolution", args.resolution},
-                                                   {"samples", args.face_samples},
-                                                   {"seed", args.seed}},
-                                                  morph::to_string(job.units));
-    nlohmann::json j;
-    j["format"] = "morphmill-compare";
-    j["format_version"] = 1;  // docs/summary-schema.md
-    j["provenance"] = to_json(provenance);
-    j["units"] = morph::to_string(job.units);
-    j.update(comparison_to_json(comparison, job));
-    j["job"] = {{"name", job.name}, {"file", job.file}};
-    j["design"] = design_path;
     const fs::path dir(args.out_dir);
-    morph::write_file_atomically((dir / "compare.json").string(), j.dump(2) + "\n");
+    morph::write_file_atomically((dir / "compare.json").string(), summary.dump(2) + "\n");
     morph::TriangleMesh heat = comparison.refined.mesh;
     const double reach = std::max(-comparison.band.low, comparison.band.high) * 2.0;
     raytest::apply_heatmap(heat, "deviation", comparison.point_values, raytest::ColorMap::CoolWarm,
                            {-reach, reach});
     write_deviation_ply(heat, "deviation", (dir / "machined_vs_design.ply").string(), provenance);
     write_deviation_vtp(heat, "deviation", (dir / "machined_vs_design.vtp").string(), provenance);
-    fmt::print("  wrote {}/compare.json, machined_vs_design.ply and .vtp\n", args.out_dir);
+    if (!json_on_stdout)
+      fmt::print("  wrote {}/compare.json, machined_vs_design.ply and .vtp\n", args.out_dir);
   }
+  if (args.json_option->count() > 0) write_json(summary, args.json_path);
   if (!comparison.within_band()) throw VerdictFailed();
 }
 
@@ -157,6 +164,8 @@ void register_compare_command(CLI::App& app) {
   compare->add_option("--seed", args->seed, "Seed of the surface sampling")->capture_default_str();
   compare->add_option("-o,--output", args->out_dir,
                       "Directory for compare.json and machined_vs_design.ply/.vtp");
+  args->json_option =
+      add_json_option(*compare, args->json_path, "the summary (compare.json's content; also when exit 1)");
   compare->callback([args] { run_compare(*args); });
 }
 

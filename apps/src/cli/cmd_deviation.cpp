@@ -17,6 +17,7 @@
 #include <nlohmann/json.hpp>
 #include <optional>
 
+#include "cli/cli_conventions.h"
 #include "cli/commands.h"
 #include "cli/terminal_progress.h"
 #include "io/deviation_files.h"
@@ -135,6 +136,7 @@ struct DeviationArgs {
   std::vector<double> range;
   bool symmetric = false;
   std::string heatmap_path, vtp_path, png_path, json_path;
+  CLI::Option* json_option = nullptr;
   std::string units = "mesh units";
   std::string view = "iso";
   std::string size = "1200x900";
@@ -196,20 +198,23 @@ void run_deviation(const DeviationArgs& args) {
   }
   const double measure_seconds = measuring.seconds();
 
-  fmt::print("deviation of {} against {} ({} mode)\n", args.a_path, args.b_path, mode_name(options.mode));
-  if (options.mode != raytest::DeviationMode::Unsigned) fmt::print("sign: {}\n", raytest::kSignConvention);
-  print_stats("A -> B", result.a_to_b.stats);
-  print_groups(result.a_to_b.groups);
-  if (!args.one_sided) {
-    print_stats("B -> A", result.b_to_a.stats);
-    print_groups(result.b_to_a.groups);
-    fmt::print("Hausdorff distance (two-sided): {:.9g}\n", result.hausdorff);
+  const bool json_wanted = args.json_option->count() > 0;
+  if (!json_wanted || !is_standard_output(args.json_path)) {  // else standard output holds the JSON alone
+    fmt::print("deviation of {} against {} ({} mode)\n", args.a_path, args.b_path, mode_name(options.mode));
+    if (options.mode != raytest::DeviationMode::Unsigned) fmt::print("sign: {}\n", raytest::kSignConvention);
+    print_stats("A -> B", result.a_to_b.stats);
+    print_groups(result.a_to_b.groups);
+    if (!args.one_sided) {
+      print_stats("B -> A", result.b_to_a.stats);
+      print_groups(result.b_to_a.groups);
+      fmt::print("Hausdorff distance (two-sided): {:.9g}\n", result.hausdorff);
+    }
+    fmt::print("time: loading {:.3f} s, measuring {:.3f} s\n", load_seconds, measure_seconds);
   }
-  fmt::print("time: loading {:.3f} s, measuring {:.3f} s\n", load_seconds, measure_seconds);
 
   // Hashing the inputs costs a fraction of loading them; done only when files are written.
   std::optional<Provenance> provenance;
-  if (!args.heatmap_path.empty() || !args.vtp_path.empty() || !args.json_path.empty())
+  if (!args.heatmap_path.empty() || !args.vtp_path.empty() || json_wanted)
     provenance =
         make_provenance({args.a_path, args.b_path},
                         {{"command", "deviation"},
@@ -249,7 +254,7 @@ void run_deviation(const DeviationArgs& args) {
     picture_seconds = picturing.seconds();
   }
 
-  if (!args.json_path.empty()) {
+  if (json_wanted) {
     nlohmann::json j;
     j["format"] = "morphmill-deviation";
     j["format_version"] = 1;  // docs/summary-schema.md
@@ -270,7 +275,7 @@ void run_deviation(const DeviationArgs& args) {
       j["hausdorff"] = result.hausdorff;
     }
     j["seconds"] = {{"loading", load_seconds}, {"measuring", measure_seconds}, {"pictures", picture_seconds}};
-    morph::write_file_atomically(args.json_path, j.dump(2) + "\n");
+    write_json(j, args.json_path);
   }
 }
 
@@ -370,7 +375,7 @@ void register_deviation_commands(CLI::App& app) {
   deviation->add_option("--view", deviation_args->view, "picture view: iso, top, front")
       ->capture_default_str();
   deviation->add_option("--size", deviation_args->size, "picture size WIDTHxHEIGHT")->capture_default_str();
-  deviation->add_option("--json", deviation_args->json_path, "write the statistics to this JSON file");
+  deviation_args->json_option = add_json_option(*deviation, deviation_args->json_path, "the statistics");
   auto* range_option = deviation->add_option("--range", deviation_args->range, "fixed colour range LOW,HIGH")
                            ->delimiter(',')
                            ->expected(2);

@@ -13,6 +13,7 @@
 #include <memory>
 #include <nlohmann/json.hpp>
 
+#include "cli/cli_conventions.h"  // write_json
 #include "cli/commands.h"
 #include "cli/memory_cap.h"
 #include "cli/terminal_progress.h"
@@ -75,10 +76,6 @@ nlohmann::json stats_json(const morph::Job& job, const vdb_ref::ReferenceResult&
           {"outputs",
            {{"mesh", mesh_path},
             {"vdb", vdb_path.empty() ? nlohmann::json(nullptr) : nlohmann::json(vdb_path)}}}};
-}
-
-void write_json(const nlohmann::json& json, const std::string& path) {
-  morph::write_file_atomically(path, json.dump(2) + "\n");
 }
 
 void run_reference(const ReferenceCommandOptions& options) {

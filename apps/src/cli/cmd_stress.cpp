@@ -5,9 +5,10 @@
 #include <fstream>
 #include <iostream>
 
+#include "campaigns/stress.h"
+#include "cli/cli_conventions.h"
 #include "cli/commands.h"
 #include "cli/stop_signals.h"
-#include "campaigns/stress.h"
 #include "cli/terminal_progress.h"
 
 namespace morphmill {
@@ -30,6 +31,15 @@ void print_summary(const stress::Summary& summary, const std::string& out_dir) {
   std::cout << "  wall time " << json["wall_seconds"].get<double>() << " s, peak memory "
             << json["peak_rss_mib"].get<double>() << " MiB\n  summary: " << out_dir << "/summary.md\n";
   if (failed > 0) std::cout << "  failing jobs: " << out_dir << "/failures/\n";
+}
+
+/// The human summary on standard output, and the JSON one where --json says (standard output then
+/// holds the JSON alone).
+void report(const stress::Summary& summary, const std::string& out_dir, const CLI::Option* json_option,
+            const std::string& json_path) {
+  const bool json = json_option->count() > 0;
+  if (!json || !is_standard_output(json_path)) print_summary(summary, out_dir);
+  if (json) write_json(stress::summary_to_json(summary), json_path);
 }
 
 /// Exit code: 1 when a case failed (a failure found is a result even in an incomplete run), 4 when
@@ -73,6 +83,7 @@ void register_stress_command(CLI::App& app) {
   auto options = std::make_shared<stress::StressOptions>();
   auto shard = std::make_shared<std::string>("0/1");
   auto resume_dir = std::make_shared<std::string>();
+  auto json_path = std::make_shared<std::string>();
   CLI::App* command = app.add_subcommand(
       "stress",
       "Run the generator, the reference and the deviation measurement on random cases built to break\n"
@@ -112,7 +123,9 @@ void register_stress_command(CLI::App& app) {
       ->add_option("--max-rss", options->max_peak_rss_mib,
                    "Peak resident memory of the process allowed (MiB)")
       ->capture_default_str();
-  command->callback([command, options, shard, resume_dir] {
+  CLI::Option* json_option =
+      add_json_option(*command, *json_path, "the summary (summary.json's content; also when exit 1 or 4)");
+  command->callback([command, options, shard, resume_dir, json_path, json_option] {
     stress::StressOptions run = *options;
     std::string shard_text = *shard;
     run.resume = command->count("--resume") > 0;
@@ -133,18 +146,20 @@ void register_stress_command(CLI::App& app) {
       StopOnSignals stop_on_signals;
       summary = stress::run_stress(run);
     }
-    print_summary(summary, run.out_dir);
+    report(summary, run.out_dir, json_option, *json_path);
     finish(summary);
   });
 
   auto dirs = std::make_shared<std::vector<std::string>>();
   auto merged_out = std::make_shared<std::string>();
   auto partial = std::make_shared<bool>(false);
+  auto merged_json_path = std::make_shared<std::string>();
   CLI::App* merge = app.add_subcommand(
       "stress-merge",
       "Combine the shard directories of one stress campaign into one summary. Refuses shards of different\n"
       "campaigns (naming the option, version or commit that differs) and, unless --partial, a campaign\n"
-      "with shards or cases missing (naming them). --output must be new, empty or a previous merge (replaced\n"
+      "with shards or cases missing (naming them). --output must be new, empty or a previous merge "
+      "(replaced\n"
       "whole).\n"
       "Exit code 0 when every case ran and none fails, 1 when a merged case fails, 2 for bad input,\n"
       "4 when cases are missing (refused, or merged with --partial).\n"
@@ -153,10 +168,12 @@ void register_stress_command(CLI::App& app) {
   merge->add_option("-o,--output", *merged_out, "Output directory")->required();
   merge->add_flag("--partial", *partial,
                   "Merge an incomplete campaign: the summary says 'partial: K of N cases, missing ...'");
-  merge->callback([dirs, merged_out, partial] {
+  CLI::Option* merged_json_option = add_json_option(
+      *merge, *merged_json_path, "the merged summary (summary.json's content; also when exit 1 or 4)");
+  merge->callback([dirs, merged_out, partial, merged_json_path, merged_json_option] {
     try {
       const stress::Summary summary = stress::merge_stress(*dirs, *merged_out, *partial);
-      print_summary(summary, *merged_out);
+      report(summary, *merged_out, merged_json_option, *merged_json_path);
       finish(summary);
     } catch (const stress::IncompleteCampaign& e) {
       std::cerr << "morphmill: " << e.what() << '\n';

@@ -1,15 +1,17 @@
 // SPDX-License-Identifier: Apache-2.0
 #include <iostream>
 
+#include "campaigns/study.h"
+#include "cli/cli_conventions.h"
 #include "cli/commands.h"
 #include "cli/stop_signals.h"
-#include "campaigns/study.h"
 #include "cli/terminal_progress.h"
 
 namespace morphmill {
 
 void register_study_command(CLI::App& app) {
   auto options = std::make_shared<study::StudyOptions>();
+  auto json_path = std::make_shared<std::string>();
   CLI::App* command = app.add_subcommand(
       "study",
       "Sweep parameters over jobs, one at a time (reference voxel size, generator tolerance, tool radius,\n"
@@ -26,7 +28,9 @@ void register_study_command(CLI::App& app) {
   command->add_flag(
       "--resume", options->resume,
       "Keep the settings a stopped run already evaluated in --output (settings/), evaluate the others");
-  command->callback([options] {
+  CLI::Option* json_option =
+      add_json_option(*command, *json_path, "the table (study.json's content; also when stopped, exit 4)");
+  command->callback([options, json_path, json_option] {
     TerminalProgress progress;
     study::StudyOptions run = *options;
     run.progress = &progress;
@@ -36,12 +40,19 @@ void register_study_command(CLI::App& app) {
       StopOnSignals stop_on_signals;
       result = study::run_study(run);
     }
+    if (json_option->count() > 0) {
+      write_json(study::result_to_json(result), *json_path);
+      if (is_standard_output(*json_path)) {  // standard output holds the JSON alone
+        if (!result.complete()) throw CampaignIncomplete();
+        return;
+      }
+    }
     if (!result.complete()) {
       std::cout << "study " << result.spec.name << ": " << result.stopped << " after " << result.evaluated
                 << " of " << result.settings
                 << " setting(s): INCOMPLETE\n  table of what ran: " << run.out_dir
-                << "/study.csv, study.json\n  continue with: morphmill study " << run.study_path << " --output "
-                << run.out_dir << " --resume\n";
+                << "/study.csv, study.json\n  continue with: morphmill study " << run.study_path
+                << " --output " << run.out_dir << " --resume\n";
       throw CampaignIncomplete();
     }
     std::cout << "study " << result.spec.name << ": " << result.rows.size() << " setting(s)\n";

@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: Apache-2.0
 #include <iostream>
 
+#include "cli/cli_conventions.h"
 #include "cli/commands.h"
 #include "cli/terminal_progress.h"
 #include "verify/verify.h"
@@ -9,6 +10,7 @@ namespace morphmill {
 
 void register_verify_command(CLI::App& app) {
   auto options = std::make_shared<VerifyOptions>();
+  auto json_path = std::make_shared<std::string>();
   CLI::App* verify = app.add_subcommand(
       "verify",
       "Run the generator, the OpenVDB reference and the Embree deviation measurement on one job and write\n"
@@ -50,11 +52,19 @@ void register_verify_command(CLI::App& app) {
       "Check only the reference against the exact surface (within sqrt(3) * voxel where resolvable);\n"
       "the generator is not run. Jobs with tools the generator cannot build yet (flat, bullnose,\n"
       "conical, tapered, ...) run this way anyway, but exit 1 unless this flag is given");
-  verify->callback([options] {
+  CLI::Option* json_option =
+      add_json_option(*verify, *json_path, "the summary (deviation.json's content; also when exit 1)");
+  verify->callback([options, json_path, json_option] {
     TerminalProgress progress;
     VerifyOptions run = *options;
     run.progress = &progress;
     const VerifyOutcome outcome = run_verify(run);
+    if (json_option->count() > 0) write_json(outcome_to_json(outcome), *json_path);
+    if (json_option->count() > 0 && is_standard_output(*json_path)) {
+      // Standard output holds the JSON alone; the verdict is in it and in the exit code.
+      if (!outcome.verdict()) throw VerdictFailed();
+      return;
+    }
     if (!outcome.generator_skipped.empty()) {
       std::cout << "verify " << outcome.job.name << ": verdict "
                 << (outcome.verdict() ? "HOLDS" : "NOT VERIFIED") << "\n  generator: not run ("
