@@ -89,7 +89,7 @@ endif()
 set(CPACK_DEBIAN_DEVELOPMENT_PACKAGE_NAME libmorphmill-dev)
 set(CPACK_DEBIAN_DEVELOPMENT_PACKAGE_SECTION libdevel)
 set(CPACK_DEBIAN_DEVELOPMENT_PACKAGE_DEPENDS
-    "cmake, pkg-config, libeigen3-dev, libtbb-dev, libopenvdb-dev, libembree-dev, libopenmesh-dev, libcgal-dev, nlohmann-json3-dev, libcli11-dev, libfmt-dev, libstb-dev, libpolyclipping-dev, libplplot-dev, libssl-dev")
+    "cmake, pkg-config, libeigen3-dev, libtbb-dev, libopenvdb-dev, libembree-dev, libopenmesh-dev, libcgal-dev, nlohmann-json3-dev, libcli11-dev, libfmt-dev, libstb-dev, libpolyclipping-dev, libplplot-dev, libssl-dev, libcairo2-dev")
 set(CPACK_COMPONENT_RUNTIME_DESCRIPTION
     "the morphmill command line: exact erosion surfaces of milling jobs (G-code, CAMotics projects), an OpenVDB reference, deviation heatmaps and verification reports")
 set(CPACK_COMPONENT_DEVELOPMENT_DESCRIPTION

@@ -3,7 +3,6 @@
 #include <morph/file_io.h>
 #include <raytest/render.h>
 #include <raytest/surface_query.h>
-#include <stb/stb_easy_font.h>
 #include <stb/stb_image_write.h>
 #include <tbb/parallel_for.h>
 
@@ -11,6 +10,8 @@
 #include <cmath>
 #include <cstdio>
 #include <string>
+
+#include "legend.h"
 
 namespace raytest {
 
@@ -63,40 +64,60 @@ void fill_rect(Image& image, int x0, int y0, int x1, int y1, const morph::Color&
     }
 }
 
-// stb_easy_font lays text out as axis-aligned quads, 16 bytes per vertex (x, y, z float + rgba).
-void draw_text(Image& image, int x, int y, int scale, const std::string& text, const morph::Color& color) {
-  std::vector<char> buffer(text.size() * 400 + 400);
-  std::string copy = text;
-  const int quads =
-      stb_easy_font_print(0, 0, copy.data(), nullptr, buffer.data(), static_cast<int>(buffer.size()));
-  for (int q = 0; q < quads; ++q) {
-    float min_x = 1e9f, min_y = 1e9f, max_x = -1e9f, max_y = -1e9f;
-    for (int k = 0; k < 4; ++k) {
-      const float* vertex = reinterpret_cast<const float*>(buffer.data() + (4 * q + k) * 16);
-      min_x = std::min(min_x, vertex[0]);
-      max_x = std::max(max_x, vertex[0]);
-      min_y = std::min(min_y, vertex[1]);
-      max_y = std::max(max_y, vertex[1]);
-    }
-    fill_rect(image, x + static_cast<int>(min_x * scale), y + static_cast<int>(min_y * scale),
-              x + static_cast<int>(max_x * scale), y + static_cast<int>(max_y * scale), color);
+// The orthographic camera of a picture: what is framed and the size of one pixel.
+struct Framing {
+  Camera camera;
+  Eigen::Vector3d center;
+  double pixel = 1.0;
+  double distance_back = 1.0;
+  int view_width = 0;
+};
+
+Framing frame(const morph::TriangleMesh& mesh, const RenderOptions& options, int view_width) {
+  Framing f;
+  f.camera = camera_for(options.view);
+  f.view_width = view_width;
+  const Eigen::AlignedBox3d whole = morph::bounds(mesh);
+  const Eigen::AlignedBox3d box = options.focus ? *options.focus : whole;
+  f.center = box.center();
+  double half_x = 0, half_y = 0;
+  for (int corner = 0; corner < 8; ++corner) {
+    const Eigen::Vector3d d = box.corner(static_cast<Eigen::AlignedBox3d::CornerType>(corner)) - f.center;
+    half_x = std::max(half_x, std::abs(d.dot(f.camera.right)));
+    half_y = std::max(half_y, std::abs(d.dot(f.camera.up)));
   }
+  // Fits the projected box with a 6% margin.
+  f.pixel = 1.12 * std::max(2 * half_x / view_width, 2 * half_y / options.height);
+  if (!(f.pixel > 0)) f.pixel = 1.0;
+  f.distance_back = 2.0 * ((f.center - whole.center()).norm() + whole.diagonal().norm() + 1.0);
+  if (options.focus) {
+    // Rays start on the box's near side: walls in front of a close-up's place do not hide it.
+    const Eigen::Vector3d half = 0.5 * box.sizes();
+    f.distance_back = 1.05 * half.cwiseProduct(f.camera.direction).cwiseAbs().sum() + 1e-9;
+  }
+  return f;
 }
 
-int text_width(const std::string& text, int scale) {
-  std::string copy = text;
-  return stb_easy_font_width(copy.data()) * scale;
+detail::Legend legend_of(const morph::VertexScalar& scalar, const RenderOptions& options,
+                         const ScalarRange& range) {
+  detail::Legend legend;
+  legend.color_map = options.color_map;
+  legend.range = range;
+  legend.title = scalar.name + (options.unit.empty() ? "" : " [" + options.unit + "]");
+  legend.low_caption = options.low_caption;
+  legend.high_caption = options.high_caption;
+  return legend;
 }
 
-// Enough significant digits that neighbouring ticks `step` apart print differently.
-std::string format_number(double v, double step) {
-  const double magnitude = std::abs(v);
-  int digits = 3;
-  if (step > 0 && magnitude > step)
-    digits = std::clamp(static_cast<int>(std::ceil(std::log10(magnitude / step))) + 2, 3, 12);
-  char buffer[48];
-  std::snprintf(buffer, sizeof buffer, "%.*g", digits, magnitude < 1e-12 * std::max(step, 1e-300) ? 0.0 : v);
-  return buffer;
+int view_width_of(const morph::TriangleMesh& mesh, const RenderOptions& options, ScalarRange* range_out) {
+  if (options.scalar.empty()) return options.width;
+  const morph::VertexScalar* scalar = mesh.scalar(options.scalar);
+  if (!scalar) return options.width;
+  const ScalarRange range = options.range ? *options.range : auto_range(scalar->values, options.symmetric);
+  if (range_out) *range_out = range;
+  const int panel =
+      std::min(detail::legend_width(legend_of(*scalar, options, range), options.height), options.width / 2);
+  return options.width - panel;
 }
 
 }  // namespace
@@ -123,39 +144,14 @@ Image render_mesh(const morph::TriangleMesh& mesh, const RenderOptions& options)
   if (mesh.empty()) return image;
 
   ScalarRange range{0, 1};
-  std::vector<std::string> labels;
-  std::string title;
-  const int scale = std::clamp(std::min(image.width, image.height) / 300 + 1, 1, 4);
-  int bar_panel = 0;
-  if (scalar) {
-    range = options.range ? *options.range : auto_range(scalar->values, options.symmetric);
-    int widest = 0;
-    for (int tick = 0; tick <= 4; ++tick) {
-      labels.push_back(
-          format_number(range.low + (range.high - range.low) * tick / 4.0, (range.high - range.low) / 4.0));
-      widest = std::max(widest, text_width(labels.back(), scale));
-    }
-    title = scalar->name + (options.unit.empty() ? "" : " [" + options.unit + "]");
-    // Gap, bar, tick, label, margin; at least as wide as the title.
-    bar_panel = std::max(6 * scale + 10 * scale + 5 * scale + widest + 12 * scale,
-                         text_width(title, scale) + 8 * scale);
-    bar_panel = std::min(bar_panel, image.width / 2);
-  }
-  const int view_width = image.width - bar_panel;
+  const int view_width = view_width_of(mesh, options, &range);
 
   const SurfaceQuery query(mesh);
-  const Camera camera = camera_for(options.view);
-  const Eigen::AlignedBox3d box = morph::bounds(mesh);
-  const Eigen::Vector3d center = box.center();
-  double half_x = 0, half_y = 0;
-  for (int corner = 0; corner < 8; ++corner) {
-    const Eigen::Vector3d d = box.corner(static_cast<Eigen::AlignedBox3d::CornerType>(corner)) - center;
-    half_x = std::max(half_x, std::abs(d.dot(camera.right)));
-    half_y = std::max(half_y, std::abs(d.dot(camera.up)));
-  }
-  // Orthographic camera fitting the projected bounds with a 6% margin.
-  const double pixel = 1.12 * std::max(2 * half_x / view_width, 2 * half_y / image.height);
-  const double distance_back = 2.0 * (box.diagonal().norm() + 1.0);
+  const Framing framing = frame(mesh, options, view_width);
+  const Camera& camera = framing.camera;
+  const Eigen::Vector3d& center = framing.center;
+  const double pixel = framing.pixel;
+  const double distance_back = framing.distance_back;
   const Eigen::Vector3d key_light = (-camera.direction + 0.6 * camera.up - 0.3 * camera.right).normalized();
   std::vector<Eigen::Vector3d> face_normals(mesh.triangles.size());
   for (std::size_t t = 0; t < face_normals.size(); ++t) face_normals[t] = morph::face_normal(mesh, t);
@@ -175,7 +171,9 @@ Image render_mesh(const morph::TriangleMesh& mesh, const RenderOptions& options)
       const Eigen::Vector3d& n = face_normals[hit.triangle];
       // Ambient, headlight and a key light from above-left, so faces at equal angles to the view
       // (a box seen in iso view) still differ; two-sided so open meshes and inverted faces show.
-      const double light = 0.2 + 0.5 * std::abs(n.dot(camera.direction)) + 0.3 * std::abs(n.dot(key_light));
+      const double light =
+          options.lighting ? 0.2 + 0.5 * std::abs(n.dot(camera.direction)) + 0.3 * std::abs(n.dot(key_light))
+                           : 1.0;
       std::array<double, 3> base{200, 200, 200};
       if (scalar) {
         const double value =
@@ -193,31 +191,21 @@ Image render_mesh(const morph::TriangleMesh& mesh, const RenderOptions& options)
     }
   });
 
-  if (scalar) {
-    // Colour bar: high values at the top, five labelled ticks, the scalar's name as title.
-    const morph::Color ink{0, 0, 0};
-    const int bar_x = view_width + 6 * scale;
-    const int bar_w = 10 * scale;
-    const int top = image.height / 10 + 10 * scale;
-    const int bottom = image.height - image.height / 10;
-    for (int y = top; y < bottom; ++y) {
-      const double t = 1.0 - static_cast<double>(y - top) / std::max(1, bottom - top - 1);
-      fill_rect(image, bar_x, y, bar_x + bar_w, y + 1, map_color(options.color_map, t));
-    }
-    fill_rect(image, bar_x - 1, top - 1, bar_x + bar_w + 1, top, ink);
-    fill_rect(image, bar_x - 1, bottom, bar_x + bar_w + 1, bottom + 1, ink);
-    fill_rect(image, bar_x - 1, top, bar_x, bottom, ink);
-    fill_rect(image, bar_x + bar_w, top, bar_x + bar_w + 1, bottom, ink);
-    for (int tick = 0; tick <= 4; ++tick) {
-      const int y = bottom - (bottom - top) * tick / 4;
-      fill_rect(image, bar_x + bar_w, y, bar_x + bar_w + 3 * scale, y + 1, ink);
-      draw_text(image, bar_x + bar_w + 5 * scale, y - 3 * scale, scale, labels[tick], ink);
-    }
-    const int title_x =
-        std::max(view_width, std::min(bar_x, image.width - text_width(title, scale) - 4 * scale));
-    draw_text(image, title_x, top - 12 * scale, scale, title, ink);
+  if (scalar || !options.caption.empty()) {
+    detail::Legend legend;
+    if (scalar) legend = legend_of(*scalar, options, range);
+    legend.panel_x = view_width;
+    detail::draw_legend(image, legend, options.caption);
   }
   return image;
+}
+
+Eigen::Vector2d project_to_pixel(const morph::TriangleMesh& mesh, const RenderOptions& options,
+                                 const Eigen::Vector3d& point) {
+  const Framing f = frame(mesh, options, view_width_of(mesh, options, nullptr));
+  const Eigen::Vector3d d = point - f.center;
+  return {0.5 * f.view_width + d.dot(f.camera.right) / f.pixel - 0.5,
+          0.5 * options.height - d.dot(f.camera.up) / f.pixel - 0.5};
 }
 
 void write_png(const Image& image, const std::string& path) {

@@ -148,11 +148,28 @@ TEST_F(VerifySingleSlot, ReportLoadsInAHeadlessBrowser) {
   ASSERT_TRUE(std::regex_search(browser.output, match, std::regex("data-images-loaded=\"(\\d+)/(\\d+)\"")))
       << browser.output.substr(0, 2000);
   EXPECT_EQ(match[1], match[2]);
-  EXPECT_EQ(match[2], "5");
+  EXPECT_EQ(match[2], "8");  // plain views of both sides, iso/top/front/close-up against the exact
+                             // surface, and the two other heatmaps
   for (const char* heading : {"Stages", "Pieces", "Signed deviation", "Histogram", "Worst moves",
                               "Regions out of the band", "Decisive place", "Verdict", "Provenance"})
     EXPECT_NE(browser.output.find(std::string("<h3>") + heading), std::string::npos) << heading;
   EXPECT_GE(std::count(browser.output.begin(), browser.output.end(), '<'), 100);
+}
+
+TEST_F(VerifySingleSlot, PicturesShowEveryViewAtTheResolutionAsked) {
+  ASSERT_EQ(result_->exit_code, 0) << result_->output;
+  for (const char* view : {"", "_top", "_front", "_closeup"}) {
+    const fs::path png = *out_ / ("morph_vs_exact" + std::string(view) + ".png");
+    ASSERT_TRUE(fs::exists(png)) << png;
+    // PNG header: width and height, big-endian, at bytes 16..23.
+    const std::string bytes = slurp(png).substr(0, 24);
+    auto be32 = [&](std::size_t at) {
+      return (unsigned(std::uint8_t(bytes[at])) << 24) | (unsigned(std::uint8_t(bytes[at + 1])) << 16) |
+             (unsigned(std::uint8_t(bytes[at + 2])) << 8) | unsigned(std::uint8_t(bytes[at + 3]));
+    };
+    EXPECT_EQ(be32(16), 1200u) << png;
+    EXPECT_EQ(be32(20), 900u) << png;
+  }
 }
 
 TEST(VerifyBadInput, TruncatedGcodeAndMissingStockMeshExitWithTwo) {

@@ -40,16 +40,21 @@ nlohmann::json box_json(const Eigen::AlignedBox3d& box) {
           {"max", {box.max().x(), box.max().y(), box.max().z()}}};
 }
 
+// The morphmill-reference summary (docs/summary-schema.md): the common keys, then the run's figures.
 nlohmann::json stats_json(const morph::Job& job, const vdb_ref::ReferenceResult& result,
-                          const std::string& mesh_path, const std::string& vdb_path) {
+                          const std::string& mesh_path, const std::string& vdb_path,
+                          const Provenance& provenance) {
   const vdb_ref::ReferenceStats& s = result.stats;
   nlohmann::json pieces = nlohmann::json::array();
   for (const vdb_ref::ReferencePiece& p : result.pieces)
     pieces.push_back(
         {{"volume", p.volume}, {"area", p.area}, {"cavities", p.cavities}, {"bounds", box_json(p.bounds)}});
-  return {{"job", job.name},
-          {"job_file", job.file},
+  return {{"format", "morphmill-reference"},
+          {"format_version", 1},
+          {"provenance", to_json(provenance)},
           {"units", morph::to_string(job.units)},
+          {"job", job.name},
+          {"job_file", job.file},
           {"voxel_size", s.voxel_size},
           {"half_width_voxels", s.half_width_voxels},
           {"active_voxels", s.active_voxels},
@@ -126,7 +131,7 @@ void run_reference(const ReferenceCommandOptions& options) {
                                               : "")
                 << '\n';
     if (!options.json_path.empty())
-      write_json(stats_json(job, result, mesh_path, run.vdb_output_path),
+      write_json(stats_json(job, result, mesh_path, run.vdb_output_path, provenance),
                  output(options.json_path, run.voxel_size));
   }
 }

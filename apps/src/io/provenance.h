@@ -28,7 +28,7 @@ struct Provenance {
   nlohmann::json options;  ///< the options that shaped the result, with their values
   std::string units;       ///< length unit of every coordinate and deviation in the file
   std::string machine;     ///< host name
-  unsigned threads = 0;    ///< hardware threads the run could use
+  unsigned threads = 0;    ///< threads the run could use (the --threads limit, else the machine's)
   std::string date_utc;    ///< ISO 8601; from SOURCE_DATE_EPOCH when set (reproducible outputs)
 };
 

@@ -4,6 +4,7 @@
 #include "cli/commands.h"
 #include "io/deviation_files.h"
 
+#include <fmt/format.h>
 #include <morph/aabb_tree.h>
 #include <morph/erode.h>
 #include <morph/exceptions.h>
@@ -25,6 +26,7 @@
 #include <fstream>
 #include <map>
 #include <numeric>
+#include <optional>
 
 namespace morphmill {
 
@@ -185,24 +187,83 @@ std::vector<bool> resolvable_samples(const std::vector<raytest::SurfaceSample>& 
   return resolvable;
 }
 
+// One picture of a heatmap: a standard view of the whole part, or a close-up of one place.
+struct PictureSpec {
+  std::string suffix;  ///< added to the PNG's stem ("" for the first)
+  raytest::View view = raytest::View::Iso;
+  std::optional<Eigen::AlignedBox3d> focus;
+  std::string caption;
+};
+
+std::vector<PictureSpec> iso_only() {
+  return {{"", raytest::View::Iso, std::nullopt, "iso view"}};
+}
+
+// Iso, top and front of the whole part, and a close-up when there is a place to look at.
+std::vector<PictureSpec> standard_views(const std::optional<PictureSpec>& closeup) {
+  std::vector<PictureSpec> views = {{"", raytest::View::Iso, std::nullopt, "iso view"},
+                                    {"_top", raytest::View::Top, std::nullopt, "top view"},
+                                    {"_front", raytest::View::Front, std::nullopt, "front view"}};
+  if (closeup) views.push_back(*closeup);
+  return views;
+}
+
+// A close-up of a place: its region's bounds grown by a third, at least 20 band widths and 1% of the
+// part across (so the place fills the picture and a band-sized feature spans pixels), at most the part.
+PictureSpec closeup_of(const Eigen::Vector3d& at, const Eigen::AlignedBox3d& region, double band,
+                       const Eigen::AlignedBox3d& part, const std::string& what) {
+  const double part_size = part.diagonal().norm();
+  double half = region.isEmpty() ? 0.0 : 0.5 * region.sizes().maxCoeff() * 1.33;
+  half = std::min(std::max({half, 20.0 * band, 0.01 * part_size}), 0.5 * part_size);
+  const Eigen::Vector3d h = Eigen::Vector3d::Constant(half);
+  return {"_closeup", raytest::View::Iso, Eigen::AlignedBox3d(at - h, at + h),
+          fmt::format("close-up: {} at ({:.3f}, {:.3f}, {:.3f})", what, at.x(), at.y(), at.z())};
+}
+
+// Length of one pixel of `render`'s picture of `mesh`, from two projected points.
+double pixel_length(const morph::TriangleMesh& mesh, const raytest::RenderOptions& render) {
+  const Eigen::Vector3d along =
+      render.view == raytest::View::Iso ? Eigen::Vector3d(1, 1, 0).normalized() : Eigen::Vector3d::UnitX();
+  const Eigen::Vector3d p = render.focus ? render.focus->center() : morph::bounds(mesh).center();
+  const double pixels =
+      (raytest::project_to_pixel(mesh, render, p + along) - raytest::project_to_pixel(mesh, render, p))
+          .norm();
+  return pixels > 0 ? 1.0 / pixels : 0.0;
+}
+
 // Colours on a fixed diverging map centred on zero, its ends at twice the band (the tolerance), so
-// the same colour means the same deviation in every picture.
-// The PLY and a VTK PolyData beside it (same name, .vtp) carry the values for other tools.
-void write_heatmap(morph::TriangleMesh mesh, const std::string& scalar, const std::vector<double>& values,
-                   const fs::path& ply, const fs::path& png, const std::string& unit, int width, int height,
-                   double band, const Provenance& provenance) {
+// the same colour means the same deviation in every picture; the value is interpolated at each
+// pixel, then mapped. The PLY and a VTK PolyData beside it (same name, .vtp) carry the values for
+// other tools. Returns the PNG names written (png's stem + each view's suffix).
+std::vector<std::string> write_heatmap(morph::TriangleMesh mesh, const std::string& scalar,
+                                       const std::vector<double>& values, const fs::path& ply,
+                                       const fs::path& png, const std::string& unit, int width, int height,
+                                       double band, const Provenance& provenance,
+                                       const std::vector<PictureSpec>& views = iso_only()) {
   const raytest::ScalarRange range{-2.0 * band, 2.0 * band};
   raytest::apply_heatmap(mesh, scalar, values, raytest::ColorMap::CoolWarm, range);
   write_deviation_ply(mesh, scalar, ply.string(), provenance);
   write_deviation_vtp(mesh, scalar, fs::path(ply).replace_extension(".vtp").string(), provenance);
-  raytest::RenderOptions render;
-  render.width = width;
-  render.height = height;
-  render.scalar = scalar;
-  render.color_map = raytest::ColorMap::CoolWarm;
-  render.range = range;
-  render.unit = unit;
-  raytest::write_png(raytest::render_mesh(mesh, render), png.string());
+  std::vector<std::string> written;
+  for (const PictureSpec& spec : views) {
+    raytest::RenderOptions render;
+    render.width = width;
+    render.height = height;
+    render.view = spec.view;
+    render.focus = spec.focus;
+    render.scalar = scalar;
+    render.color_map = raytest::ColorMap::CoolWarm;
+    render.range = range;
+    render.unit = unit;
+    render.low_caption = "- gouge";
+    render.high_caption = "+ excess";
+    render.caption = fmt::format("{}; 1 px = {:.3g} {}; band +/-{:.3g} {}", spec.caption,
+                                 pixel_length(mesh, render), unit, band, unit);
+    const fs::path file = png.parent_path() / (png.stem().string() + spec.suffix + ".png");
+    raytest::write_png(raytest::render_mesh(mesh, render), file.string());
+    written.push_back(file.filename().string());
+  }
+  return written;
 }
 
 }  // namespace
@@ -488,9 +549,10 @@ VerifyOutcome run_verify(const VerifyOptions& options) {
       morph::for_each_index(morph::ExecutionPolicy::Parallel, 0, reference_exact.size(), [&](std::size_t i) {
         reference_exact[i] = field.value(reference_mesh.vertices[i]);
       });
+      const double bound = out.reference_bound > 0 ? out.reference_bound : out.tolerance;
       write_heatmap(reference_mesh, "deviation_exact", reference_exact, dir / "reference_vs_exact.ply",
-                    dir / "reference_vs_exact.png", unit, options.image_width, options.image_height,
-                    out.reference_bound > 0 ? out.reference_bound : out.tolerance, provenance);
+                    dir / "reference_vs_exact.png", unit, options.image_width, options.image_height, bound,
+                    provenance);
       raytest::RenderOptions plain;
       plain.width = options.image_width;
       plain.height = options.image_height;
@@ -530,8 +592,24 @@ VerifyOutcome run_verify(const VerifyOptions& options) {
       };
       out.exact_regions = keep_regions(morph_exact, exact_band, "exact surface");
       out.reference_regions = keep_regions(morph_reference, reference_band, "reference");
-      write_heatmap(morph_display, "deviation_exact", morph_exact, dir / "morph_vs_exact.ply",
-                    dir / "morph_vs_exact.png", unit, w, h, out.tolerance, provenance);
+      // The close-up shows the deepest out-of-band region, else the largest deviation.
+      std::optional<PictureSpec> closeup;
+      const Eigen::AlignedBox3d part = morph::bounds(morph_mesh);
+      if (out.exact_regions > 0) {
+        const raytest::DeviationRegion& r = out.regions.front().region;
+        closeup = closeup_of(r.location, r.bounds, out.tolerance, part,
+                             fmt::format("deepest {} {:+.4g} {}", raytest::to_string(r.kind), r.worst, unit));
+      } else if (!morph_exact.empty()) {
+        std::size_t worst = 0;
+        for (std::size_t i = 1; i < morph_exact.size(); ++i)
+          if (std::abs(morph_exact[i]) > std::abs(morph_exact[worst])) worst = i;
+        closeup = closeup_of(morph_display.vertices[worst], Eigen::AlignedBox3d(), out.tolerance, part,
+                             fmt::format("largest deviation {:+.4g} {}", morph_exact[worst], unit));
+      }
+      const std::vector<std::string> views = write_heatmap(
+          morph_display, "deviation_exact", morph_exact, dir / "morph_vs_exact.ply",
+          dir / "morph_vs_exact.png", unit, w, h, out.tolerance, provenance, standard_views(closeup));
+      out.files.insert(out.files.end(), views.begin() + 1, views.end());
       write_heatmap(morph_display, "deviation_reference", morph_reference, dir / "morph_vs_reference.ply",
                     dir / "morph_vs_reference.png", unit, w, h, out.agreement_bound, provenance);
       write_heatmap(reference_mesh, "deviation_exact", reference_exact, dir / "reference_vs_exact.ply",
@@ -557,9 +635,18 @@ VerifyOutcome run_verify(const VerifyOptions& options) {
       out.design = compare_with_design(out.job, morph_mesh, design_mesh, compare);
       out.design_path = design_spec.path;
       const double reach = 2.0 * std::max(-compare.band.low, compare.band.high);
-      write_heatmap(out.design.refined.mesh, "deviation_design", out.design.point_values,
-                    dir / "machined_vs_design.ply", dir / "machined_vs_design.png", unit, options.image_width,
-                    options.image_height, reach / 2.0, provenance);
+      std::vector<PictureSpec> design_views = iso_only();
+      if (!out.design.regions.empty()) {
+        const raytest::DeviationRegion& r = out.design.regions.front().region;
+        design_views.push_back(
+            closeup_of(r.location, r.bounds, reach / 2.0, morph::bounds(morph_mesh),
+                       fmt::format("deepest {} {:+.4g} {}", raytest::to_string(r.kind), r.worst, unit)));
+      }
+      const std::vector<std::string> views =
+          write_heatmap(out.design.refined.mesh, "deviation_design", out.design.point_values,
+                        dir / "machined_vs_design.ply", dir / "machined_vs_design.png", unit,
+                        options.image_width, options.image_height, reach / 2.0, provenance, design_views);
+      out.files.insert(out.files.end(), views.begin() + 1, views.end());
       out.design.refined = {};
       out.design.point_values.clear();
       out.files.insert(out.files.end(),
@@ -573,13 +660,19 @@ VerifyOutcome run_verify(const VerifyOptions& options) {
     pictures = {{"Generator (morph)", "morph.png"},
                 {"Reference (OpenVDB)", "reference.png"},
                 {"Generator against the exact surface", "morph_vs_exact.png"},
+                {"Generator against the exact surface, top", "morph_vs_exact_top.png"},
+                {"Generator against the exact surface, front", "morph_vs_exact_front.png"},
+                {"Generator against the exact surface, close-up", "morph_vs_exact_closeup.png"},
                 {"Generator against the reference", "morph_vs_reference.png"},
                 {"Reference against the exact surface", "reference_vs_exact.png"}};
   else
     pictures = {{"Reference (OpenVDB)", "reference.png"},
                 {"Reference against the exact surface", "reference_vs_exact.png"}};
-  if (!out.design_path.empty())
+  if (!out.design_path.empty()) {
     pictures.push_back({"Machined result against the design", "machined_vs_design.png"});
+    if (fs::exists(dir / "machined_vs_design_closeup.png"))
+      pictures.push_back({"Machined result against the design, close-up", "machined_vs_design_closeup.png"});
+  }
   write_reports(out, options.out_dir, pictures);
   out.files.insert(out.files.end(), {"report.md", "report.html"});
   return out;

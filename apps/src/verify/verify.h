@@ -25,7 +25,7 @@ struct VerifyOptions {
   double tolerance = 0.0;   ///< generator tolerance, job units; 0 uses the job's
   std::size_t face_samples = 100000;  ///< area-uniform samples per surface, on top of every vertex
   std::uint64_t seed = 1;
-  int image_width = 640, image_height = 480;
+  int image_width = 1200, image_height = 900;  ///< pixels of each picture
   /// Check only the reference against the exact surface (the generator is not run). Without it,
   /// a job with a tool the generator cannot build yet runs the same way but its verdict fails.
   bool reference_only = false;

@@ -2,9 +2,13 @@
 #pragma once
 /// \file render.h
 /// Pictures of a mesh by casting rays at it (Embree): headlight + ambient shading, optionally
-/// colour-mapped by a vertex scalar, with a colour bar and a labelled scale.
+/// colour-mapped by a vertex scalar (the value interpolated at each pixel's hit point, then
+/// mapped: colour per sample, so a feature a few pixels wide keeps its colour), with a colour bar
+/// whose text (ticks, title with units, captions) cairo draws.
 #include <morph/mesh.h>
+
 #include <raytest/heatmap.h>
+#include <Eigen/Geometry>
 
 #include <cstdint>
 #include <optional>
@@ -27,6 +31,15 @@ struct RenderOptions {
   bool symmetric = false;
   std::string unit;  ///< label appended to the scale title (e.g. "mm")
   morph::Color background{255, 255, 255};
+  /// Frame this box (job units) instead of the whole mesh: a close-up. Geometry between the camera
+  /// and the box is cut away, so walls in front do not hide the place; behind it, it still shows.
+  std::optional<Eigen::AlignedBox3d> focus;
+  /// Shade by the surface's angle to the light. Off, every pixel of the mesh has exactly its
+  /// colour-map colour (for checks and for reading colours off the picture).
+  bool lighting = true;
+  std::string caption;       ///< written at the top left (e.g. "iso view"); empty: none
+  std::string low_caption;   ///< under the colour bar (e.g. "- gouge"); empty: none
+  std::string high_caption;  ///< above the colour bar (e.g. "+ excess"); empty: none
 };
 
 /// An 8-bit RGB image, rows top to bottom.
@@ -42,6 +55,11 @@ struct Image {
 
 /// Renders `mesh`. Throws morph::InputError for a bad size or an unknown scalar name.
 Image render_mesh(const morph::TriangleMesh& mesh, const RenderOptions& options);
+
+/// Where a point lands in a picture rendered with `options` (same mesh, same size): pixel column
+/// and row (may lie outside the image). For tests and for marking places on pictures.
+Eigen::Vector2d project_to_pixel(const morph::TriangleMesh& mesh, const RenderOptions& options,
+                                 const Eigen::Vector3d& point);
 
 /// Writes `image` as PNG. Throws morph::IoError naming the file on failure.
 void write_png(const Image& image, const std::string& path);
