@@ -272,6 +272,19 @@ SweepCulling::Against SweepCulling::against(const Placed& p, std::size_t i, std:
     return std::all_of(points.begin(), points.end(),
                        [&](const Vector3d& x) { return value(faces[h].plane, x) >= rounding_; });
   };
+  // A face's plane against the facet's points: true when the facet lies above it (apart); a plane
+  // the facet straddles goes into `planes`.
+  auto separates_or_crosses = [&](int h) {
+    double lo = std::numeric_limits<double>::infinity(), hi = -lo;
+    for (const Vector3d& x : points) {
+      const double v = value(faces[h].plane, x);
+      lo = std::min(lo, v);
+      hi = std::max(hi, v);
+    }
+    if (lo >= rounding_) return true;
+    if (hi > -rounding_) planes.push_back(h);
+    return false;
+  };
   auto inside = [&](const Vector3d& x) {
     // The inner bounds first: deeper than the slack inside the tool's inscribed ball or cylinder.
     if (ball_inside_sweep(bounds_, candidate.a, candidate.b, x, 0.0)) return true;
@@ -317,14 +330,7 @@ SweepCulling::Against SweepCulling::against(const Placed& p, std::size_t i, std:
       if (j > i) return Against::Apart;
       continue;
     }
-    double lo = std::numeric_limits<double>::infinity(), hi = -lo;
-    for (const Vector3d& x : points) {
-      const double v = value(faces[h].plane, x);
-      lo = std::min(lo, v);
-      hi = std::max(hi, v);
-    }
-    if (lo >= rounding_) return Against::Apart;
-    if (hi > -rounding_) planes.push_back(h);
+    if (separates_or_crosses(h)) return Against::Apart;
   }
   const Vector3d& centroid = points.back();
   if (planes.empty()) {
@@ -345,14 +351,7 @@ SweepCulling::Against SweepCulling::against(const Placed& p, std::size_t i, std:
   planes.clear();
   for (int h = 0; h < static_cast<int>(faces.size()); ++h) {
     if (tie(h)) continue;
-    double lo = std::numeric_limits<double>::infinity(), hi = -lo;
-    for (const Vector3d& x : points) {
-      const double v = value(faces[h].plane, x);
-      lo = std::min(lo, v);
-      hi = std::max(hi, v);
-    }
-    if (lo >= rounding_) return Against::Apart;
-    if (hi > -rounding_) planes.push_back(h);
+    if (separates_or_crosses(h)) return Against::Apart;
   }
   return planes.empty() ? Against::Inside : Against::Cuts;
 }
