@@ -204,6 +204,54 @@ TEST_F(JsonSummaries, StudyWritesStudyJson) {
   EXPECT_EQ(table["rows"][0]["error"], "");
 }
 
+TEST_F(JsonSummaries, ReferenceWritesOneDocumentPerVoxelSizeOrOneArrayOnStandardOutput) {
+  const std::string job = kData + "/jobs/single_slot.json";
+  const auto one = stdout_of("reference '" + job + "' --voxel 0.5 -o '" + path("r.ply") + "' --json");
+  ASSERT_EQ(one.exit_code, 0) << one.output;
+  const nlohmann::json alone = nlohmann::json::parse(one.output);  // no summary lines around it
+  EXPECT_EQ(alone["format"], "morphmill-reference");
+  EXPECT_EQ(alone["units"], "mm");
+
+  const auto several =
+      stdout_of("reference '" + job + "' --voxel 0.5,0.4 -o '" + path("s.ply") + "' --json -");
+  ASSERT_EQ(several.exit_code, 0) << several.output;
+  const nlohmann::json runs = nlohmann::json::parse(several.output);
+  ASSERT_TRUE(runs.is_array());
+  ASSERT_EQ(runs.size(), 2u);
+  // Each run's pieces match the file written for that voxel size, and a finer voxel gives a volume
+  // nearer the slot's: both within a few percent of each other, the runs really differ.
+  const auto to_files = morphmill("reference '" + job + "' --voxel 0.5,0.4 -o '" + path("f.ply") +
+                                  "' --json '" + path("f.json") + "'");
+  ASSERT_EQ(to_files.exit_code, 0) << to_files.output;
+  for (const char* voxel : {"0.5", "0.4"}) {
+    const nlohmann::json file = read(path("f_v") + voxel + ".json");
+    const nlohmann::json& run = runs[std::string(voxel) == "0.5" ? 0 : 1];
+    EXPECT_EQ(file["pieces"].size(), run["pieces"].size()) << voxel;
+    EXPECT_DOUBLE_EQ(file["pieces"][0]["volume"].get<double>(), run["pieces"][0]["volume"].get<double>())
+        << voxel;
+  }
+  EXPECT_NE(runs[0]["pieces"][0]["volume"], runs[1]["pieces"][0]["volume"]);
+}
+
+TEST_F(JsonSummaries, Verify2dWritesReportJsonToAFileOrToStandardOutput) {
+  const std::string job = kData + "/planar/figure13.json";
+  const auto to_stdout = stdout_of("verify2d '" + job + "' -o '" + path("v") + "' --json");
+  ASSERT_EQ(to_stdout.exit_code, 0) << to_stdout.output;
+  const nlohmann::json summary = nlohmann::json::parse(to_stdout.output);
+  EXPECT_EQ(summary, read(path("v") + "/report.json"));
+  EXPECT_EQ(summary["format"], "morphmill-verify2d");
+  EXPECT_EQ(summary["units"], "mm");
+  EXPECT_TRUE(summary["verdict"]["holds"].get<bool>());
+  ASSERT_EQ(summary["provenance"]["inputs"].size(), 1u);
+  EXPECT_EQ(summary["provenance"]["inputs"][0]["sha256"].get<std::string>().size(), 64u);
+
+  const auto to_file =
+      morphmill("verify2d '" + job + "' -o '" + path("w") + "' --json '" + path("v2d.json") + "'");
+  ASSERT_EQ(to_file.exit_code, 0) << to_file.output;
+  EXPECT_NE(to_file.output.find("verdict HOLDS"), std::string::npos) << to_file.output;
+  EXPECT_EQ(read(path("v2d.json"))["exact"]["area"], summary["exact"]["area"]);
+}
+
 TEST_F(CliConventions, ThreadsIsCheckedOnEveryCommand) {
   const auto r = morphmill("info '" + kData + "/jobs/slots.json' --threads -1");
   EXPECT_EQ(r.exit_code, 2) << r.output;

@@ -9,9 +9,10 @@
 #include <memory>
 #include <optional>
 
+#include "cli/cli_conventions.h"
 #include "cli/commands.h"
-#include "planar/planar_verify.h"
 #include "cli/terminal_progress.h"
+#include "planar/planar_verify.h"
 
 namespace morphmill {
 
@@ -97,22 +98,30 @@ void register_planar_commands(CLI::App& app) {
   v->add_option("job", verify->job_path, "Planar job file (JSON, see docs/planar.md)")->required();
   v->add_option("-o,--output", verify->out_dir, "Directory for the pictures, result files and report")
       ->required();
+  auto json_path = std::make_shared<std::string>();
+  CLI::Option* json_option = add_json_option(
+      *v, *json_path,
+      "the summary (report.json's content: areas, pieces, deviation, verdict; also when exit 1)");
   v->add_option("--tolerance", verify->tolerance, "Reference chord tolerance, job units (default: the job's)")
       ->check(CLI::PositiveNumber);
-  v->callback([verify] {
+  v->callback([verify, json_path, json_option] {
     TerminalProgress progress;
     Verify2dOptions run = *verify;
     run.progress = &progress;
     const Verify2dOutcome o = run_verify2d(run);
-    std::cout << fmt::format(
-        "verify2d {}: verdict {}\n  exact: {} piece(s), {} hole(s), area {:.12g}\n  reference: {} piece(s), "
-        "{} "
-        "hole(s), area {:.12g}\n  Hausdorff distance {:.3g} at chord tolerance {} (bound {})\n  report: "
-        "{}/report.md\n",
-        o.job.name, o.verdict() ? "HOLDS" : "DOES NOT HOLD", o.exact.region.pieces.size(),
-        morph::planar::hole_count(o.exact.region), morph::planar::area(o.exact.region),
-        o.reference.pieces.size(), morph::planar::hole_count(o.reference), morph::planar::area(o.reference),
-        o.deviation.hausdorff(), o.tolerance, 2.0 * o.tolerance, run.out_dir);
+    const bool json_wanted = json_option->count() > 0;
+    if (json_wanted) write_json(verify2d_summary_json(o), *json_path);
+    if (!(json_wanted && is_standard_output(*json_path)))
+      std::cout << fmt::format(
+          "verify2d {}: verdict {}\n  exact: {} piece(s), {} hole(s), area {:.12g}\n  reference: {} "
+          "piece(s), "
+          "{} "
+          "hole(s), area {:.12g}\n  Hausdorff distance {:.3g} at chord tolerance {} (bound {})\n  report: "
+          "{}/report.md\n",
+          o.job.name, o.verdict() ? "HOLDS" : "DOES NOT HOLD", o.exact.region.pieces.size(),
+          morph::planar::hole_count(o.exact.region), morph::planar::area(o.exact.region),
+          o.reference.pieces.size(), morph::planar::hole_count(o.reference), morph::planar::area(o.reference),
+          o.deviation.hausdorff(), o.tolerance, 2.0 * o.tolerance, run.out_dir);
     if (!o.verdict()) throw VerdictFailed();
   });
 }

@@ -29,6 +29,7 @@ struct ReferenceCommandOptions {
   std::string mesh_path;
   std::string vdb_path;
   std::string json_path;
+  CLI::Option* json_option = nullptr;
   double half_width = 3.0;
   double memory_cap_gib = 8.0;
   bool ascii = false;
@@ -98,6 +99,11 @@ void run_reference(const ReferenceCommandOptions& options) {
     vdb_ref::estimate_reference_memory(job, run);
     runs.push_back(run);
   }
+  // On standard output the JSON is the whole output: one document, an array when several voxel
+  // sizes run, and the human summary is left out so that the output parses.
+  const bool json_wanted = options.json_option && options.json_option->count() > 0;
+  const bool json_on_stdout = json_wanted && is_standard_output(options.json_path);
+  nlohmann::json stdout_documents = nlohmann::json::array();
   TerminalProgress progress;
   for (vdb_ref::ReferenceOptions& run : runs) {
     run.progress = &progress;
@@ -114,6 +120,14 @@ void run_reference(const ReferenceCommandOptions& options) {
     write_options.binary = !options.ascii;
     write_mesh(result.mesh, mesh_path, write_options, provenance_lines(provenance));
     const vdb_ref::ReferenceStats& s = result.stats;
+    if (json_wanted) {
+      nlohmann::json document = stats_json(job, result, mesh_path, run.vdb_output_path, provenance);
+      if (json_on_stdout)
+        stdout_documents.push_back(std::move(document));
+      else
+        write_json(document, output(options.json_path, run.voxel_size));
+    }
+    if (json_on_stdout) continue;
     std::cout << "reference " << (job.name.empty() ? options.job_path : job.name) << " at voxel "
               << run.voxel_size << ": " << s.active_voxels << " active voxels, " << std::fixed
               << std::setprecision(1) << s.memory_bytes / double(1 << 20) << " MiB, " << std::setprecision(2)
@@ -130,10 +144,8 @@ void run_reference(const ReferenceCommandOptions& options) {
                 << (result.pieces[i].cavities ? ", " + std::to_string(result.pieces[i].cavities) + " cavities"
                                               : "")
                 << '\n';
-    if (!options.json_path.empty())
-      write_json(stats_json(job, result, mesh_path, run.vdb_output_path, provenance),
-                 output(options.json_path, run.voxel_size));
   }
+  if (json_on_stdout) write_json(several ? stdout_documents : stdout_documents.at(0), "-");
 }
 
 }  // namespace
@@ -157,8 +169,10 @@ void register_reference_command(CLI::App& app) {
   command->add_option("-o,--output", options->mesh_path, "Output mesh (PLY keeps the face provenance)")
       ->required();
   command->add_option("--vdb", options->vdb_path, "Also write the erosion level set as an OpenVDB file");
-  command->add_option("--json", options->json_path,
-                      "Write stats: voxel count, memory, time per stage, pieces with volumes and areas");
+  options->json_option = add_json_option(
+      *command, options->json_path,
+      "the stats (voxel count, memory, time per stage, pieces with volumes and areas, provenance; with\n"
+      "several voxel sizes one file per size, named like the mesh, or one array on standard output)");
   command->add_option("--half-width", options->half_width, "Narrow-band half width in voxels")
       ->capture_default_str()
       ->check(CLI::Range(1.0, 100.0));

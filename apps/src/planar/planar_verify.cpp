@@ -11,6 +11,7 @@
 #include <fstream>
 
 #include "io/atomic_output.h"
+#include "io/provenance.h"
 
 namespace morphmill {
 
@@ -98,10 +99,51 @@ void write_deviation_svg(const Region& measured, const morph::planar::DirectedDe
   out.commit();
 }
 
+json verify2d_summary_json(const Verify2dOutcome& o) {
+  json report;
+  report["format"] = "morphmill-verify2d";
+  report["units"] = morph::to_string(o.job.units);
+  report["provenance"] = to_json(o.provenance);
+  report["job"] = o.job.name;
+  report["file"] = o.job.file;
+  report["radius"] = o.job.radius;
+  report["tolerance"] = o.tolerance;
+  report["moves"] = o.job.moves.size();
+  report["exact"] = {{"area", morph::planar::area(o.exact.region)},
+                     {"perimeter", morph::planar::perimeter(o.exact.region)},
+                     {"pieces", o.exact.region.pieces.size()},
+                     {"holes", morph::planar::hole_count(o.exact.region)},
+                     {"curves_kept", o.exact.stats.pieces_kept},
+                     {"intersections", o.exact.stats.intersections},
+                     {"seconds", o.exact.stats.seconds}};
+  report["dilation"] = {{"area", morph::planar::area(o.dilation.region)},
+                        {"pieces", o.dilation.region.pieces.size()}};
+  report["classical"] = {{"area", morph::planar::area(o.classical.region)},
+                         {"pieces", o.classical.region.pieces.size()}};
+  report["reference"] = {{"area", morph::planar::area(o.reference)},
+                         {"pieces", o.reference.pieces.size()},
+                         {"holes", morph::planar::hole_count(o.reference)}};
+  report["deviation"] = {{"hausdorff", o.deviation.hausdorff()},
+                         {"exact_to_reference", deviation_json(o.deviation.a_to_b)},
+                         {"reference_to_exact", deviation_json(o.deviation.b_to_a)}};
+  report["convergence"] = json::array();
+  for (const ConvergenceRow& row : o.convergence)
+    report["convergence"].push_back({{"chord_tolerance", row.chord_tolerance},
+                                     {"hausdorff", row.hausdorff},
+                                     {"area_difference", row.area_difference},
+                                     {"reference_vertices", row.reference_vertices},
+                                     {"reference_seconds", row.reference_seconds}});
+  report["verdict"] = {
+      {"pieces_match", o.pieces_match}, {"within_bound", o.within_bound}, {"holds", o.verdict()}};
+  return report;
+}
+
 Verify2dOutcome run_verify2d(const Verify2dOptions& options) {
   Verify2dOutcome o;
   o.job = load_planar_job(options.job_path);
   o.tolerance = options.tolerance > 0.0 ? options.tolerance : o.job.tolerance;
+  o.provenance = make_provenance({options.job_path}, {{"command", "verify2d"}, {"tolerance", o.tolerance}},
+                                 morph::to_string(o.job.units));
   std::filesystem::create_directories(options.out_dir);
   morph::planar::PlanarOptions planar;
   planar.progress = options.progress;
@@ -154,39 +196,7 @@ Verify2dOutcome run_verify2d(const Verify2dOptions& options) {
       o.exact.region, o.deviation.a_to_b, o.reference, std::max(o.deviation.hausdorff(), 1e-300),
       o.job.name + ": exact boundary coloured by its distance to the reference", dir + "deviation.svg");
 
-  json report;
-  report["job"] = o.job.name;
-  report["file"] = o.job.file;
-  report["radius"] = o.job.radius;
-  report["tolerance"] = o.tolerance;
-  report["moves"] = o.job.moves.size();
-  report["exact"] = {{"area", morph::planar::area(o.exact.region)},
-                     {"perimeter", morph::planar::perimeter(o.exact.region)},
-                     {"pieces", o.exact.region.pieces.size()},
-                     {"holes", morph::planar::hole_count(o.exact.region)},
-                     {"curves_kept", o.exact.stats.pieces_kept},
-                     {"intersections", o.exact.stats.intersections},
-                     {"seconds", o.exact.stats.seconds}};
-  report["dilation"] = {{"area", morph::planar::area(o.dilation.region)},
-                        {"pieces", o.dilation.region.pieces.size()}};
-  report["classical"] = {{"area", morph::planar::area(o.classical.region)},
-                         {"pieces", o.classical.region.pieces.size()}};
-  report["reference"] = {{"area", morph::planar::area(o.reference)},
-                         {"pieces", o.reference.pieces.size()},
-                         {"holes", morph::planar::hole_count(o.reference)}};
-  report["deviation"] = {{"hausdorff", o.deviation.hausdorff()},
-                         {"exact_to_reference", deviation_json(o.deviation.a_to_b)},
-                         {"reference_to_exact", deviation_json(o.deviation.b_to_a)}};
-  report["convergence"] = json::array();
-  for (const ConvergenceRow& row : o.convergence)
-    report["convergence"].push_back({{"chord_tolerance", row.chord_tolerance},
-                                     {"hausdorff", row.hausdorff},
-                                     {"area_difference", row.area_difference},
-                                     {"reference_vertices", row.reference_vertices},
-                                     {"reference_seconds", row.reference_seconds}});
-  report["verdict"] = {
-      {"pieces_match", o.pieces_match}, {"within_bound", o.within_bound}, {"holds", o.verdict()}};
-  morph::write_file_atomically(dir + "report.json", report.dump(1) + "\n");
+  morph::write_file_atomically(dir + "report.json", verify2d_summary_json(o).dump(1) + "\n");
 
   AtomicOutput md(dir + "report.md");
   md << "# verify2d " << o.job.name << "\n\n"

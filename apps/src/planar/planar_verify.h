@@ -6,9 +6,12 @@
 #include <morph/planar_erosion.h>
 #include <morph/progress.h>
 #include <morphmill/planar_io.h>
+#include <nlohmann/json.hpp>
 
 #include <string>
 #include <vector>
+
+#include "io/provenance.h"
 
 namespace morphmill {
 
@@ -36,10 +39,15 @@ struct Verify2dOutcome {
   morph::planar::PlanarDeviation deviation;  ///< exact -> reference and back, at the tolerance
   std::vector<ConvergenceRow> convergence;   ///< tolerance x 10, 1, 1/10
   double tolerance = 0.0;
+  Provenance provenance;  ///< of this run: inputs hashed, options, build
   bool pieces_match = false;
   bool within_bound = false;  ///< Hausdorff <= 2 x tolerance (see docs/planar.md)
   bool verdict() const { return pieces_match && within_bound; }
 };
+
+/// report.json's document: the areas, pieces, deviation, convergence and verdict, with format,
+/// units and provenance; also what `verify2d --json` writes.
+nlohmann::json verify2d_summary_json(const Verify2dOutcome& outcome);
 
 /// Runs everything and writes out_dir/{result.svg,result.dxf,result.json,dilation.svg,classical.svg,
 /// reference.svg,deviation.svg,report.json,report.md}.

@@ -1,6 +1,6 @@
 // SPDX-License-Identifier: Apache-2.0
 // The paper's secondary 3D model: trimmed parametric patches built from the ordered tool
-// positions (side sweeps, front sweeps, stock faces), see morph/erode.h and docs/generator.md.
+// positions (side sweeps, front sweeps, stock faces), see morph/erode.h and docs/design/generator.md.
 #include <morph/aabb_tree.h>
 #include <morph/erode.h>
 #include <morph/exceptions.h>
@@ -2426,7 +2426,7 @@ double stock_face_distance(const Patch& p, const Vector3d& x) {
 }
 
 // The up-front memory estimate, fitted to the peak resident memory of the bundled jobs (see
-// tests/morph/erode_estimate_test.cpp and docs/generator.md): a fixed part, the stock mesh, the
+// tests/morph/erode_estimate_test.cpp and docs/design/generator.md): a fixed part, the stock mesh, the
 // segments with their capsules and bounds, the patches, and the tessellation cells of the patch
 // grids (a cell is two triangles at most, with their share of vertices, edge uses and seams).
 constexpr double kBytesFixed = 35.0 * (1 << 20);

@@ -14,7 +14,7 @@
 /// Accuracy: smooth parts of the surface are within a small fraction of a voxel of the exact one;
 /// sharp edges (box edges, groove rims) are cut by about one voxel, as by any dual contouring, so
 /// areas converge linearly in the voxel size (about -0.7 voxel of area per unit of sharp edge
-/// length) and volumes quadratically. See docs/reference.md.
+/// length) and volumes quadratically. See docs/design/reference.md.
 ///
 /// No OpenVDB type appears in this header: OpenVDB is private to the vdb_ref library.
 #include <morph/job.h>
