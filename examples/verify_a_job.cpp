@@ -19,9 +19,8 @@ int main(int argc, char** argv) {
     const double voxel = argc > 2 ? std::stod(argv[2]) : morphmill::default_voxel_size(job);
 
     const morphmill::ErodeReport part = morphmill::erode(job);
-    std::printf("generator: %zu triangles, %zu piece(s), volume %.4f, valid %s\n",
-                part.mesh.triangle_count(), part.topology.components, part.topology.volume,
-                part.valid() ? "yes" : "no");
+    std::printf("generator: %zu triangles, %zu piece(s), volume %.4f, valid %s\n", part.mesh.triangle_count(),
+                part.topology.components, part.topology.volume, part.valid() ? "yes" : "no");
 
     morphmill::ReferenceSettings reference_settings;
     reference_settings.voxel_size = voxel;

@@ -91,8 +91,9 @@ raytest::DeviationMode deviation_mode(const std::string& name) {
 }  // namespace
 
 PYBIND11_MODULE(morphmill, m) {
-  m.doc() = "MorphMill: what a milling tool leaves of a part, exactly, and how exact it is.\n"
-            "Lengths are in the job's units (mm or inch), volumes in those units cubed.";
+  m.doc() =
+      "MorphMill: what a milling tool leaves of a part, exactly, and how exact it is.\n"
+      "Lengths are in the job's units (mm or inch), volumes in those units cubed.";
 
   py::register_exception<morph::InputError>(m, "InputError", PyExc_ValueError);
   py::register_exception<morph::IoError>(m, "IoError", PyExc_OSError);
@@ -115,8 +116,9 @@ PYBIND11_MODULE(morphmill, m) {
                                  out.push_back(w.file + ":" + std::to_string(w.line) + ": " + w.message);
                                return out;
                              })
-      .def("describe", [](const morph::Job& job) { return json_to_python(morphmill::describe_job(job)); },
-           "The job as understood (stock, tools, moves by kind, bounds), as `morphmill info --json`.")
+      .def(
+          "describe", [](const morph::Job& job) { return json_to_python(morphmill::describe_job(job)); },
+          "The job as understood (stock, tools, moves by kind, bounds), as `morphmill info --json`.")
       .def("__repr__", [](const morph::Job& job) {
         return "<morphmill.Job '" + job.name + "', " + std::to_string(job.move_count()) + " moves>";
       });
@@ -130,7 +132,8 @@ PYBIND11_MODULE(morphmill, m) {
                                   "triangles uint32 (M, 3), tags int32 (M, 3): kind, source move or "
                                   "stock face, G-code line).")
       .def(py::init(&mesh_from_arrays), py::arg("vertices"), py::arg("triangles"))
-      .def_property_readonly("vertices", [](const morph::TriangleMesh& mesh) { return points_array(mesh.vertices); })
+      .def_property_readonly("vertices",
+                             [](const morph::TriangleMesh& mesh) { return points_array(mesh.vertices); })
       .def_property_readonly("triangles", &triangles_array)
       .def_property_readonly("tags", &tags_array)
       .def_property_readonly("vertex_count", &morph::TriangleMesh::vertex_count)
@@ -163,7 +166,8 @@ PYBIND11_MODULE(morphmill, m) {
       .def_readonly("topology", &morphmill::ErodeReport::topology)
       .def_readonly("self_intersections", &morphmill::ErodeReport::self_intersections)
       .def_property_readonly("valid", &morphmill::ErodeReport::valid)
-      .def_property_readonly("seconds", [](const morphmill::ErodeReport& r) { return r.stats.seconds_total; });
+      .def_property_readonly("seconds",
+                             [](const morphmill::ErodeReport& r) { return r.stats.seconds_total; });
 
   m.def(
       "erode",
@@ -182,7 +186,8 @@ PYBIND11_MODULE(morphmill, m) {
       .def_readonly("mesh", &vdb_ref::ReferenceResult::mesh)
       .def_property_readonly("volume", &vdb_ref::ReferenceResult::volume)
       .def_property_readonly("area", &vdb_ref::ReferenceResult::area)
-      .def_property_readonly("voxel_size", [](const vdb_ref::ReferenceResult& r) { return r.stats.voxel_size; })
+      .def_property_readonly("voxel_size",
+                             [](const vdb_ref::ReferenceResult& r) { return r.stats.voxel_size; })
       .def_property_readonly("piece_volumes", [](const vdb_ref::ReferenceResult& r) {
         std::vector<double> volumes;
         for (const vdb_ref::ReferencePiece& piece : r.pieces) volumes.push_back(piece.volume);
@@ -226,12 +231,14 @@ PYBIND11_MODULE(morphmill, m) {
                                for (const raytest::SurfaceSample& s : d.samples) normals.push_back(s.normal);
                                return points_array(normals);
                              })
-      .def_property_readonly("values", [](const raytest::OneSidedDeviation& d) { return doubles_array(d.values); })
+      .def_property_readonly("values",
+                             [](const raytest::OneSidedDeviation& d) { return doubles_array(d.values); })
       .def_property_readonly("triangles",
                              [](const raytest::OneSidedDeviation& d) {
                                py::array_t<std::uint32_t> array(static_cast<py::ssize_t>(d.samples.size()));
                                auto out = array.mutable_unchecked<1>();
-                               for (std::size_t i = 0; i < d.samples.size(); ++i) out(i) = d.samples[i].triangle;
+                               for (std::size_t i = 0; i < d.samples.size(); ++i)
+                                 out(i) = d.samples[i].triangle;
                                return array;
                              })
       .def_readonly("stats", &raytest::OneSidedDeviation::stats);

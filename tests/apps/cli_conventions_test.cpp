@@ -13,8 +13,8 @@
 #include <regex>
 #include <thread>
 
-#include "cli/terminal_progress.h"
 #include "apps/command_support.h"
+#include "cli/terminal_progress.h"
 
 namespace {
 

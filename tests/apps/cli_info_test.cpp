@@ -50,7 +50,8 @@ TEST_F(CliInfo, InfoPrintsTheJobAsUnderstood) {
   EXPECT_TRUE(r.errors.empty()) << r.errors;
   EXPECT_NE(r.output.find("Job slots"), std::string::npos) << r.output;
   EXPECT_NE(r.output.find("Stock: box  min (0, 0, 0)  max (100, 60, 20)"), std::string::npos) << r.output;
-  EXPECT_NE(r.output.find("T1    ballend diameter 6, length 40 above the ball's centre"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("T1    ballend diameter 6, length 40 above the ball's centre"), std::string::npos)
+      << r.output;
   EXPECT_NE(r.output.find("Moves: 8 (rapid 1, linear 5, arc 2)"), std::string::npos) << r.output;
   EXPECT_NE(r.output.find("Bounds of the tool point: (-5, 8, 16) .. (105, 30, 25)"), std::string::npos)
       << r.output;

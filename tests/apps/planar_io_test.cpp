@@ -81,8 +81,8 @@ TEST(PlanarJobs, BundledJobsAsBuilt) {
   for (std::size_t i = 1; i < cut.region.pieces.size(); ++i)
     parts.push_back(morph::planar::signed_area(cut.region.loops[cut.region.pieces[i].outer]));
   std::sort(parts.begin(), parts.end());
-  EXPECT_NEAR(parts[2], 60.0 * 40.0, 1e-6);               // the rectangle, profile at exactly r
-  EXPECT_NEAR(parts[1], M_PI * 25.0 * 25.0, 1e-6);        // the disc inside the circle pass
+  EXPECT_NEAR(parts[2], 60.0 * 40.0, 1e-6);         // the rectangle, profile at exactly r
+  EXPECT_NEAR(parts[1], M_PI * 25.0 * 25.0, 1e-6);  // the disc inside the circle pass
   // The L: a 67 x 5 bar, a 22 x 22 block and, at the path's inner turn, the 3 x 3 square outside the
   // disc about the turn's corner.
   EXPECT_NEAR(parts[0], 67.0 * 5.0 + 22.0 * 22.0 + 9.0 - 9.0 * M_PI / 4.0, 1e-6);

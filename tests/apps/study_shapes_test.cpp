@@ -12,8 +12,8 @@
 #include <sstream>
 #include <string>
 
-#include "campaigns/study.h"
 #include "apps/command_support.h"
+#include "campaigns/study.h"
 
 namespace {
 

@@ -714,7 +714,8 @@ TEST(Erode, RejectsUnsupportedToolsAndTolerances) {
   } catch (const morph::InputError& e) {
     // Names the move and the tool.
     EXPECT_NE(std::string(e.what()).find("the move at line"), std::string::npos) << e.what();
-    EXPECT_NE(std::string(e.what()).find("tool 1 (flat diameter 2, length 5)"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("tool 1 (flat diameter 2, length 5)"), std::string::npos)
+        << e.what();
   }
   const Job ok = box_job({0, 0, 0}, {10, 10, 10}, sphere_tool(1.0), {{{0, 0, 9}, {10, 10, 9}}}, 0.01);
   morph::ErodeOptions negative;

@@ -93,7 +93,8 @@ std::vector<Vector2d> boundary_samples(const morph::ToolProfile& profile, int pe
         points.push_back(piece.from + s * (piece.to - piece.from));
       } else {
         const double a = piece.angle0 + s * (piece.angle1 - piece.angle0);
-        points.push_back(piece.centre + Vector2d(piece.radii.x() * std::cos(a), piece.radii.y() * std::sin(a)));
+        points.push_back(piece.centre +
+                         Vector2d(piece.radii.x() * std::cos(a), piece.radii.y() * std::sin(a)));
       }
     }
   return points;
@@ -133,7 +134,8 @@ TEST(ToolShapes, DistancesAtChosenPoints) {
 
   const Tool snub = morph::tapered_tool(1.0, 2.0, 5.5);  // CAMotics slant_test's tool
   EXPECT_NEAR(d(snub, 0, -1), 1.0, 1e-15);
-  EXPECT_NEAR(d(snub, 2, 0), 1.0 * 5.5 / std::hypot(1.0, 5.5), 1e-14);  // beside the tip edge, off the side line
+  EXPECT_NEAR(d(snub, 2, 0), 1.0 * 5.5 / std::hypot(1.0, 5.5),
+              1e-14);  // beside the tip edge, off the side line
   EXPECT_NEAR(snub.angle, std::atan(1.0 / 5.5) * 180.0 / M_PI, 1e-12);
 
   const Tool tball = morph::tapered_ball_tool(1.0, 10.0, 10.0);
@@ -205,7 +207,8 @@ TEST(ToolShapes, VolumesAndSectionsInClosedForm) {
   const double R = 3.0, L = 8.0;
   EXPECT_NEAR(morph::flat_tool(R, L).profile.volume(), M_PI * R * R * L, 1e-12);
   EXPECT_NEAR(morph::flat_tool(R, L).profile.section_area(), 2 * R * L, 1e-12);
-  EXPECT_NEAR(morph::ball_tool(R, L).profile.volume(), 2.0 / 3.0 * M_PI * R * R * R + M_PI * R * R * L, 1e-12);
+  EXPECT_NEAR(morph::ball_tool(R, L).profile.volume(), 2.0 / 3.0 * M_PI * R * R * R + M_PI * R * R * L,
+              1e-12);
   EXPECT_NEAR(morph::ball_tool(R, L).profile.section_area(), 0.5 * M_PI * R * R + 2 * R * L, 1e-12);
   EXPECT_NEAR(morph::sphere_tool(R).profile.volume(), 4.0 / 3.0 * M_PI * R * R * R, 1e-12);
   EXPECT_NEAR(morph::conical_tool(R, 90.0, R).profile.volume(), M_PI * R * R * R / 3.0, 1e-12);
@@ -220,13 +223,14 @@ TEST(ToolShapes, VolumesAndSectionsInClosedForm) {
   const double missing_area = c * c * (1.0 - M_PI / 4.0);
   // Centroid of the square-minus-quarter-disc region towards the outer corner: (R - c) + c * k,
   // with k = (1/2 - 1/3 * 1/(1 - pi/4) * ... ) computed by moments about the corner centre.
-  const double moment = c * c * c / 2.0 - c * c * c / 3.0;  // x-moment of square minus quarter disc about the centre
+  const double moment =
+      c * c * c / 2.0 - c * c * c / 3.0;  // x-moment of square minus quarter disc about the centre
   const double centroid = (R4 - c) + moment / missing_area;
   EXPECT_NEAR(morph::bullnose_tool(R4, c, H).profile.volume(),
               M_PI * R4 * R4 * H - 2.0 * M_PI * centroid * missing_area, 1e-12);
   // APT with alpha = beta = 0 is the bull nose; with r = 0 and alpha = 45, a 90-degree V-bit with shank.
-  EXPECT_NEAR(morph::apt_tool(8.0, 1.5, 0.0, 0.0, 9.0).profile.volume(), morph::bullnose_tool(4.0, 1.5, 9.0).profile.volume(),
-              1e-12);
+  EXPECT_NEAR(morph::apt_tool(8.0, 1.5, 0.0, 0.0, 9.0).profile.volume(),
+              morph::bullnose_tool(4.0, 1.5, 9.0).profile.volume(), 1e-12);
   EXPECT_NEAR(morph::apt_tool(6.0, 0.0, 45.0, 0.0, 7.0).profile.volume(),
               morph::conical_tool(3.0, 90.0, 7.0).profile.volume(), 1e-12);
   const Tool apt = morph::apt_tool(8.0, 1.5, 0.0, 0.0, 9.0, 2.5, 1.5);  // e, f given and consistent
@@ -274,7 +278,8 @@ TEST(ToolShapes, RampAndHelixDistancesMatchDenseSamplingOfTheMove) {
         const Vector3d p(u(rng), u(rng), 0.5 * u(rng));
         double dense = std::numeric_limits<double>::infinity();
         for (int k = 0; k <= 20000; ++k)
-          dense = std::min(dense, morph::tool_signed_distance(shape.tool, morph::point_at(move, k / 20000.0), p));
+          dense =
+              std::min(dense, morph::tool_signed_distance(shape.tool, morph::point_at(move, k / 20000.0), p));
         const double exact = morph::swept_signed_distance(shape.tool, move, p);
         // Dense sampling is an upper bound within the step (the distance is 1-Lipschitz).
         const double step = morph::length(move) / 20000.0;
@@ -295,8 +300,7 @@ TEST(ToolShapes, SingleSweepVolumesMatchCavalieriAndPappus) {
     const double R = profile.radius(), H = profile.height(), lift = profile.point_height();
     for (bool level : {true, false}) {
       const Vector3d a(0, 0, lift), b = level ? Vector3d(D, 0, lift) : Vector3d(0, 0, lift - D);
-      const double expected =
-          profile.volume() + D * (level ? profile.section_area() : M_PI * R * R);
+      const double expected = profile.volume() + D * (level ? profile.section_area() : M_PI * R * R);
       Eigen::AlignedBox3d box(Vector3d(-R, -R, level ? 0.0 : -D), Vector3d(level ? D + R : R, R, H));
       box.min() -= Vector3d::Constant(1e-3);
       box.max() += Vector3d::Constant(1e-3);
@@ -309,7 +313,7 @@ TEST(ToolShapes, SingleSweepVolumesMatchCavalieriAndPappus) {
   const double R = 3.0, L = 8.0;
   EXPECT_NEAR(morph::flat_tool(R, L).profile.volume() + D * morph::flat_tool(R, L).profile.section_area(),
               2 * R * L * D + M_PI * R * R * L, 1e-12);  // box + two half cylinders
-  const Tool vbit = morph::conical_tool(R, 90.0, R);   // height R
+  const Tool vbit = morph::conical_tool(R, 90.0, R);     // height R
   EXPECT_NEAR(vbit.profile.volume() + D * vbit.profile.section_area(), R * R * D + M_PI * R * R * R / 3.0,
               1e-12);  // triangular prism + two half cones
 }
@@ -321,7 +325,8 @@ TEST(ToolShapes, FullCircleSweepVolumeIsPappus) {
        {morph::flat_tool(1.0, 3.0), morph::conical_tool(1.5, 90.0, 1.5), morph::spheroid_tool(1.0, 3.0)}) {
     const double Ra = 4.0, H = tool.profile.height();
     const morph::Move move = circle(Ra, 0.0);
-    const Eigen::AlignedBox3d box(Vector3d(-Ra - 1.6, -Ra - 1.6, -0.01), Vector3d(Ra + 1.6, Ra + 1.6, H + 0.01));
+    const Eigen::AlignedBox3d box(Vector3d(-Ra - 1.6, -Ra - 1.6, -0.01),
+                                  Vector3d(Ra + 1.6, Ra + 1.6, H + 0.01));
     const auto [volume, bound] = volume_by_sampling(
         box, [&](const Vector3d& p) { return morph::swept_signed_distance(tool, move, p); }, n);
     EXPECT_NEAR(volume, 2.0 * M_PI * Ra * tool.profile.section_area(), bound) << morph::describe(tool);
@@ -333,27 +338,30 @@ TEST(ToolShapes, BadSizesNameTheirField) {
   EXPECT_EQ(message_of([] { morph::flat_tool(3, 0); }), "length: must be greater than 0, got 0");
   EXPECT_EQ(message_of([] { morph::bullnose_tool(3, 4, 10); }),
             "corner_radius: must not exceed the radius 3, got 4");
-  EXPECT_EQ(message_of([] { morph::bullnose_tool(3, -1, 10); }), "corner_radius: must be greater than 0, got -1");
+  EXPECT_EQ(message_of([] { morph::bullnose_tool(3, -1, 10); }),
+            "corner_radius: must be greater than 0, got -1");
   EXPECT_EQ(message_of([] { morph::conical_tool(3, 180, 10); }),
             "angle: must be an included angle between 0 and 180 degrees (exclusive), got 180");
   EXPECT_EQ(message_of([] { morph::conical_tool(3, 90, 2); }).substr(0, 7), "length:");
   EXPECT_EQ(message_of([] { morph::conical_tool(3, 90, 10, 3); }).substr(0, 11), "tip_radius:");
   EXPECT_EQ(message_of([] { morph::tapered_tool(2, 1, 5); }).substr(0, 7), "radius:");
   EXPECT_EQ(message_of([] { morph::tapered_ball_tool(1, 95, 5); }).substr(0, 6), "angle:");
-  EXPECT_EQ(message_of([] { morph::spheroid_tool(1, std::nan("")); }), "length: must be a finite number, got nan");
+  EXPECT_EQ(message_of([] { morph::spheroid_tool(1, std::nan("")); }),
+            "length: must be a finite number, got nan");
   EXPECT_EQ(message_of([] { morph::apt_tool(8, 1, 50, 45, 10); }).substr(0, 5), "beta:");
   EXPECT_EQ(message_of([] { morph::apt_tool(8, 1, 0, 0, 10, 2.5); }).substr(0, 2), "e:");
   EXPECT_EQ(message_of([] { morph::apt_tool(2, 5, 0, 0, 10); }).substr(0, 14), "corner_radius:");
   // A raw profile that is not convex (an inward notch) or does not close on the axis.
   using P = morph::ProfilePiece;
   EXPECT_NE(message_of([] {
-              morph::ToolProfile({P::segment({0, 0}, {3, 0}), P::segment({3, 0}, {1, 2}), P::segment({1, 2}, {3, 4}),
-                                  P::segment({3, 4}, {0, 4})},
+              morph::ToolProfile({P::segment({0, 0}, {3, 0}), P::segment({3, 0}, {1, 2}),
+                                  P::segment({1, 2}, {3, 4}), P::segment({3, 4}, {0, 4})},
                                  0.0);
             }).find("not convex"),
             std::string::npos);
-  EXPECT_NE(message_of([] { morph::ToolProfile({P::segment({0, 0}, {3, 0}), P::segment({3, 0}, {3, 4})}, 0.0); })
-                .find("end on the axis"),
+  EXPECT_NE(message_of([] {
+              morph::ToolProfile({P::segment({0, 0}, {3, 0}), P::segment({3, 0}, {3, 4})}, 0.0);
+            }).find("end on the axis"),
             std::string::npos);
 }
 
@@ -369,7 +377,8 @@ TEST(ToolShapes, ExtentsAndNames) {
   EXPECT_EQ(morph::tool_type_from_string("snubnose", "x"), morph::ToolType::Tapered);
   EXPECT_EQ(morph::tool_type_from_string("ball", "x"), morph::ToolType::BallEnd);
   EXPECT_THROW(morph::tool_type_from_string("drill", "x"), morph::InputError);
-  EXPECT_EQ(morph::describe(morph::bullnose_tool(5, 1, 20)), "bullnose diameter 10, corner radius 1, length 20");
+  EXPECT_EQ(morph::describe(morph::bullnose_tool(5, 1, 20)),
+            "bullnose diameter 10, corner radius 1, length 20");
   EXPECT_TRUE(morph::ball_tool(1, 2).generator_builds());
   EXPECT_FALSE(morph::flat_tool(1, 2).generator_builds());
 }

@@ -35,7 +35,7 @@ class StraightSweep {
   double body_distance(const Eigen::Vector3d& p) const;
 
   const morph::Tool* general_ = nullptr;  // set for the shapes without a closed form here
-  double bounding_radius_ = 0.0;           // general: radius of a ball about centre_ holding the tool
+  double bounding_radius_ = 0.0;          // general: radius of a ball about centre_ holding the tool
   bool ball_end_ = false;
   double radius_ = 0.0;
   double length_ = 0.0;

@@ -75,7 +75,7 @@ double default_voxel_size(const morph::Job& job);
 
 /// How to compute the OpenVDB reference (`morphmill reference`).
 struct ReferenceSettings {
-  double voxel_size = 0.0;  ///< voxel edge, job units; 0: default_voxel_size(job)
+  double voxel_size = 0.0;                              ///< voxel edge, job units; 0: default_voxel_size(job)
   std::size_t memory_cap_bytes = std::size_t(8) << 30;  ///< morph::LimitError above this estimate
   morph::Progress* progress = nullptr;
 };

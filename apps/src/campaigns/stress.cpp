@@ -24,9 +24,9 @@
 #include <sstream>
 #include <thread>
 
-#include "io/build_info.h"
-#include "cli/stop_signals.h"
 #include "campaigns/stress_cases.h"
+#include "cli/stop_signals.h"
+#include "io/build_info.h"
 #include "verify/verify.h"
 
 namespace morphmill::stress {

@@ -20,8 +20,8 @@
 #include <sstream>
 #include <tuple>
 
-#include "verify/html.h"
 #include "cli/stop_signals.h"
+#include "verify/html.h"
 #include "verify/verify.h"
 
 namespace morphmill::study {

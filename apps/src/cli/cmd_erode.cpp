@@ -26,8 +26,8 @@
 #include "cli/cli_conventions.h"
 #include "cli/commands.h"
 #include "cli/memory_cap.h"
-#include "io/provenance.h"
 #include "cli/terminal_progress.h"
+#include "io/provenance.h"
 
 namespace morphmill {
 

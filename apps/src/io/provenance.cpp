@@ -118,8 +118,8 @@ Provenance make_provenance(const std::vector<std::string>& input_paths, nlohmann
   p.units = units;
   p.machine = host_name();
   // The limit --threads set, else the machine's.
-  p.threads = static_cast<unsigned>(
-      tbb::global_control::active_value(tbb::global_control::max_allowed_parallelism));
+  p.threads =
+      static_cast<unsigned>(tbb::global_control::active_value(tbb::global_control::max_allowed_parallelism));
   p.date_utc = utc_now_iso8601();
   return p;
 }

@@ -94,7 +94,8 @@ class ProjectReader {
         tool = morph::ball_tool(radius, length);
       } else if (shape == "conical") {
         // Radius 0 at the tip growing linearly to R at L; nothing above.
-        if (!(radius > 0.0 && length > 0.0)) throw morph::ToolError(radius > 0.0 ? "length" : "radius", "must be greater than 0");
+        if (!(radius > 0.0 && length > 0.0))
+          throw morph::ToolError(radius > 0.0 ? "length" : "radius", "must be greater than 0");
         tool = morph::conical_tool(radius, morph::cone_angle(radius, length), length);
       } else if (shape == "snubnose") {
         tool = morph::tapered_tool(0.5 * size("snub_diameter"), radius, length);
@@ -110,11 +111,12 @@ class ProjectReader {
       if (field == "tip_radius") field = "snub_diameter";
       if (field == "angle") field = "length";
       fail(at + "." + field, e.problem() + (scale != 1.0 || field.find("diameter") != std::string::npos
-                                               ? " (after conversion to the job's units and radii)"
-                                               : ""));
+                                                ? " (after conversion to the job's units and radii)"
+                                                : ""));
     }
     tool.number = number_in_table;
-    if (auto d = v.find("description"); d != v.end() && d->is_string()) tool.description = d->get<std::string>();
+    if (auto d = v.find("description"); d != v.end() && d->is_string())
+      tool.description = d->get<std::string>();
     return tool;
   }
 
@@ -169,7 +171,8 @@ morph::Job parse_camotics_project(const json& project, const std::string& file) 
   for (auto it = tools.begin(); it != tools.end(); ++it) {
     const std::string at = "tools." + it.key();
     const std::string& key = it.key();
-    if (key.empty() || key.size() > 9 || !std::all_of(key.begin(), key.end(), [](char c) { return c >= '0' && c <= '9'; }))
+    if (key.empty() || key.size() > 9 ||
+        !std::all_of(key.begin(), key.end(), [](char c) { return c >= '0' && c <= '9'; }))
       reader.fail(at, "expected a tool number (an integer >= 0) as the key");
     const int number = std::stoi(key);
     job.tools[number] = reader.tool(it.value(), at, number, job.units);
@@ -182,11 +185,14 @@ morph::Job parse_camotics_project(const json& project, const std::string& file) 
     const std::string at = "files[" + std::to_string(i) + "]";
     const std::string name = reader.string(files[i], at);
     std::string extension = fs::path(name).extension().string();
-    std::transform(extension.begin(), extension.end(), extension.begin(), [](unsigned char c) { return std::tolower(c); });
+    std::transform(extension.begin(), extension.end(), extension.begin(),
+                   [](unsigned char c) { return std::tolower(c); });
     if (extension == ".tpl")
-      reader.fail(at, "'" + name +
-                          "' is a CAMotics TPL program (JavaScript that generates G-code); MorphMill reads G-code only: "
-                          "run it through CAMotics' 'tplang' and list the G-code it writes");
+      reader.fail(
+          at,
+          "'" + name +
+              "' is a CAMotics TPL program (JavaScript that generates G-code); MorphMill reads G-code only: "
+              "run it through CAMotics' 'tplang' and list the G-code it writes");
     const fs::path resolved = fs::path(name).is_absolute() ? fs::path(name) : base / name;
     std::error_code ec;
     if (!fs::is_regular_file(resolved, ec))
@@ -195,7 +201,8 @@ morph::Job parse_camotics_project(const json& project, const std::string& file) 
     options.job_units = job.units;
     options.initial_tool = job.tools.begin()->first;
     // Every program starts with the tool the previous one left in the spindle.
-    if (!job.paths.empty() && !job.paths.back().moves.empty()) options.initial_tool = job.paths.back().moves.back().tool;
+    if (!job.paths.empty() && !job.paths.back().moves.empty())
+      options.initial_tool = job.paths.back().moves.back().tool;
     morph::GcodeResult result;
     try {
       result = morph::read_gcode(resolved.lexically_normal().string(), options);
@@ -206,8 +213,8 @@ morph::Job parse_camotics_project(const json& project, const std::string& file) 
     }
     for (const morph::Move& m : result.path.moves)
       if (!job.tools.count(m.tool))
-        reader.fail(at, "'" + name + "' line " + std::to_string(m.line) + " moves with tool " + std::to_string(m.tool) +
-                            ", which the project's tool table does not define");
+        reader.fail(at, "'" + name + "' line " + std::to_string(m.line) + " moves with tool " +
+                            std::to_string(m.tool) + ", which the project's tool table does not define");
     job.warnings.insert(job.warnings.end(), result.warnings.begin(), result.warnings.end());
     morph::Path path;
     path.source = result.path.source.empty() ? resolved.lexically_normal().string() : result.path.source;
@@ -228,17 +235,22 @@ morph::Job parse_camotics_project(const json& project, const std::string& file) 
   Eigen::AlignedBox3d box;
   if (automatic) {
     double margin = 5.0;
-    if (auto m = workpiece.find("margin"); m != workpiece.end()) margin = reader.number(*m, "workpiece.margin");
+    if (auto m = workpiece.find("margin"); m != workpiece.end())
+      margin = reader.number(*m, "workpiece.margin");
     if (!(margin >= 0.0)) reader.fail("workpiece.margin", "must not be negative (a percentage of the size)");
     box = automatic_workpiece(job, margin);
-    if (box.isEmpty()) reader.fail("workpiece.automatic", "the programs have no cutting moves to size the workpiece by");
+    if (box.isEmpty())
+      reader.fail("workpiece.automatic", "the programs have no cutting moves to size the workpiece by");
   } else {
     const json& bounds = reader.object(reader.require(workpiece, "workpiece", "bounds"), "workpiece.bounds");
-    const Eigen::Vector3d lo = to_job * reader.point(reader.require(bounds, "workpiece.bounds", "min"), "workpiece.bounds.min");
-    const Eigen::Vector3d hi = to_job * reader.point(reader.require(bounds, "workpiece.bounds", "max"), "workpiece.bounds.max");
+    const Eigen::Vector3d lo =
+        to_job * reader.point(reader.require(bounds, "workpiece.bounds", "min"), "workpiece.bounds.min");
+    const Eigen::Vector3d hi =
+        to_job * reader.point(reader.require(bounds, "workpiece.bounds", "max"), "workpiece.bounds.max");
     for (int k = 0; k < 3; ++k)
       if (!(lo[k] < hi[k]))
-        reader.fail("workpiece.bounds.max", std::string("must exceed min in every axis, but ") + "xyz"[k] + " does not");
+        reader.fail("workpiece.bounds.max",
+                    std::string("must exceed min in every axis, but ") + "xyz"[k] + " does not");
     box = Eigen::AlignedBox3d(lo, hi);
   }
   job.stock.type = morph::StockType::Box;
@@ -266,7 +278,9 @@ std::map<int, ToolTableRow> read_tool_table(const std::string& path) {
   std::map<int, ToolTableRow> rows;
   std::string text;
   for (int line = 1; std::getline(in, text); ++line) {
-    auto fail = [&](const std::string& what) { throw InputError(path + ":" + std::to_string(line) + ": " + what); };
+    auto fail = [&](const std::string& what) {
+      throw InputError(path + ":" + std::to_string(line) + ": " + what);
+    };
     ToolTableRow row;
     row.line = line;
     const std::size_t semicolon = text.find(';');
@@ -283,7 +297,8 @@ std::map<int, ToolTableRow> read_tool_table(const std::string& path) {
     while (words >> word) {
       const char letter = static_cast<char>(std::toupper(static_cast<unsigned char>(word[0])));
       if (std::string("TPDXYZABCUVWIJQ").find(letter) == std::string::npos)
-        fail("unknown word '" + word + "' (a tool table line holds T, P, D, X Y Z A B C U V W, I J Q and a ;comment)");
+        fail("unknown word '" + word +
+             "' (a tool table line holds T, P, D, X Y Z A B C U V W, I J Q and a ;comment)");
       const std::string digits = word.substr(1);
       char* end = nullptr;
       errno = 0;

@@ -24,9 +24,9 @@
 #include <unordered_map>
 
 #include <morph/convex_minimum.h>
-#include "mesh/edge_uses.h"
 #include "generator/erode_repair.h"
 #include "generator/erode_seams.h"
+#include "mesh/edge_uses.h"
 #include "mesh/huge_pages.h"
 
 namespace morph {

@@ -11,8 +11,8 @@
 #include <set>
 #include <vector>
 
-#include "mesh/edge_uses.h"
 #include "generator/erode_seams.h"
+#include "mesh/edge_uses.h"
 
 namespace morph::detail {
 

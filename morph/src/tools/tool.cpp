@@ -90,8 +90,9 @@ const char* to_string(ToolType type) {
 }
 
 ToolType tool_type_from_string(const std::string& name, const std::string& where) {
-  for (ToolType t : {ToolType::Sphere, ToolType::BallEnd, ToolType::Flat, ToolType::Bullnose, ToolType::Conical,
-                     ToolType::Tapered, ToolType::TaperedBall, ToolType::Spheroid, ToolType::Apt})
+  for (ToolType t :
+       {ToolType::Sphere, ToolType::BallEnd, ToolType::Flat, ToolType::Bullnose, ToolType::Conical,
+        ToolType::Tapered, ToolType::TaperedBall, ToolType::Spheroid, ToolType::Apt})
     if (name == to_string(t)) return t;
   if (name == "ball") return ToolType::BallEnd;
   if (name == "vbit") return ToolType::Conical;
@@ -103,8 +104,8 @@ ToolType tool_type_from_string(const std::string& name, const std::string& where
 
 Tool sphere_tool(double radius) {
   positive("radius", radius);
-  Tool tool = with_profile(ToolType::Sphere, {Piece::arc({0, radius}, radius, -0.5 * M_PI, 0.5 * M_PI)}, radius,
-                           "radius");
+  Tool tool = with_profile(ToolType::Sphere, {Piece::arc({0, radius}, radius, -0.5 * M_PI, 0.5 * M_PI)},
+                           radius, "radius");
   tool.radius = radius;
   return tool;
 }
@@ -124,10 +125,11 @@ Tool ball_tool(double radius, double length) {
 Tool flat_tool(double radius, double length) {
   positive("radius", radius);
   positive("length", length);
-  Tool tool = with_profile(ToolType::Flat,
-                           {Piece::segment({0, 0}, {radius, 0}), Piece::segment({radius, 0}, {radius, length}),
-                            Piece::segment({radius, length}, {0, length})},
-                           0.0, "length");
+  Tool tool =
+      with_profile(ToolType::Flat,
+                   {Piece::segment({0, 0}, {radius, 0}), Piece::segment({radius, 0}, {radius, length}),
+                    Piece::segment({radius, length}, {0, length})},
+                   0.0, "length");
   tool.length = length;
   return tool;
 }
@@ -165,7 +167,8 @@ double cone_angle(double radius, double height, double tip_radius) {
 
 Tool conical_tool(double radius, double included_angle, double length, double tip_radius) {
   positive("radius", radius);
-  angle_in("angle", included_angle, 0.0, true, 180.0, "an included angle between 0 and 180 degrees (exclusive)");
+  angle_in("angle", included_angle, 0.0, true, 180.0,
+           "an included angle between 0 and 180 degrees (exclusive)");
   positive("length", length);
   non_negative("tip_radius", tip_radius);
   if (!(tip_radius < radius))
@@ -178,8 +181,7 @@ Tool conical_tool(double radius, double included_angle, double length, double ti
     throw ToolError("length", "must be at least the cone's height " + number_text(height) + " (radius " +
                                   number_text(radius) + ", angle " + number_text(included_angle) + "), got " +
                                   number_text(length));
-  Tool tool =
-      with_profile(ToolType::Conical, cone_pieces(tip_radius, radius, height, length), 0.0, "angle");
+  Tool tool = with_profile(ToolType::Conical, cone_pieces(tip_radius, radius, height, length), 0.0, "angle");
   tool.radius = radius;
   tool.length = length;
   tool.angle = included_angle;
@@ -192,8 +194,8 @@ Tool tapered_tool(double tip_radius, double radius, double length) {
   positive("radius", radius);
   positive("length", length);
   if (!(radius > tip_radius))
-    throw ToolError("radius", "must exceed the tip radius " + number_text(tip_radius) + " (a taper opens upward), got " +
-                                  number_text(radius));
+    throw ToolError("radius", "must exceed the tip radius " + number_text(tip_radius) +
+                                  " (a taper opens upward), got " + number_text(radius));
   Tool tool = with_profile(ToolType::Tapered, cone_pieces(tip_radius, radius, length, length), 0.0, "radius");
   tool.radius = radius;
   tool.length = length;
@@ -206,7 +208,8 @@ double tapered_ball_angle(double ball_radius, double radius, double length) {
   // The side line at taper a, tangent to the ball, reaches r = radius at h = length when
   // radius cos(a) - (length - ball_radius) sin(a) = ball_radius.
   const double b = length - ball_radius;
-  return (std::acos(std::clamp(ball_radius / std::hypot(radius, b), -1.0, 1.0)) - std::atan2(b, radius)) / kDegree;
+  return (std::acos(std::clamp(ball_radius / std::hypot(radius, b), -1.0, 1.0)) - std::atan2(b, radius)) /
+         kDegree;
 }
 
 Tool tapered_ball_tool(double ball_radius, double taper_angle, double length) {
@@ -219,10 +222,11 @@ Tool tapered_ball_tool(double ball_radius, double taper_angle, double length) {
     throw ToolError("length", "must exceed the height " + number_text(tangent.y()) +
                                   " where the taper leaves the ball, got " + number_text(length));
   const double top = tangent.x() + (length - tangent.y()) * std::tan(a);
-  Tool tool = with_profile(ToolType::TaperedBall,
-                           {Piece::arc({0, ball_radius}, ball_radius, -0.5 * M_PI, -a),
-                            Piece::segment(tangent, {top, length}), Piece::segment({top, length}, {0, length})},
-                           0.0, "angle");
+  Tool tool =
+      with_profile(ToolType::TaperedBall,
+                   {Piece::arc({0, ball_radius}, ball_radius, -0.5 * M_PI, -a),
+                    Piece::segment(tangent, {top, length}), Piece::segment({top, length}, {0, length})},
+                   0.0, "angle");
   tool.length = length;
   tool.tip_radius = ball_radius;
   tool.angle = taper_angle;
@@ -233,9 +237,10 @@ Tool spheroid_tool(double radius, double height) {
   positive("radius", radius);
   positive("length", height);
   const Vector2d centre(0, 0.5 * height), radii(radius, 0.5 * height);
-  Tool tool = with_profile(ToolType::Spheroid,
-                           {Piece::ellipse(centre, radii, -0.5 * M_PI, 0.0), Piece::ellipse(centre, radii, 0.0, 0.5 * M_PI)},
-                           0.0, "length");
+  Tool tool = with_profile(
+      ToolType::Spheroid,
+      {Piece::ellipse(centre, radii, -0.5 * M_PI, 0.0), Piece::ellipse(centre, radii, 0.0, 0.5 * M_PI)}, 0.0,
+      "length");
   tool.radius = radius;
   tool.length = height;
   return tool;
@@ -249,8 +254,9 @@ Tool apt_tool(double diameter, double corner_radius, double alpha, double beta, 
   angle_in("beta", beta, -90.0, true, 90.0, "between -90 and 90 degrees (exclusive)");
   positive("height", height);
   if (!(alpha + beta < 90.0))
-    throw ToolError("beta", "alpha + beta must be below 90 degrees (the side must rise above the bottom), got " +
-                                number_text(alpha + beta));
+    throw ToolError("beta",
+                    "alpha + beta must be below 90 degrees (the side must rise above the bottom), got " +
+                        number_text(alpha + beta));
   const double a = alpha * kDegree, b = beta * kDegree;
   const Vector2d corner(0.5 * diameter, 0.5 * diameter * std::tan(a));
   const Vector2d side(std::sin(b), std::cos(b));
@@ -275,7 +281,8 @@ Tool apt_tool(double diameter, double corner_radius, double alpha, double beta, 
                                       std::tuple<const char*, double, double>{"f", check_f, centre.y()}})
     if (!std::isnan(given) && !(std::abs(given - actual) <= 1e-6 * scale))
       throw ToolError(field, std::string("must be ") + number_text(actual) +
-                                 " for this diameter, corner radius, alpha and beta, got " + number_text(given));
+                                 " for this diameter, corner radius, alpha and beta, got " +
+                                 number_text(given));
   std::vector<Piece> pieces;
   if (t1.x() > 1e-12 * diameter) pieces.push_back(Piece::segment({0, 0}, t1));
   if (corner_radius > 0.0) pieces.push_back(Piece::arc(centre, corner_radius, a - 0.5 * M_PI, -b));
@@ -295,7 +302,8 @@ Tool apt_tool(double diameter, double corner_radius, double alpha, double beta, 
 std::string describe(const Tool& tool) {
   std::ostringstream out;
   out.precision(6);
-  out << to_string(tool.type) << " diameter " << (tool.type == ToolType::Apt ? tool.apt_diameter : 2.0 * tool.radius);
+  out << to_string(tool.type) << " diameter "
+      << (tool.type == ToolType::Apt ? tool.apt_diameter : 2.0 * tool.radius);
   switch (tool.type) {
     case ToolType::Sphere:
       break;
@@ -315,8 +323,8 @@ std::string describe(const Tool& tool) {
           << tool.length;
       break;
     case ToolType::TaperedBall:
-      out << " at the top, tip ball radius " << tool.tip_radius << ", taper " << tool.angle << " deg/side, length "
-          << tool.length;
+      out << " at the top, tip ball radius " << tool.tip_radius << ", taper " << tool.angle
+          << " deg/side, length " << tool.length;
       break;
     case ToolType::Apt:
       out << ", corner radius " << tool.corner_radius << ", e " << tool.apt_e << ", f " << tool.apt_f
@@ -351,7 +359,8 @@ double tool_signed_distance(const Tool& tool, const Eigen::Vector3d& tool_point,
     throw InputError("tool " + std::to_string(tool.number) + " ('" + to_string(tool.type) +
                      "') has no profile; build it with the constructors of morph/tool.h");
   const Eigen::Vector3d q = p - tool_point;
-  return tool.profile.signed_distance(std::sqrt(q.x() * q.x() + q.y() * q.y()), q.z() + tool.profile.point_height());
+  return tool.profile.signed_distance(std::sqrt(q.x() * q.x() + q.y() * q.y()),
+                                      q.z() + tool.profile.point_height());
 }
 
 ToolExtent tool_extent(const Tool& tool) {

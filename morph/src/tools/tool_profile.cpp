@@ -63,7 +63,8 @@ double piece_distance(const ProfilePiece& piece, const Vector2d& p) {
       const double mid = 0.5 * (piece.angle0 + piece.angle1);
       const double sx = std::cos(mid) >= 0.0 ? 1.0 : -1.0, sy = std::sin(mid) >= 0.0 ? 1.0 : -1.0;
       if (q.x() * sx < 0.0 || q.y() * sy < 0.0) return endpoint_distance(piece, p);
-      return detail::ellipse_quadrant_distance(piece.radii.x(), piece.radii.y(), std::abs(q.x()), std::abs(q.y()));
+      return detail::ellipse_quadrant_distance(piece.radii.x(), piece.radii.y(), std::abs(q.x()),
+                                               std::abs(q.y()));
     }
   }
   return std::numeric_limits<double>::infinity();
@@ -76,7 +77,8 @@ double piece_radius_at(const ProfilePiece& piece, double h) {
   switch (piece.kind) {
     case ProfilePiece::Kind::Segment:
       if (hi == lo) return std::max(piece.from.x(), piece.to.x());
-      return piece.from.x() + (h - piece.from.y()) / (piece.to.y() - piece.from.y()) * (piece.to.x() - piece.from.x());
+      return piece.from.x() +
+             (h - piece.from.y()) / (piece.to.y() - piece.from.y()) * (piece.to.x() - piece.from.x());
     case ProfilePiece::Kind::Arc:
     case ProfilePiece::Kind::Ellipse: {
       const double s = std::clamp((h - piece.centre.y()) / piece.radii.y(), -1.0, 1.0);
@@ -94,10 +96,13 @@ std::pair<double, double> piece_integrals(const ProfilePiece& piece) {
   }
   // r = c + a cos(phi), h = k + b sin(phi), dh = b cos(phi) dphi.
   const double c = piece.centre.x(), a = piece.radii.x(), b = piece.radii.y();
-  auto first = [&](double phi) { return b * (c * std::sin(phi) + a * (0.5 * phi + 0.25 * std::sin(2.0 * phi))); };
+  auto first = [&](double phi) {
+    return b * (c * std::sin(phi) + a * (0.5 * phi + 0.25 * std::sin(2.0 * phi)));
+  };
   auto second = [&](double phi) {
     const double s = std::sin(phi);
-    return b * (c * c * s + 2.0 * c * a * (0.5 * phi + 0.25 * std::sin(2.0 * phi)) + a * a * (s - s * s * s / 3.0));
+    return b * (c * c * s + 2.0 * c * a * (0.5 * phi + 0.25 * std::sin(2.0 * phi)) +
+                a * a * (s - s * s * s / 3.0));
   };
   return {first(piece.angle1) - first(piece.angle0), second(piece.angle1) - second(piece.angle0)};
 }
@@ -146,7 +151,8 @@ ToolProfile::ToolProfile(std::vector<ProfilePiece> pieces, double point_height, 
   if (pieces_.empty()) throw ToolError(field, "a tool profile needs at least one piece");
   double scale = 0.0;
   for (const ProfilePiece& piece : pieces_) {
-    if (!piece.from.allFinite() || !piece.to.allFinite() || !piece.centre.allFinite() || !piece.radii.allFinite())
+    if (!piece.from.allFinite() || !piece.to.allFinite() || !piece.centre.allFinite() ||
+        !piece.radii.allFinite())
       throw ToolError(field, "a profile piece is not finite");
     scale = std::max({scale, piece.from.cwiseAbs().maxCoeff(), piece.to.cwiseAbs().maxCoeff()});
   }
@@ -175,15 +181,16 @@ ToolProfile::ToolProfile(std::vector<ProfilePiece> pieces, double point_height, 
     if (i > 0) {
       const Vector2d& end = pieces_[i - 1].to;
       if ((piece.from - end).norm() > eps)
-        throw ToolError(field, which + " starts at " + point_text(piece.from) + ", not where the previous one ends " +
-                                   point_text(end));
+        throw ToolError(field, which + " starts at " + point_text(piece.from) +
+                                   ", not where the previous one ends " + point_text(end));
       piece.from = end;
     }
     if (piece.from.x() < -eps || piece.to.x() < -eps)
       throw ToolError(field, which + " crosses the axis (r < 0)");
     const double start = tangent_angle(piece, false), finish = tangent_angle(piece, true);
     if (i == 0 && !(start >= -1e-12 && start < 0.5 * M_PI))
-      throw ToolError(field, "the profile must leave the tip outward and not downward (it would not be convex)");
+      throw ToolError(field,
+                      "the profile must leave the tip outward and not downward (it would not be convex)");
     if (start < previous_turn - 1e-9 || finish < start - 1e-9)
       throw ToolError(field, which + " turns right: the profile is not convex");
     if (finish > M_PI + 1e-9 || start < -1e-12)
