@@ -508,6 +508,8 @@ TEST(GcodeErrors, EveryErrorNamesFileAndLine) {
       {"G51 X2", "scaling"},
       {"G16", "polar"},
       {"G7", "diameter"},
+      {"G70 P10 Q20", "lathe cycle (G70)"},
+      {"G72 P10 Q20 D0.5", "lathe cycle (G72)"},
       {"G2 K5", "has only K"},
       {"G1 X1 A10", "axis A is not supported"},
       {"G1 X1 (unfinished comment", "not closed"},

@@ -147,6 +147,12 @@ LineCodes Interpreter::sort_g_codes() {
         fail("spline motion (" + code_name('G', g) + ") is not supported");
       case 70:
         fail("lathe diameter mode (G7) is not supported");
+      case 700:
+      case 710:
+      case 711:
+      case 720:
+      case 721:
+        fail("lathe cycle (" + code_name('G', g) + ") is not supported: MorphMill verifies milling");
       case 160:
         fail("polar coordinates (G16) are not supported");
       case 331:
