@@ -240,6 +240,7 @@ TEST_F(JsonSummaries, Verify2dWritesReportJsonToAFileOrToStandardOutput) {
   const nlohmann::json summary = nlohmann::json::parse(to_stdout.output);
   EXPECT_EQ(summary, read(path("v") + "/report.json"));
   EXPECT_EQ(summary["format"], "morphmill-verify2d");
+  EXPECT_EQ(summary["format_version"], 1);
   EXPECT_EQ(summary["units"], "mm");
   EXPECT_TRUE(summary["verdict"]["holds"].get<bool>());
   ASSERT_EQ(summary["provenance"]["inputs"].size(), 1u);

@@ -102,6 +102,7 @@ void write_deviation_svg(const Region& measured, const morph::planar::DirectedDe
 json verify2d_summary_json(const Verify2dOutcome& o) {
   json report;
   report["format"] = "morphmill-verify2d";
+  report["format_version"] = 1;
   report["units"] = morph::to_string(o.job.units);
   report["provenance"] = to_json(o.provenance);
   report["job"] = o.job.name;
