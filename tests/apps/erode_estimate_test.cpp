@@ -67,6 +67,20 @@ TEST_F(ErodeRefusal, ATinyToleranceIsRefusedByTheEstimate) {
   EXPECT_LT(r.peak_bytes, 500.0 * (1 << 20));
 }
 
+TEST_F(ErodeRefusal, VerifyAndCompareRefuseATinyToleranceBeforeTheGeneratorRuns) {
+  // The same estimate guards the generator inside verify and compare (and study and stress).
+  for (const std::string& command :
+       {"verify '" + kData + "/jobs/slots.json' -o out --tolerance 1e-6 --memory-cap 8",
+        "compare '" + kData + "/jobs/design_gouge_excess.json' --tolerance 1e-6 --memory-cap 8"}) {
+    const auto r = run_measured(command, dir_);
+    EXPECT_EQ(r.exit_code, 2) << command << ": " << r.err;
+    EXPECT_NE(r.err.find(".json: erode: at tolerance 1e-06"), std::string::npos) << r.err;
+    EXPECT_NE(r.err.find("over the memory cap"), std::string::npos) << r.err;
+    EXPECT_NE(r.err.find("--memory-cap 8192 MiB"), std::string::npos) << r.err;
+    EXPECT_LT(r.peak_bytes, 500.0 * (1 << 20)) << command;
+  }
+}
+
 TEST_F(ErodeRefusal, ALargeMeshStockIsRefusedBeforeItsStructuresAreBuilt) {
   // sphere_5m_erode of the hostile reproducers, a 25th of the size: the stock's own structures and
   // patches (1.4 KB a triangle) used to be built before the estimate, and ran out of memory.
