@@ -233,6 +233,27 @@ TEST(GcodeArcs, RandomArcsInAllPlanesMatchClosedForm) {
 
 // ---- modes -------------------------------------------------------------------------------------
 
+TEST(GcodeModes, AFeedMoveWithoutAFeedRateIsReadAsProgrammedAndWarnedOnce) {
+  // LinuxCNC refuses such a program; its path does not depend on the feed, so it is read, and the
+  // warning (an error under --strict) names the first such line only.
+  const GcodeResult r = parse("G21 G90\nG0 X0 Y0 Z1\nG1 X5\nG1 X6 F0\nG2 X10 Y0 R2\nF100 G1 X11\nM2\n");
+  ASSERT_EQ(r.path.moves.size(), 4u);  // the G0 only sets the start (the start-position rule)
+  EXPECT_EQ(r.path.moves[0].end, Vector3d(5, 0, 1));
+  EXPECT_EQ(r.path.moves[1].end, Vector3d(6, 0, 1));
+  EXPECT_EQ(r.path.moves[2].kind, MoveKind::Arc);
+  EXPECT_EQ(r.path.moves[2].end, Vector3d(10, 0, 1));
+  EXPECT_EQ(r.path.moves[3].end, Vector3d(11, 0, 1));
+  std::size_t feed_warnings = 0;
+  for (const morph::Warning& w : r.warnings)
+    if (w.message.find("no feed rate") != std::string::npos) {
+      ++feed_warnings;
+      EXPECT_EQ(w.line, 3);
+      EXPECT_NE(w.message.find("LinuxCNC refuses"), std::string::npos) << w.message;
+    }
+  EXPECT_EQ(feed_warnings, 1u);
+  EXPECT_TRUE(parse("G21 G90 F100\nG0 X0 Y0 Z1\nG1 X5\nM2\n").warnings.empty());
+}
+
 TEST(GcodeModes, IncrementalAxesAndIncrementalCentresByDefault) {
   const GcodeResult r = parse(
       "G21 F100 G90\nG0 X0 Y0 Z5\nG91 G1 X10 F300\nY10\nG3 X-10 Y10 I-10 J0\nG1 Z-2\n"
@@ -479,7 +500,6 @@ TEST(GcodeErrors, EveryErrorNamesFileAndLine) {
       {"o100 endwhile", "without a matching o100 while"},
       {"o100 call", "no o100 sub in this file"},
       {"o[#1] call", "computed O-word labels"},
-      {"G1 F0 X1", "no feed rate"},
       {"G2 X0 Y10", "neither an I/J/K centre nor an R radius"},
       {"G3 X0 Y10.5 I-10", "not on its circle"},
       {"G3 X10 Y0 R5", "ends where it starts"},

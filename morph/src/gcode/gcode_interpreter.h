@@ -99,7 +99,7 @@ class Interpreter {
   void move_to(MoveKind kind, const Eigen::Vector3d& end, const std::array<bool, 3>& known_after);
   void emit(Move move);
   Move make_move(MoveKind kind, const Eigen::Vector3d& end) const;
-  void require_feed(const char* what) const;
+  void require_feed(const char* what);
   void note_missing_units();
   bool all_known() const { return known_[0] && known_[1] && known_[2]; }
   double program_coordinate(int axis) const;
@@ -176,6 +176,7 @@ class Interpreter {
   bool incremental_centre_ = true;  // G91.1 is the RS-274/NGC default
   FeedMode feed_mode_ = FeedMode::PerMinute;
   bool feed_mode_warned_ = false;
+  bool feed_missing_warned_ = false;
   double feed_program_ = 0.0;  ///< F in program units per minute
   double spindle_ = 0.0;
   int spindle_direction_ = 0;  ///< 1 clockwise, -1 counter-clockwise, 0 stopped

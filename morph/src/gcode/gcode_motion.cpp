@@ -95,9 +95,15 @@ void Interpreter::straight(MoveKind kind, bool machine) {
   move_to(kind, end, known_after);
 }
 
-void Interpreter::require_feed(const char* what) const {
-  if (feed_mode_ == FeedMode::PerMinute && feed_program_ <= 0.0)
-    fail(std::string(what) + " with no feed rate: F is 0 or was never set (LinuxCNC refuses it too)");
+void Interpreter::require_feed(const char* what) {
+  // LinuxCNC refuses the program here. The path does not depend on the feed, so it is read as
+  // programmed and said once, with the line; --strict (warnings are errors) refuses it as LinuxCNC does.
+  if (feed_mode_ == FeedMode::PerMinute && feed_program_ <= 0.0 && !feed_missing_warned_) {
+    feed_missing_warned_ = true;
+    warn(std::string(what) +
+         " with no feed rate: F is 0 or was never set; LinuxCNC refuses this program (read here as "
+         "programmed; the first such move is named, later ones are not)");
+  }
   if (feed_mode_ == FeedMode::InverseTime && !block_.has('f'))
     fail(std::string(what) + " in inverse-time feed mode (G93) needs an F word on its line");
 }
