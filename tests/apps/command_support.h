@@ -2,6 +2,7 @@
 #pragma once
 // Running the morphmill binary from tests: exit code and combined output.
 #include <gtest/gtest.h>
+#include <sys/resource.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -10,6 +11,7 @@
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <regex>
 #include <string>
 #include <system_error>
 #include <vector>
@@ -73,5 +75,41 @@ class ScratchDirTest : public ::testing::Test {
   }
   std::filesystem::path dir_;
 };
+
+struct Measured {
+  int exit_code = -1;
+  double peak_bytes = 0.0;
+  std::string out, err;
+};
+
+/// Runs morphmill with `arguments` (a shell word list), stdout/stderr to files in `dir`, and
+/// returns the child's peak resident memory.
+inline Measured run_measured(const std::string& arguments, const std::filesystem::path& dir) {
+  const std::string out = (dir / "out.txt").string(), err = (dir / "err.txt").string();
+  const pid_t pid = ::fork();
+  if (pid == 0) {
+    const std::string command = "cd '" + dir.string() + "' && exec '" + MORPHMILL_BINARY + "' " + arguments +
+                                " > '" + out + "' 2> '" + err + "' < /dev/null";
+    ::execl("/bin/sh", "sh", "-c", command.c_str(), static_cast<char*>(nullptr));
+    ::_exit(127);
+  }
+  Measured m;
+  int status = 0;
+  struct rusage usage {};
+  if (pid < 0 || ::wait4(pid, &status, 0, &usage) != pid) return m;
+  m.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+  m.peak_bytes = double(usage.ru_maxrss) * 1024.0;
+  std::ifstream o(out), e(err);
+  m.out.assign(std::istreambuf_iterator<char>(o), {});
+  m.err.assign(std::istreambuf_iterator<char>(e), {});
+  return m;
+}
+
+/// The "memory: estimated N MiB|GiB" a command's summary prints, in MiB; -1 when absent.
+inline double estimated_mib(const std::string& summary) {
+  std::smatch match;
+  if (!std::regex_search(summary, match, std::regex(R"(memory: estimated ([0-9.]+) (MiB|GiB))"))) return -1.0;
+  return std::stod(match[1]) * (match[2] == "GiB" ? 1024.0 : 1.0);
+}
 
 }  // namespace morphmill_test

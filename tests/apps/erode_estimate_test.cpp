@@ -5,12 +5,8 @@
 // memory (tolerance 1e-6, a P1000000 circle).
 #include <gtest/gtest.h>
 #include <morphmill/mesh_io.h>
-#include <sys/resource.h>
-#include <sys/wait.h>
-#include <unistd.h>
 
 #include <fstream>
-#include <regex>
 #include <string>
 
 #include "apps/command_support.h"
@@ -18,42 +14,11 @@
 
 namespace {
 
+using morphmill_test::estimated_mib;
+using morphmill_test::Measured;
+using morphmill_test::run_measured;
+
 const std::string kData = MORPHMILL_TEST_DATA;
-
-struct Measured {
-  int exit_code = -1;
-  double peak_bytes = 0.0;
-  std::string out, err;
-};
-
-/// Runs morphmill with `arguments` (a shell word list), stdout/stderr to files in `dir`, and
-/// returns the child's peak resident memory.
-Measured run_measured(const std::string& arguments, const std::filesystem::path& dir) {
-  const std::string out = (dir / "out.txt").string(), err = (dir / "err.txt").string();
-  const pid_t pid = ::fork();
-  if (pid == 0) {
-    const std::string command = "cd '" + dir.string() + "' && exec '" + MORPHMILL_BINARY + "' " + arguments +
-                                " > '" + out + "' 2> '" + err + "' < /dev/null";
-    ::execl("/bin/sh", "sh", "-c", command.c_str(), static_cast<char*>(nullptr));
-    ::_exit(127);
-  }
-  Measured m;
-  int status = 0;
-  struct rusage usage {};
-  if (pid < 0 || ::wait4(pid, &status, 0, &usage) != pid) return m;
-  m.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-  m.peak_bytes = double(usage.ru_maxrss) * 1024.0;
-  std::ifstream o(out), e(err);
-  m.out.assign(std::istreambuf_iterator<char>(o), {});
-  m.err.assign(std::istreambuf_iterator<char>(e), {});
-  return m;
-}
-
-double estimated_mib(const std::string& summary) {
-  std::smatch match;
-  if (!std::regex_search(summary, match, std::regex(R"(memory: estimated ([0-9.]+) (MiB|GiB))"))) return -1.0;
-  return std::stod(match[1]) * (match[2] == "GiB" ? 1024.0 : 1.0);
-}
 
 class ErodeEstimate : public ::testing::TestWithParam<const char*> {};
 
@@ -100,6 +65,20 @@ TEST_F(ErodeRefusal, ATinyToleranceIsRefusedByTheEstimate) {
   EXPECT_NE(r.err.find("slots.json"), std::string::npos) << r.err;
   EXPECT_NE(r.err.find("MiB"), std::string::npos) << r.err;
   EXPECT_LT(r.peak_bytes, 500.0 * (1 << 20));
+}
+
+TEST_F(ErodeRefusal, VerifyAndCompareRefuseATinyToleranceBeforeTheGeneratorRuns) {
+  // The same estimate guards the generator inside verify and compare (and study and stress).
+  for (const std::string& command :
+       {"verify '" + kData + "/jobs/slots.json' -o out --tolerance 1e-6 --memory-cap 8",
+        "compare '" + kData + "/jobs/design_gouge_excess.json' --tolerance 1e-6 --memory-cap 8"}) {
+    const auto r = run_measured(command, dir_);
+    EXPECT_EQ(r.exit_code, 2) << command << ": " << r.err;
+    EXPECT_NE(r.err.find(".json: erode: at tolerance 1e-06"), std::string::npos) << r.err;
+    EXPECT_NE(r.err.find("over the memory cap"), std::string::npos) << r.err;
+    EXPECT_NE(r.err.find("--memory-cap 8192 MiB"), std::string::npos) << r.err;
+    EXPECT_LT(r.peak_bytes, 500.0 * (1 << 20)) << command;
+  }
 }
 
 TEST_F(ErodeRefusal, ALargeMeshStockIsRefusedBeforeItsStructuresAreBuilt) {

@@ -25,6 +25,7 @@
 #include <thread>
 
 #include "campaigns/stress_cases.h"
+#include "cli/memory_cap.h"
 #include "cli/stop_signals.h"
 #include "io/build_info.h"
 #include "verify/verify.h"
@@ -203,6 +204,7 @@ CaseResult run_case(std::uint64_t seed, std::size_t index, const StressOptions& 
     evaluate.face_samples = options.face_samples;
     evaluate.reference_memory_cap_bytes =
         static_cast<std::size_t>(options.reference_memory_cap_mib * 1048576.0);
+    evaluate.generator_memory_cap_bytes = memory_cap_bytes(default_memory_cap_gib());
     const Evaluation evaluation = evaluate_job(job, evaluate);
     const VerifyOutcome& o = evaluation.outcome;
     result.agreement_bound = o.agreement_bound;

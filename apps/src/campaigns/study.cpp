@@ -20,6 +20,7 @@
 #include <sstream>
 #include <tuple>
 
+#include "cli/memory_cap.h"
 #include "cli/stop_signals.h"
 #include "verify/html.h"
 #include "verify/verify.h"
@@ -168,6 +169,8 @@ void evaluate_setting(const morph::Job& job, const SettingKey& key, const StudyS
   options.face_samples = spec.face_samples;
   options.seed = spec.seed;
   options.per_stage_peak_memory = true;
+  // A setting whose tolerance is far too fine is refused with its estimate, not killed by the kernel.
+  options.generator_memory_cap_bytes = memory_cap_bytes(default_memory_cap_gib());
   // A tool the generator cannot build yet: the setting measures the reference alone.
   row.generator_skipped = first_move_the_generator_cannot_build(job);
   options.reference_only = !row.generator_skipped.empty();

@@ -15,6 +15,7 @@
 
 #include "cli/cli_conventions.h"
 #include "cli/commands.h"
+#include "cli/memory_cap.h"
 #include "cli/terminal_progress.h"
 #include "io/deviation_files.h"
 #include "io/provenance.h"
@@ -33,6 +34,7 @@ struct CompareArgs {
   std::uint64_t seed = 1;
   std::string json_path;
   CLI::Option* json_option = nullptr;
+  double memory_cap_gib = 8.0;
 };
 
 void print_comparison(const DesignComparison& c, const morph::Job& job, const std::string& design) {
@@ -84,7 +86,15 @@ void run_compare(const CompareArgs& args) {
   morph::ErodeOptions erode_options;
   erode_options.tolerance = args.tolerance > 0 ? args.tolerance : job.tolerance;
   erode_options.progress = &progress;
-  const morph::ErodeResult machined = morph::erode(job, erode_options);
+  erode_options.memory_cap_bytes = memory_cap_bytes(args.memory_cap_gib);
+  const morph::ErodeResult machined = [&] {
+    try {
+      return morph::erode(job, erode_options);
+    } catch (const morph::LimitError& e) {
+      throw morph::LimitError(args.job_path + ": " + e.what() + " (--memory-cap " +
+                              describe_bytes(double(erode_options.memory_cap_bytes)) + ")");
+    }
+  }();
   const DesignComparison comparison = compare_with_design(job, machined.mesh, design, options);
   const bool json_on_stdout = args.json_option->count() > 0 && is_standard_output(args.json_path);
   if (!json_on_stdout) print_comparison(comparison, job, design_path);
@@ -166,6 +176,7 @@ void register_compare_command(CLI::App& app) {
                       "Directory for compare.json and machined_vs_design.ply/.vtp");
   args->json_option =
       add_json_option(*compare, args->json_path, "the summary (compare.json's content; also when exit 1)");
+  add_memory_cap_option(compare, args->memory_cap_gib);
   compare->callback([args] { run_compare(*args); });
 }
 

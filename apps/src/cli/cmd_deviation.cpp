@@ -5,6 +5,7 @@
 #include <morph/file_io.h>
 #include <morphmill/mesh_io.h>
 #include <raytest/deviation.h>
+#include <raytest/deviation_memory.h>
 #include <raytest/heatmap.h>
 #include <raytest/render.h>
 #include <raytest/surface_query.h>
@@ -19,6 +20,7 @@
 
 #include "cli/cli_conventions.h"
 #include "cli/commands.h"
+#include "cli/memory_cap.h"
 #include "cli/terminal_progress.h"
 #include "io/deviation_files.h"
 #include "io/provenance.h"
@@ -140,7 +142,39 @@ struct DeviationArgs {
   std::string units = "mesh units";
   std::string view = "iso";
   std::string size = "1200x900";
+  double memory_cap_gib = 8.0;
 };
+
+/// Resident memory of the morphmill process before any mesh is read (code, libraries, TBB).
+constexpr double kProcessBytes = 45.0 * (1 << 20);
+
+/// The estimate of what measuring A against B will hold (raytest::estimate_deviation_memory plus
+/// the process), checked against --memory-cap before anything is indexed or sampled. Reading the
+/// meshes came first; the readers bound that by the files' lengths.
+double check_deviation_memory(const DeviationArgs& args, const morph::TriangleMesh& a,
+                              const morph::TriangleMesh& b, const raytest::SamplingOptions& sampling,
+                              std::size_t picture_pixels) {
+  raytest::DeviationWork work;
+  work.a = &a;
+  work.b = &b;
+  work.sampling = sampling;
+  work.two_sided = !args.one_sided;
+  work.vertex_values = !args.heatmap_path.empty() || !args.vtp_path.empty();
+  work.picture_pixels = picture_pixels;
+  const raytest::DeviationMemory m = raytest::estimate_deviation_memory(work);
+  const double total = kProcessBytes + m.total();
+  const std::size_t cap = memory_cap_bytes(args.memory_cap_gib);
+  if (total > double(cap))
+    throw morph::LimitError(fmt::format(
+        "deviation of {} against {}: needs about {} ({} triangles, {} samples: meshes {}, indexes {}, "
+        "samples {}, pictures {}), over the memory cap of {} (--memory-cap): lower --samples or "
+        "--edge-samples, add --no-vertices or --one-sided, leave out --png, or raise the cap",
+        args.a_path, args.b_path, describe_bytes(total), a.triangle_count() + b.triangle_count(),
+        raytest::sample_count(a, sampling) + (args.one_sided ? 0 : raytest::sample_count(b, sampling)),
+        describe_bytes(m.meshes), describe_bytes(m.indexes), describe_bytes(m.samples),
+        describe_bytes(m.pictures), describe_bytes(double(cap))));
+  return total;
+}
 
 void run_deviation(const DeviationArgs& args) {
   if (args.signed_mode && args.ray_mode)
@@ -178,6 +212,9 @@ void run_deviation(const DeviationArgs& args) {
   options.stats.histogram_bins = args.bins;
   options.worst_groups = args.groups;
   options.progress = &progress;
+  const double estimated_bytes =
+      check_deviation_memory(args, a, b, options.sampling,
+                             args.png_path.empty() ? 0 : std::size_t(size.first) * std::size_t(size.second));
 
   const Stopwatch measuring;
   progress.begin("indexing " + args.b_path, 1);
@@ -210,6 +247,7 @@ void run_deviation(const DeviationArgs& args) {
       fmt::print("Hausdorff distance (two-sided): {:.9g}\n", result.hausdorff);
     }
     fmt::print("time: loading {:.3f} s, measuring {:.3f} s\n", load_seconds, measure_seconds);
+    fmt::print("memory: estimated {} up front\n", describe_bytes(estimated_bytes));
   }
 
   // Hashing the inputs costs a fraction of loading them; done only when files are written.
@@ -275,6 +313,7 @@ void run_deviation(const DeviationArgs& args) {
       j["hausdorff"] = result.hausdorff;
     }
     j["seconds"] = {{"loading", load_seconds}, {"measuring", measure_seconds}, {"pictures", picture_seconds}};
+    j["estimated_bytes"] = estimated_bytes;
     write_json(j, args.json_path);
   }
 }
@@ -381,6 +420,7 @@ void register_deviation_commands(CLI::App& app) {
                            ->expected(2);
   deviation->add_flag("--symmetric", deviation_args->symmetric, "colour range symmetric about zero")
       ->excludes(range_option);
+  add_memory_cap_option(deviation, deviation_args->memory_cap_gib);
   deviation->callback([deviation_args] { run_deviation(*deviation_args); });
 
   auto render_args = std::make_shared<RenderArgs>();

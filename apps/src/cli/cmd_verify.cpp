@@ -1,8 +1,11 @@
 // SPDX-License-Identifier: Apache-2.0
+#include <morph/exceptions.h>
+
 #include <iostream>
 
 #include "cli/cli_conventions.h"
 #include "cli/commands.h"
+#include "cli/memory_cap.h"
 #include "cli/terminal_progress.h"
 #include "verify/verify.h"
 
@@ -11,6 +14,7 @@ namespace morphmill {
 void register_verify_command(CLI::App& app) {
   auto options = std::make_shared<VerifyOptions>();
   auto json_path = std::make_shared<std::string>();
+  auto memory_cap_gib = std::make_shared<double>();
   CLI::App* verify = app.add_subcommand(
       "verify",
       "Run the generator, the OpenVDB reference and the Embree deviation measurement on one job and write\n"
@@ -54,11 +58,20 @@ void register_verify_command(CLI::App& app) {
       "conical, tapered, ...) run this way anyway, but exit 1 unless this flag is given");
   CLI::Option* json_option =
       add_json_option(*verify, *json_path, "the summary (deviation.json's content; also when exit 1)");
-  verify->callback([options, json_path, json_option] {
+  add_memory_cap_option(verify, *memory_cap_gib);
+  verify->callback([options, json_path, json_option, memory_cap_gib] {
     TerminalProgress progress;
     VerifyOptions run = *options;
     run.progress = &progress;
-    const VerifyOutcome outcome = run_verify(run);
+    run.memory_cap_bytes = memory_cap_bytes(*memory_cap_gib);
+    const VerifyOutcome outcome = [&] {
+      try {
+        return run_verify(run);
+      } catch (const morph::LimitError& e) {
+        throw morph::LimitError(run.job_path + ": " + e.what() + " (--memory-cap " +
+                                describe_bytes(double(run.memory_cap_bytes)) + ")");
+      }
+    }();
     if (json_option->count() > 0) write_json(outcome_to_json(outcome), *json_path);
     if (json_option->count() > 0 && is_standard_output(*json_path)) {
       // Standard output holds the JSON alone; the verdict is in it and in the exit code.

@@ -403,6 +403,7 @@ Evaluation evaluate_job(const morph::Job& job, const EvaluateOptions& options) {
   morph::ErodeOptions erode_options;
   erode_options.tolerance = out.tolerance;
   erode_options.progress = options.progress;
+  erode_options.memory_cap_bytes = options.generator_memory_cap_bytes;
   morph::ErodeResult eroded =
       clock.run("generator (morph)", [&] { return morph::erode(job, erode_options); });
   vdb_ref::ReferenceResult reference =
@@ -553,6 +554,10 @@ VerifyOutcome run_verify(const VerifyOptions& options) {
   evaluate.progress = options.progress;
   evaluate.vdb_output_path = (dir / "reference.vdb").string();
   evaluate.reference_only = options.reference_only;
+  if (options.memory_cap_bytes > 0) {
+    evaluate.generator_memory_cap_bytes = options.memory_cap_bytes;
+    evaluate.reference_memory_cap_bytes = options.memory_cap_bytes;
+  }
   evaluate.vdb_metadata = {{"morphmill_version", provenance.version},
                            {"morphmill_commit", provenance.commit},
                            {"morphmill_provenance", to_json(provenance).dump()}};

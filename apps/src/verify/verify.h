@@ -29,6 +29,9 @@ struct VerifyOptions {
   /// Check only the reference against the exact surface (the generator is not run). Without it,
   /// a job with a tool the generator cannot build yet runs the same way but its verdict fails.
   bool reference_only = false;
+  /// The generator and the reference each refuse (LimitError, before computing) work estimated
+  /// to need more than this many bytes; 0 keeps their defaults (no generator cap, 8 GiB).
+  std::size_t memory_cap_bytes = 0;
   morph::Progress* progress = nullptr;
 };
 
@@ -129,6 +132,7 @@ struct EvaluateOptions {
   bool reference_only = false;                                    ///< see VerifyOptions::reference_only
   std::size_t reference_memory_cap_bytes = std::size_t(8)
                                            << 30;  ///< vdb_ref::ReferenceOptions::memory_cap_bytes
+  std::size_t generator_memory_cap_bytes = 0;      ///< morph::ErodeOptions::memory_cap_bytes (0: none)
   /// When true, each stage's peak_rss_mib is the peak resident memory during that stage alone
   /// (Linux: the high-water mark is reset through /proc/self/clear_refs before the stage);
   /// otherwise it is the process's peak so far. Only meaningful when nothing else runs in the process.
