@@ -1,0 +1,67 @@
+// SPDX-License-Identifier: Apache-2.0
+#pragma once
+/// \file plane_predicates.h
+/// Generator 2's exact predicates on planes, with its one tie order. A vertex is three planes; a
+/// plane's side at it is the sign of a 4×4 determinant (the planes' normals and offsets) over the
+/// 3×3 determinant of the vertex's normals. The doubles of the coefficients are taken as exact
+/// rationals: a floating-point filter with an error bound decides almost always, else exact
+/// integer arithmetic (Boost.Multiprecision) does.
+///
+/// Ties (the plane through the vertex) are settled by symbolic perturbation of the offsets: plane
+/// p's offset becomes offset + direction·ε_rank, with ε_r ≫ ε_s whenever rank r < rank s. Stock
+/// planes contract (direction -1) and sweeps expand (+1); ranks put the stock first, then the
+/// moves in job order (sweep_rank()), so the earlier move owns a shared facet, as in
+/// joint_culling.h. The normals are never perturbed, so three planes whose normals are dependent
+/// have no vertex (vertex_exists() says so) in the perturbed arrangement either.
+#include <Eigen/Core>
+
+#include <cstdint>
+
+namespace morph {
+
+/// A halfspace normal·x <= offset as the exact predicates see it.
+struct ExactPlane {
+  Eigen::Vector3d normal = Eigen::Vector3d::Zero();
+  double offset = 0.0;
+  /// Position in the tie order: smaller ranks dominate. Distinct planes have distinct ranks.
+  std::uint64_t rank = 0;
+  /// +1: the perturbation expands the halfspace (sweeps); -1: contracts it (stock).
+  int direction = 1;
+};
+
+/// Rank of a stock plane (stock planes come before every sweep).
+constexpr std::uint64_t stock_rank(std::uint32_t plane) {
+  return plane;
+}
+/// Rank of plane `plane` of move `move`'s sweep polytope (its halfspace order).
+constexpr std::uint64_t sweep_rank(std::uint32_t move, std::uint32_t plane) {
+  return ((std::uint64_t{move} + 1) << 32) | plane;
+}
+
+/// Sign of det[a.normal; b.normal; c.normal] (exact): non-zero iff the three planes meet in one
+/// point; the sign is the orientation of the triple.
+int normals_orientation(const ExactPlane& a, const ExactPlane& b, const ExactPlane& c);
+
+/// True iff the three planes meet in exactly one point.
+inline bool vertex_exists(const ExactPlane& a, const ExactPlane& b, const ExactPlane& c) {
+  return normals_orientation(a, b, c) != 0;
+}
+
+/// The perturbed sign of d.normal·x - d.offset at the vertex x of planes a, b, c: -1 strictly
+/// inside d's halfspace, +1 strictly outside; 0 only when d is one of a, b, c (same rank).
+/// Independent of the order of a, b, c. Throws std::invalid_argument when the three planes have
+/// no vertex (vertex_exists() false).
+int side_at_vertex(const ExactPlane& a, const ExactPlane& b, const ExactPlane& c, const ExactPlane& d);
+
+/// The vertex of three planes rounded to doubles (Cramer's rule in long double); for output and
+/// tests, never for decisions. Throws std::invalid_argument when it does not exist.
+Eigen::Vector3d vertex_point(const ExactPlane& a, const ExactPlane& b, const ExactPlane& c);
+
+/// How often the filter failed and exact arithmetic decided, and how often a tie was settled by
+/// the perturbation, in this thread (for the benches).
+struct PredicateCounts {
+  std::uint64_t calls = 0, exact = 0, ties = 0;
+};
+PredicateCounts& predicate_counts();
+
+}  // namespace morph

@@ -1,0 +1,214 @@
+// SPDX-License-Identifier: Apache-2.0
+#include <morph/plane_predicates.h>
+
+#include <boost/multiprecision/cpp_int.hpp>
+
+#include <algorithm>
+#include <array>
+#include <cfloat>
+#include <cmath>
+#include <stdexcept>
+
+namespace morph {
+namespace {
+
+using Exact = boost::multiprecision::cpp_int;
+using Row = std::array<double, 4>;  // normal, offset
+
+constexpr double kUnit = DBL_EPSILON / 2;  // unit roundoff
+// Error bounds of the evaluation orders below: a 3×3 determinant by cofactors is within
+// 5u(1+u)^5 of its permanent (the same sum with absolute values; two products and two sums
+// deep); the 4×4, the offsets times those cofactors, adds each cofactor's bound times its offset
+// and 4u(1+u)^4 of the sum of |offset·cofactor| (a product and three sums). Rounded up, which
+// also covers the rounding of the bounds' own evaluation.
+constexpr double kDet3Bound = 8 * kUnit;
+constexpr double kDet4Bound = 8 * kUnit;
+// Below this the bounds could underflow: such inputs go to exact arithmetic.
+constexpr double kTiny = DBL_MIN * 1e20;
+
+Row row_of(const ExactPlane& p) {
+  return {p.normal.x(), p.normal.y(), p.normal.z(), p.offset};
+}
+
+int sign(double v) {
+  return (v > 0) - (v < 0);
+}
+int sign(const Exact& v) {
+  return v.sign();
+}
+
+struct Filtered {
+  double value, bound;
+  // The sign if the filter decides it, else 0.
+  int certain() const {
+    if (!std::isfinite(value) || !std::isfinite(bound) || bound < kTiny) return 0;
+    return std::fabs(value) > bound ? sign(value) : 0;
+  }
+};
+
+// det of the normals of rows i, j, k (in that order).
+Filtered det3(const Row& a, const Row& b, const Row& c) {
+  const double m0 = b[1] * c[2] - b[2] * c[1], m1 = b[0] * c[2] - b[2] * c[0], m2 = b[0] * c[1] - b[1] * c[0];
+  const double p0 = std::fabs(b[1] * c[2]) + std::fabs(b[2] * c[1]);
+  const double p1 = std::fabs(b[0] * c[2]) + std::fabs(b[2] * c[0]);
+  const double p2 = std::fabs(b[0] * c[1]) + std::fabs(b[1] * c[0]);
+  const double permanent = std::fabs(a[0]) * p0 + std::fabs(a[1]) * p1 + std::fabs(a[2]) * p2;
+  return {a[0] * m0 - a[1] * m1 + a[2] * m2, kDet3Bound * permanent};
+}
+
+// The rows scaled by powers of two (each row by its own, which keeps every sign) into integers.
+std::array<std::array<Exact, 4>, 4> exact_rows(const std::array<Row, 4>& rows) {
+  std::array<std::array<Exact, 4>, 4> out;
+  for (int r = 0; r < 4; ++r) {
+    int lowest = INT32_MAX;  // exponent of the least significant bit among the row's entries
+    for (double v : rows[r])
+      if (v != 0) {
+        int e = 0;
+        std::frexp(v, &e);
+        lowest = std::min(lowest, e - DBL_MANT_DIG);
+      }
+    for (int c = 0; c < 4; ++c) {
+      const double v = rows[r][c];
+      if (v == 0) continue;
+      int e = 0;
+      const double mantissa = std::frexp(v, &e);  // v = mantissa · 2^e, 0.5 <= |mantissa| < 1
+      Exact m = static_cast<std::int64_t>(std::ldexp(mantissa, DBL_MANT_DIG));
+      out[r][c] = m << (e - DBL_MANT_DIG - lowest);
+    }
+  }
+  return out;
+}
+
+Exact exact_det3(const std::array<Exact, 4>& a, const std::array<Exact, 4>& b,
+                 const std::array<Exact, 4>& c) {
+  return a[0] * (b[1] * c[2] - b[2] * c[1]) - a[1] * (b[0] * c[2] - b[2] * c[0]) +
+         a[2] * (b[0] * c[1] - b[1] * c[0]);
+}
+
+// The four planes as rows of [normal | offset]: the cofactors of the offset column, the
+// determinant, and their exact forms on demand.
+class FourPlanes {
+ public:
+  explicit FourPlanes(const std::array<Row, 4>& rows) : rows_(rows) {
+    for (int i = 0; i < 4; ++i) {
+      const auto [a, b, c] = others(i);
+      Filtered m = det3(rows_[a], rows_[b], rows_[c]);
+      const double s = (i % 2 == 0) ? -1.0 : 1.0;  // (-1)^(i+3)
+      cofactor_[i] = {s * m.value, m.bound};
+    }
+  }
+  // Sign of det[normals | offsets].
+  int determinant_sign() {
+    double value = 0, bound = 0;
+    for (int i = 0; i < 4; ++i) {
+      value += rows_[i][3] * cofactor_[i].value;
+      // the cofactor's own error, carried through, and the rounding of the product and sums
+      bound += std::fabs(rows_[i][3]) * (cofactor_[i].bound + kDet4Bound * std::fabs(cofactor_[i].value));
+    }
+    if (int s = Filtered{value, bound}.certain()) return s;
+    const auto& x = exact();
+    Exact det = 0;
+    for (int i = 0; i < 4; ++i) det += x[i][3] * exact_cofactor(i);
+    ++predicate_counts().exact;
+    return sign(det);
+  }
+  // Sign of the cofactor of row i's offset.
+  int cofactor_sign(int i) {
+    if (int s = cofactor_[i].certain()) return s;
+    ++predicate_counts().exact;
+    return sign(exact_cofactor(i));
+  }
+
+ private:
+  static std::array<int, 3> others(int i) {
+    std::array<int, 3> o{};
+    for (int k = 0, n = 0; k < 4; ++k)
+      if (k != i) o[n++] = k;
+    return o;
+  }
+  const std::array<std::array<Exact, 4>, 4>& exact() {
+    if (!have_exact_) exact_ = exact_rows(rows_), have_exact_ = true;
+    return exact_;
+  }
+  Exact exact_cofactor(int i) {
+    const auto& x = exact();
+    const auto [a, b, c] = others(i);
+    Exact m = exact_det3(x[a], x[b], x[c]);
+    return (i % 2 == 0) ? Exact(-m) : m;
+  }
+
+  std::array<Row, 4> rows_;
+  std::array<Filtered, 4> cofactor_{};
+  std::array<std::array<Exact, 4>, 4> exact_;
+  bool have_exact_ = false;
+};
+
+int exact_normals_orientation(const Row& a, const Row& b, const Row& c) {
+  const auto x = exact_rows({a, b, c, Row{}});
+  ++predicate_counts().exact;
+  return sign(exact_det3(x[0], x[1], x[2]));
+}
+
+}  // namespace
+
+PredicateCounts& predicate_counts() {
+  thread_local PredicateCounts counts;
+  return counts;
+}
+
+int normals_orientation(const ExactPlane& a, const ExactPlane& b, const ExactPlane& c) {
+  const Row ra = row_of(a), rb = row_of(b), rc = row_of(c);
+  if (int s = det3(ra, rb, rc).certain()) return s;
+  return exact_normals_orientation(ra, rb, rc);
+}
+
+int side_at_vertex(const ExactPlane& a, const ExactPlane& b, const ExactPlane& c, const ExactPlane& d) {
+  ++predicate_counts().calls;
+  const int orientation = normals_orientation(a, b, c);
+  if (orientation == 0)
+    throw std::invalid_argument("side_at_vertex: the three planes have no single common point");
+  if (d.rank == a.rank || d.rank == b.rank || d.rank == c.rank) return 0;
+  // det[n|o] = -det3(a,b,c)·(d.normal·x - d.offset), x the vertex (Schur complement).
+  FourPlanes four({row_of(a), row_of(b), row_of(c), row_of(d)});
+  int det = four.determinant_sign();
+  if (det == 0) {
+    // Offsets o_i + direction_i·ε_rank_i: det[n|o+δ] = Σ δ_i·cofactor_i, decided by the
+    // dominant (smallest) rank with a non-zero cofactor; d's own cofactor is ±det3(a,b,c) ≠ 0.
+    ++predicate_counts().ties;
+    const std::array<const ExactPlane*, 4> planes{&a, &b, &c, &d};
+    std::array<int, 4> order{0, 1, 2, 3};
+    std::sort(order.begin(), order.end(), [&](int i, int j) { return planes[i]->rank < planes[j]->rank; });
+    for (int i : order)
+      if (int s = four.cofactor_sign(i)) {
+        det = planes[i]->direction * s;
+        break;
+      }
+  }
+  return -det * orientation;
+}
+
+Eigen::Vector3d vertex_point(const ExactPlane& a, const ExactPlane& b, const ExactPlane& c) {
+  if (!vertex_exists(a, b, c))
+    throw std::invalid_argument("vertex_point: the three planes have no single common point");
+  using L = long double;
+  const L n[3][3] = {{a.normal.x(), a.normal.y(), a.normal.z()},
+                     {b.normal.x(), b.normal.y(), b.normal.z()},
+                     {c.normal.x(), c.normal.y(), c.normal.z()}};
+  const L o[3] = {a.offset, b.offset, c.offset};
+  auto det = [](const L m[3][3]) {
+    return m[0][0] * (m[1][1] * m[2][2] - m[1][2] * m[2][1]) -
+           m[0][1] * (m[1][0] * m[2][2] - m[1][2] * m[2][0]) +
+           m[0][2] * (m[1][0] * m[2][1] - m[1][1] * m[2][0]);
+  };
+  const L d = det(n);
+  Eigen::Vector3d x;
+  for (int col = 0; col < 3; ++col) {
+    L m[3][3];
+    for (int r = 0; r < 3; ++r)
+      for (int k = 0; k < 3; ++k) m[r][k] = (k == col) ? o[r] : n[r][k];
+    x[col] = static_cast<double>(det(m) / d);
+  }
+  return x;
+}
+
+}  // namespace morph

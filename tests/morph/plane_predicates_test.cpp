@@ -1,0 +1,211 @@
+// SPDX-License-Identifier: Apache-2.0
+#include <morph/plane_predicates.h>
+
+// GCC 12 sees a maybe-uninitialized limb inside cpp_int's own zero constant; not ours to fix.
+#pragma GCC diagnostic push
+#pragma GCC diagnostic ignored "-Wmaybe-uninitialized"
+#include <boost/multiprecision/cpp_int.hpp>
+#pragma GCC diagnostic pop
+#include <gtest/gtest.h>
+#include <Eigen/Geometry>
+
+#include <algorithm>
+#include <array>
+#include <cfloat>
+#include <cmath>
+#include <random>
+#include <stdexcept>
+
+namespace {
+
+using Eigen::Vector3d;
+using morph::ExactPlane;
+using Rational = boost::multiprecision::cpp_rational;
+
+// A double as the exact rational it is.
+Rational rational(double v) {
+  int e = 0;
+  const double m = std::frexp(v, &e);
+  Rational r = static_cast<std::int64_t>(std::ldexp(m, DBL_MANT_DIG));
+  const int shift = e - DBL_MANT_DIG;
+  const Rational two_power = Rational(boost::multiprecision::cpp_int(1) << std::abs(shift));
+  return shift >= 0 ? Rational(r * two_power) : Rational(r / two_power);
+}
+
+// The reference: the offsets perturbed by explicit rationals ε_k = 2^(-400(k+1)), k the position
+// of the plane's rank among the four, the vertex solved by Gaussian elimination in rationals and
+// d's perturbed value evaluated there. The gaps of 2^400 dwarf every determinant of these inputs
+// (their entries have at most ~80 significant binary places), so this realises the symbolic order.
+int reference_side(const ExactPlane& a, const ExactPlane& b, const ExactPlane& c, const ExactPlane& d) {
+  std::array<const ExactPlane*, 4> planes{&a, &b, &c, &d};
+  std::array<std::uint64_t, 4> ranks{a.rank, b.rank, c.rank, d.rank};
+  std::sort(ranks.begin(), ranks.end());
+  auto offset = [&](const ExactPlane& p) {
+    const int k = static_cast<int>(std::find(ranks.begin(), ranks.end(), p.rank) - ranks.begin());
+    const Rational eps = Rational(1) / Rational(boost::multiprecision::cpp_int(1) << (400 * (k + 1)));
+    return rational(p.offset) + (p.direction > 0 ? eps : Rational(-eps));
+  };
+  Rational m[3][4];
+  for (int r = 0; r < 3; ++r) {
+    for (int k = 0; k < 3; ++k) m[r][k] = rational(planes[r]->normal[k]);
+    m[r][3] = offset(*planes[r]);
+  }
+  for (int col = 0; col < 3; ++col) {
+    int pivot = col;
+    while (pivot < 3 && m[pivot][col] == 0) ++pivot;
+    if (pivot == 3) ADD_FAILURE() << "reference: singular";
+    for (int k = 0; k < 4; ++k) std::swap(m[col][k], m[pivot][k]);
+    for (int r = 0; r < 3; ++r)
+      if (r != col && m[r][col] != 0) {
+        const Rational f = m[r][col] / m[col][col];
+        for (int k = 0; k < 4; ++k) m[r][k] -= f * m[col][k];
+      }
+  }
+  Rational value = -offset(d);
+  for (int k = 0; k < 3; ++k) value += rational(d.normal[k]) * (m[k][3] / m[k][k]);
+  return value.sign();
+}
+
+Vector3d random_unit(std::mt19937_64& rng) {
+  std::normal_distribution<double> g;
+  return Vector3d(g(rng), g(rng), g(rng)).normalized();
+}
+
+ExactPlane plane(const Vector3d& n, double offset, std::uint64_t rank, int direction = 1) {
+  return ExactPlane{n, offset, rank, direction};
+}
+
+// Checks every order of a, b, c and both orientations of d against the reference.
+void expect_agrees(const ExactPlane& a, const ExactPlane& b, const ExactPlane& c, const ExactPlane& d) {
+  const int expected = reference_side(a, b, c, d);
+  ASSERT_NE(expected, 0);
+  const std::array<const ExactPlane*, 3> t{&a, &b, &c};
+  std::array<int, 3> p{0, 1, 2};
+  do {
+    ASSERT_EQ(morph::side_at_vertex(*t[p[0]], *t[p[1]], *t[p[2]], d), expected);
+  } while (std::next_permutation(p.begin(), p.end()));
+  // d turned over (and its perturbation with it) is the same set's complement.
+  const ExactPlane flipped{-d.normal, -d.offset, d.rank, -d.direction};
+  ASSERT_EQ(morph::side_at_vertex(a, b, c, flipped), -expected);
+}
+
+TEST(PlanePredicates, RandomPlanesAgreeWithRationals) {
+  std::mt19937_64 rng(18);
+  std::uniform_real_distribution<double> offset(-10, 10);
+  std::uniform_int_distribution<int> dir(0, 1);
+  for (int trial = 0; trial < 1000; ++trial) {
+    std::array<ExactPlane, 4> p;
+    for (int i = 0; i < 4; ++i)
+      p[i] = plane(random_unit(rng), offset(rng), 10 + (trial * 7 + i * 3) % 11 + i * 11, dir(rng) ? 1 : -1);
+    expect_agrees(p[0], p[1], p[2], p[3]);
+  }
+}
+
+// Four planes through a point whose offsets are n·p rounded: values within a few ulps of zero,
+// which the filter cannot decide and exact arithmetic must.
+TEST(PlanePredicates, NearlyConcurrentPlanesGoExactAndAgree) {
+  std::mt19937_64 rng(7);
+  std::uniform_real_distribution<double> coord(-50, 50);
+  const auto before = morph::predicate_counts();
+  for (int trial = 0; trial < 600; ++trial) {
+    const Vector3d point(coord(rng), coord(rng), coord(rng));
+    std::array<ExactPlane, 4> p;
+    for (int i = 0; i < 4; ++i) {
+      const Vector3d n = random_unit(rng);
+      p[i] = plane(n, n.dot(point), 100 - i, i % 2 ? 1 : -1);
+    }
+    expect_agrees(p[0], p[1], p[2], p[3]);
+  }
+  const auto after = morph::predicate_counts();
+  EXPECT_GT(after.exact - before.exact, 600u) << "the filter should not decide values within ulps of zero";
+}
+
+// Exactly concurrent: small integer normals and a dyadic point make every offset exact, so the
+// determinant is zero and the perturbation alone decides, for every rank order and direction.
+TEST(PlanePredicates, ExactlyConcurrentPlanesAreDecidedByTheTieOrder) {
+  std::mt19937_64 rng(11);
+  std::uniform_int_distribution<int> small(-4, 4), coord(-64, 64);
+  const auto before = morph::predicate_counts();
+  int tested = 0;
+  while (tested < 800) {
+    const Vector3d point(coord(rng) / 8.0, coord(rng) / 8.0, coord(rng) / 8.0);
+    std::array<ExactPlane, 4> p;
+    for (int i = 0; i < 4; ++i) {
+      const Vector3d n(small(rng), small(rng), small(rng));
+      p[i] = plane(n, n.dot(point), static_cast<std::uint64_t>(small(rng) + 10) * 4 + i,
+                   small(rng) > 0 ? 1 : -1);
+    }
+    if (p[3].normal.isZero() || !morph::vertex_exists(p[0], p[1], p[2])) continue;
+    expect_agrees(p[0], p[1], p[2], p[3]);
+    ++tested;
+  }
+  EXPECT_GE(morph::predicate_counts().ties - before.ties, 800u * 6);
+}
+
+TEST(PlanePredicates, CoincidentPlanesTheEarlierMoveOwns) {
+  // The vertex of facet plane f of move 0 with two of its edge planes, against plane g of move 1
+  // lying in f (same orientation): f's vertex is outside g (kept), g's vertex inside f (culled).
+  const Vector3d n = Vector3d(1, 2, 2) / 3.0;
+  const ExactPlane f = plane(n, 0.75, morph::sweep_rank(0, 5));
+  const ExactPlane f1 = plane(Vector3d(0, 1, 0), 0.25, morph::sweep_rank(0, 6));
+  const ExactPlane f2 = plane(Vector3d(0, 0, 1), -0.5, morph::sweep_rank(0, 7));
+  const ExactPlane g = plane(n, 0.75, morph::sweep_rank(1, 2));
+  const ExactPlane g1 = plane(Vector3d(0, 1, 0), 0.25, morph::sweep_rank(1, 3));
+  const ExactPlane g2 = plane(Vector3d(0, 0, 1), -0.5, morph::sweep_rank(1, 4));
+  EXPECT_EQ(morph::side_at_vertex(f, f1, f2, g), 1);
+  EXPECT_EQ(morph::side_at_vertex(g, g1, g2, f), -1);
+  expect_agrees(f, f1, f2, g);
+  expect_agrees(g, g1, g2, f);
+  // Facing each other (touching passes): both vertices inside the other, both facets culled.
+  const ExactPlane h = plane(-n, -0.75, morph::sweep_rank(1, 2));
+  EXPECT_EQ(morph::side_at_vertex(f, f1, f2, h), -1);
+  EXPECT_EQ(morph::side_at_vertex(h, g1, g2, f), -1);
+  // A stock plane (contracting, ranked first) in a sweep's plane facing out of the stock: the
+  // sweep's vertex is outside the stock and the stock's vertex outside the sweep.
+  const ExactPlane top = plane(Vector3d(0, 0, 1), 0.0, morph::stock_rank(4), -1);
+  const ExactPlane bottom = plane(Vector3d(0, 0, -1), 0.0, morph::sweep_rank(3, 0));
+  const ExactPlane x = plane(Vector3d(1, 0, 0), 1.0, morph::sweep_rank(3, 1));
+  const ExactPlane y = plane(Vector3d(0, 1, 0), 1.0, morph::sweep_rank(3, 2));
+  const ExactPlane sx = plane(Vector3d(1, 0, 0), 1.0, morph::stock_rank(0), -1);
+  const ExactPlane sy = plane(Vector3d(0, 1, 0), 1.0, morph::stock_rank(2), -1);
+  EXPECT_EQ(morph::side_at_vertex(bottom, x, y, top), 1);
+  EXPECT_EQ(morph::side_at_vertex(top, sx, sy, bottom), 1);
+  expect_agrees(bottom, x, y, top);
+  expect_agrees(top, sx, sy, bottom);
+}
+
+TEST(PlanePredicates, ParallelPlanesAndMissingVertices) {
+  const ExactPlane a = plane(Vector3d(0, 0, 1), 1.0, 1), b = plane(Vector3d(1, 0, 0), 0.0, 2),
+                   c = plane(Vector3d(0, 1, 0), 0.0, 3);
+  // Parallel to a, below and above the vertex (0, 0, 1).
+  EXPECT_EQ(morph::side_at_vertex(a, b, c, plane(Vector3d(0, 0, 1), 2.0, 4)), -1);
+  EXPECT_EQ(morph::side_at_vertex(a, b, c, plane(Vector3d(0, 0, 1), 0.5, 4)), 1);
+  EXPECT_EQ(morph::side_at_vertex(a, b, c, plane(Vector3d(0, 0, -2), -3.0, 4)), 1);
+  // One of the vertex's own planes.
+  EXPECT_EQ(morph::side_at_vertex(a, b, c, a), 0);
+  // Two parallel planes, or three normals in one plane: no vertex.
+  const ExactPlane a2 = plane(Vector3d(0, 0, 2), 5.0, 9);
+  EXPECT_FALSE(morph::vertex_exists(a, a2, b));
+  EXPECT_FALSE(morph::vertex_exists(b, c, plane(Vector3d(1, 1, 0), 3.0, 8)));
+  EXPECT_THROW(morph::side_at_vertex(a, a2, b, c), std::invalid_argument);
+  EXPECT_THROW(morph::vertex_point(a, a2, b), std::invalid_argument);
+  // Nearly dependent normals still have a vertex, and the exact orientation sees it.
+  const ExactPlane tilted = plane(Vector3d(1, std::ldexp(1.0, -60), 0), 0.0, 7);
+  EXPECT_TRUE(morph::vertex_exists(a, b, tilted));
+  EXPECT_EQ(morph::normals_orientation(a, b, tilted), -morph::normals_orientation(b, a, tilted));
+}
+
+TEST(PlanePredicates, VertexPointSolvesTheThreePlanes) {
+  std::mt19937_64 rng(3);
+  std::uniform_real_distribution<double> offset(-10, 10);
+  for (int trial = 0; trial < 200; ++trial) {
+    const ExactPlane a = plane(random_unit(rng), offset(rng), 1), b = plane(random_unit(rng), offset(rng), 2),
+                     c = plane(random_unit(rng), offset(rng), 3);
+    const Vector3d x = morph::vertex_point(a, b, c);
+    const double scale = 1 + x.norm();
+    const double det = std::fabs(a.normal.dot(b.normal.cross(c.normal)));
+    for (const ExactPlane* p : {&a, &b, &c}) EXPECT_NEAR(p->normal.dot(x), p->offset, 1e-12 * scale / det);
+  }
+}
+
+}  // namespace
