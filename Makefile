@@ -54,7 +54,7 @@ ASAN_CMAKE_FLAGS ?=
 test-asan: deps
 	cmake -S . -B $(ASAN_DIR) -DCMAKE_BUILD_TYPE=RelWithDebInfo -DMORPHMILL_SANITIZE=ON -DMORPHMILL_BUILD_BENCHMARKS=OFF $(ASAN_CMAKE_FLAGS)
 	cmake --build $(ASAN_DIR) -j $(JOBS) --target $(ASAN_TARGETS)
-	cd $(ASAN_DIR) && ctest --output-on-failure -j $(JOBS) $(ASAN_CTEST)
+	cd $(ASAN_DIR) && LSAN_OPTIONS=suppressions=$(CURDIR)/tests/sanitizer/lsan.supp ctest --output-on-failure -j $(JOBS) $(ASAN_CTEST)
 
 test-asan-full:
 	$(MAKE) test-asan ASAN_TARGETS=all ASAN_CTEST="-LE slow"
