@@ -7,6 +7,7 @@
 
 #include <vdb_ref/reference.h>
 #include <array>
+#include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
@@ -170,6 +171,99 @@ TEST_F(VerifySingleSlot, PicturesShowEveryViewAtTheResolutionAsked) {
     EXPECT_EQ(be32(16), 1200u) << png;
     EXPECT_EQ(be32(20), 900u) << png;
   }
+}
+
+// The bundled design job (docs/tutorial.md): a plunge 0.8 mm below the slot floor at (30, 12, 14.2),
+// made by G-code line 8, against the design it was written for. Its report's 3D view shows the
+// machined part against the design.
+class VerifyDesignGouge : public ::testing::Test {
+ protected:
+  static void SetUpTestSuite() {
+    out_ = new fs::path(scratch("design_gouge_excess"));
+    result_ = new CommandResult(run(kBinary + " verify " + kData + "/jobs/design_gouge_excess.json --out " +
+                                    out_->string() + " --voxel 0.5 --samples 20000"));
+  }
+  static void TearDownTestSuite() {
+    delete out_;
+    delete result_;
+  }
+  static fs::path* out_;
+  static CommandResult* result_;
+};
+fs::path* VerifyDesignGouge::out_ = nullptr;
+CommandResult* VerifyDesignGouge::result_ = nullptr;
+
+// The report loads nothing from the network: no element points at a remote address and no script
+// fetches or imports one (three.js itself holds namespace strings such as "http://www.w3.org/...",
+// which load nothing); the browser below has no network at all.
+TEST_F(VerifyDesignGouge, ReportLoadsNothingFromTheNetwork) {
+  ASSERT_EQ(result_->exit_code, 1) << result_->output;  // the design is out of the band
+  const std::string page = slurp(*out_ / "report.html");
+  for (const char* remote :
+       {"src=\"http", "src='http", "href=\"http", "href='http", "<script src=", "<link rel=\"stylesheet\""})
+    EXPECT_EQ(page.find(remote), std::string::npos) << remote;
+  std::smatch loads;
+  EXPECT_FALSE(
+      std::regex_search(page, loads,
+                        std::regex(R"((fetch|import|importScripts|url|open)\s*\(\s*(["'`])\s*(https?:)?//)",
+                                   std::regex::icase)))
+      << loads.str();
+  EXPECT_NE(page.find("id=\"view3d-data\""), std::string::npos);
+}
+
+// In a real browser with no network, three.js (inlined) draws the part, and a click on the known
+// gouge, its point projected to the canvas with the view's own camera looking down, reads -0.8 mm
+// (a gouge), the plunge's move and G-code line; the pixel there is drawn in the map's gouge blue.
+TEST_F(VerifyDesignGouge, ThreeDViewClickReadsTheKnownGouge) {
+  ASSERT_EQ(result_->exit_code, 1) << result_->output;
+  const fs::path report = *out_ / "report.html";
+  const CommandResult browser =
+      run("chromium --headless --no-sandbox --disable-gpu --enable-unsafe-swiftshader --disable-quic "
+          "--no-first-run --disable-background-networking --disable-component-update --disable-sync "
+          "--host-resolver-rules='MAP * ~NOTFOUND' --proxy-server=127.0.0.1:9 --user-data-dir=" +
+          scratch("chromium_profile_3d").string() +
+          " --window-size=1200,2400 --virtual-time-budget=20000 --dump-dom 'file://" + report.string() +
+          "#click=30,12,14.2&from=0,0,1'");
+  ASSERT_EQ(browser.exit_code, 0) << browser.output.substr(0, 2000);
+  std::smatch ready;
+  ASSERT_TRUE(std::regex_search(browser.output, ready,
+                                std::regex("data-view3d=\"ready (\\d+) triangles, (\\d+) frames")))
+      << browser.output.substr(0, 3000);
+  EXPECT_GT(std::stoi(ready[1]), 1000);
+  EXPECT_GE(std::stoi(ready[2]), 1);
+  std::smatch click;
+  ASSERT_TRUE(
+      std::regex_search(browser.output, click,
+                        std::regex("data-click=\"deviation ([-+0-9.e]+) move (-?\\d+) line (-?\\d+) at "
+                                   "([-+0-9.e]+),([-+0-9.e]+),([-+0-9.e]+) pixel (\\d+),(\\d+),(\\d+)\"")))
+      << browser.output.substr(0, 3000);
+  // The ray hit the bottom of the plunge: the ball's tip at z = 17.2 - 3, on a facet of the
+  // generator's surface (chordal error within the job's tolerance, 0.01 mm), within a pixel of the
+  // point asked for (the whole 60 mm part in view: about 0.12 mm per pixel)...
+  const double x = std::stod(click[4]), y = std::stod(click[5]), z = std::stod(click[6]);
+  EXPECT_NEAR(x, 30.0, 0.12);
+  EXPECT_NEAR(y, 12.0, 0.12);
+  EXPECT_NEAR(z, 14.2, 0.02);
+  // ...where the design's floor is the intended ball-end slot, a cylinder of radius 3 about
+  // y = 12, z = 18 (its STL within the same tolerance): the part is 0.8 mm inside it, a gouge.
+  const double deviation = std::stod(click[1]);
+  EXPECT_NEAR(deviation, 3.0 - std::hypot(y - 12.0, z - 18.0), 0.011);
+  EXPECT_NEAR(deviation, -0.8, 0.02);
+  // The plunge (G1 Z14.2, move 2, line 8) and the retract over the same points (G1 Z15, move 3,
+  // line 9) leave the same tip; the read-out names one of them, consistently.
+  const int move = std::stoi(click[2]), line = std::stoi(click[3]);
+  EXPECT_TRUE(line == 8 || line == 9) << line;
+  EXPECT_EQ(move, line - 6);
+  EXPECT_TRUE(
+      std::regex_search(browser.output, std::regex("deviation -0\\.[78][0-9]* mm \\(gouge\\) at \\(")))
+      << "the read-out shows the signed value, its unit and its class";
+  EXPECT_NE(browser.output.find("made by move " + std::to_string(move) + " (G-code line " +
+                                std::to_string(line) + ")"),
+            std::string::npos);
+  // -0.8 is beyond the colour range (+/-0.1 mm): the map's blue end, shaded; not the background.
+  const int red = std::stoi(click[7]), green = std::stoi(click[8]), blue = std::stoi(click[9]);
+  EXPECT_GT(blue, red + 40) << red << "," << green << "," << blue;
+  EXPECT_GT(blue, green + 20) << red << "," << green << "," << blue;
 }
 
 TEST(VerifyBadInput, TruncatedGcodeAndMissingStockMeshExitWithTwo) {

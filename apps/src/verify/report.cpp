@@ -405,7 +405,8 @@ nlohmann::json outcome_to_json(const VerifyOutcome& o) {
 }
 
 void write_reports(const VerifyOutcome& o, const std::string& out_dir,
-                   const std::vector<std::pair<std::string, std::string>>& pictures) {
+                   const std::vector<std::pair<std::string, std::string>>& pictures,
+                   const std::string& view3d_html) {
   const fs::path dir(out_dir);
   std::vector<Table> all = tables(o);
   all.push_back(provenance_table(o.provenance));
@@ -438,6 +439,7 @@ void write_reports(const VerifyOutcome& o, const std::string& out_dir,
        << "</p>\n<p class=\"sign\">Sign of every deviation: " << html_escape(raytest::kSignConvention)
        << ".</p>\n";
   for (const auto& t : all) page << html(t);
+  page << view3d_html;
   page << "<h3>Pictures</h3>\n";
   for (const auto& [title, file] : pictures) {
     page << "<figure><img alt=\"" << html_escape(title) << "\" src=\"data:image/png;base64,"

@@ -3,6 +3,8 @@
 
 #include "cli/commands.h"
 #include "io/deviation_files.h"
+#include "verify/view3d.h"
+#include "verify/view3d_surface.h"
 
 #include <fmt/format.h>
 #include <morph/aabb_tree.h>
@@ -24,6 +26,7 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <functional>
 #include <map>
 #include <numeric>
 #include <optional>
@@ -264,6 +267,32 @@ std::vector<std::string> write_heatmap(morph::TriangleMesh mesh, const std::stri
     written.push_back(file.filename().string());
   }
   return written;
+}
+
+// `value` at every vertex of `mesh`.
+std::vector<double> measured_at(const morph::TriangleMesh& mesh,
+                                const std::function<double(const Eigen::Vector3d&)>& value) {
+  std::vector<double> values(mesh.vertex_count());
+  morph::for_each_index(morph::ExecutionPolicy::Parallel, 0, values.size(),
+                        [&](std::size_t i) { values[i] = value(mesh.vertices[i]); });
+  return values;
+}
+
+// The report's 3D view of `surface` with `values` (signed, `unit`, one per vertex it shows); colours
+// over +/-2 band as in the pictures, gouge below -band and excess above +band.
+View3d view3d_of(ViewSurface surface, std::vector<double> values, double band, const std::string& unit,
+                 const std::string& title) {
+  View3d view;
+  view.mesh = std::move(surface.mesh);
+  view.source_triangles = surface.source_triangles;
+  view.decimated = surface.decimated;
+  view.values = std::move(values);
+  view.range = {-2.0 * band, 2.0 * band};
+  view.band_low = -band;
+  view.band_high = band;
+  view.unit = unit;
+  view.title = title;
+  return view;
 }
 
 }  // namespace
@@ -548,6 +577,7 @@ VerifyOutcome run_verify(const VerifyOptions& options) {
 
   const morph::ErosionField field(out.job);
   StageClock picture_clock(out.stages);
+  std::string view3d;  // the report's interactive 3D view
   if (!generator_ran) {
     picture_clock.run("pictures", [&] {
       std::vector<double> reference_exact(reference_mesh.vertex_count());
@@ -558,6 +588,12 @@ VerifyOutcome run_verify(const VerifyOptions& options) {
       write_heatmap(reference_mesh, "deviation_exact", reference_exact, dir / "reference_vs_exact.ply",
                     dir / "reference_vs_exact.png", unit, options.image_width, options.image_height, bound,
                     provenance);
+      ViewSurface shown = view_surface(reference_mesh);
+      std::vector<double> values =
+          measured_at(shown.mesh, [&](const Eigen::Vector3d& p) { return field.value(p); });
+      view3d = view3d_html(
+          view3d_of(std::move(shown), std::move(values), bound, unit, "Reference against the exact surface"),
+          default_three_dir());
       raytest::RenderOptions plain;
       plain.width = options.image_width;
       plain.height = options.image_height;
@@ -615,6 +651,12 @@ VerifyOutcome run_verify(const VerifyOptions& options) {
           morph_display, "deviation_exact", morph_exact, dir / "morph_vs_exact.ply",
           dir / "morph_vs_exact.png", unit, w, h, out.tolerance, provenance, standard_views(closeup));
       out.files.insert(out.files.end(), views.begin() + 1, views.end());
+      ViewSurface shown = view_surface(morph_mesh);
+      std::vector<double> values =
+          measured_at(shown.mesh, [&](const Eigen::Vector3d& p) { return field.value(p); });
+      view3d = view3d_html(view3d_of(std::move(shown), std::move(values), out.tolerance, unit,
+                                     "Generator against the exact surface"),
+                           default_three_dir());
       write_heatmap(morph_display, "deviation_reference", morph_reference, dir / "morph_vs_reference.ply",
                     dir / "morph_vs_reference.png", unit, w, h, out.agreement_bound, provenance);
       write_heatmap(reference_mesh, "deviation_exact", reference_exact, dir / "reference_vs_exact.ply",
@@ -652,6 +694,16 @@ VerifyOutcome run_verify(const VerifyOptions& options) {
                         dir / "machined_vs_design.ply", dir / "machined_vs_design.png", unit,
                         options.image_width, options.image_height, reach / 2.0, provenance, design_views);
       out.files.insert(out.files.end(), views.begin() + 1, views.end());
+      // What a machinist acts on: the 3D view shows the machined part against the design, measured
+      // at the vertices it shows (the comparison's own refined surface can have millions).
+      ViewSurface shown = view_surface(morph_mesh);
+      std::vector<double> shown_values = raytest::vertex_deviation(
+          shown.mesh, raytest::SurfaceQuery(design_mesh), raytest::DeviationMode::Signed);
+      View3d design_view = view3d_of(std::move(shown), std::move(shown_values), reach / 2.0, unit,
+                                     "Machined result against the design");
+      design_view.band_low = compare.band.low;
+      design_view.band_high = compare.band.high;
+      view3d = view3d_html(design_view, default_three_dir());
       out.design.refined = {};
       out.design.point_values.clear();
       out.files.insert(out.files.end(),
@@ -678,7 +730,7 @@ VerifyOutcome run_verify(const VerifyOptions& options) {
     if (fs::exists(dir / "machined_vs_design_closeup.png"))
       pictures.push_back({"Machined result against the design, close-up", "machined_vs_design_closeup.png"});
   }
-  write_reports(out, options.out_dir, pictures);
+  write_reports(out, options.out_dir, pictures, view3d);
   out.files.insert(out.files.end(), {"report.md", "report.html"});
   return out;
 }

@@ -170,8 +170,10 @@ VerifyOutcome run_verify(const VerifyOptions& options);
 nlohmann::json outcome_to_json(const VerifyOutcome& outcome);
 nlohmann::json stats_to_json(const raytest::DeviationStats& stats);
 
-/// report.md and report.html (self-contained: pictures embedded as data URIs).
+/// report.md and report.html (self-contained: pictures embedded as data URIs; `view3d_html`, the
+/// interactive 3D view's block, goes into the HTML before the pictures).
 void write_reports(const VerifyOutcome& outcome, const std::string& out_dir,
-                   const std::vector<std::pair<std::string, std::string>>& pictures);
+                   const std::vector<std::pair<std::string, std::string>>& pictures,
+                   const std::string& view3d_html = "");
 
 }  // namespace morphmill
