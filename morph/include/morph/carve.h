@@ -1,0 +1,44 @@
+// SPDX-License-Identifier: Apache-2.0
+#pragma once
+/// \file carve.h
+/// The boundary of box stock minus the union of convex sweep polytopes, as convex pieces
+/// (facet_clipping.h): each stock face minus every sweep that reaches it, and each sweep facet
+/// within the stock and its own polytope minus every other sweep. Every decision is an exact
+/// perturbed predicate, so the pieces bound a closed, oriented solid; the tie order makes a
+/// retraced move's coinciding facets the earlier move's alone.
+#include <morph/facet_clipping.h>
+#include <morph/sweep_polytope.h>
+
+#include <Eigen/Geometry>
+
+#include <cstdint>
+#include <vector>
+
+namespace morph {
+
+/// One sweep polytope's halfspaces as exact planes, ranked sweep_rank(move, k) in their order.
+std::vector<ExactPlane> sweep_planes(const std::vector<Halfspace>& halfspaces, std::uint32_t move);
+
+/// A piece of the carved boundary. For a stock face the piece faces out of the solid; for a
+/// sweep facet it faces into the solid (its support is the sweep's outward plane).
+struct CarvedPiece {
+  ConvexPiece piece;
+  std::int32_t move = -1;  ///< the sweep's move, or -1 for a stock face
+  std::int32_t face = 0;   ///< the stock face (box_planes() order) or the sweep's facet index
+  bool faces_out() const { return move < 0; }
+};
+
+/// Counts of the carving, for benches.
+struct CarveCounts {
+  double facets = 0, cutters = 0, pieces = 0;
+};
+
+/// The pieces of box \ ∪ sweeps[i] (each sweep the planes of sweep_planes(), move order = tie
+/// order). All pairs of sweeps whose boxes meet are tried: for small jobs (the culling of
+/// sweep_culling.h is what scales).
+std::vector<CarvedPiece> carve_box(const Eigen::AlignedBox3d& box,
+                                   const std::vector<std::vector<ExactPlane>>& sweeps,
+                                   const std::vector<Eigen::AlignedBox3d>& sweep_boxes,
+                                   CarveCounts* counts = nullptr);
+
+}  // namespace morph

@@ -1,0 +1,33 @@
+// SPDX-License-Identifier: Apache-2.0
+#pragma once
+/// \file conform.h
+/// Generator 2's conforming step: the carved pieces (carve.h) become polygons over shared
+/// vertices. A vertex is its plane triple (the perturbed arrangement is in general position, so
+/// the triple names one point), hence both sides of every crease name it alike; and every vertex
+/// lying on a piece's edge line strictly inside the edge is inserted into it (decided by the
+/// exact predicates), so no T-junctions remain.
+#include <morph/carve.h>
+
+#include <array>
+#include <cstdint>
+#include <vector>
+
+namespace morph {
+
+struct ConformedPolygon {
+  std::vector<std::uint32_t> loop;  ///< counter-clockwise seen from outside the solid
+  std::size_t corners = 0;          ///< the piece's own corners (the rest were inserted)
+  std::int32_t move = -1;           ///< the sweep's move, -1 for a stock face
+  std::int32_t face = 0;            ///< the stock face or the sweep's facet
+};
+
+struct ConformedSurface {
+  /// Each vertex's planes, sorted by rank (its key).
+  std::vector<std::array<ExactPlane, 3>> vertices;
+  std::vector<ConformedPolygon> polygons;
+  std::size_t inserted = 0;  ///< vertices inserted into other pieces' edges
+};
+
+ConformedSurface conform(const std::vector<CarvedPiece>& pieces);
+
+}  // namespace morph

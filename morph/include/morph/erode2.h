@@ -1,0 +1,17 @@
+// SPDX-License-Identifier: Apache-2.0
+#pragma once
+/// \file erode2.h
+/// Generator 2 (issue 18): the boundary of box stock minus the union of the moves' convex sweep
+/// polytopes, closed, oriented and manifold by construction (exact plane predicates and one tie
+/// order: carve.h, conform.h, emit.h). Arcs become chords within 0.4 of the tolerance, the tool a
+/// polytope within 0.4 of it (tool_polytope.h). For small jobs: every pair of sweeps whose boxes
+/// meet is clipped (the culling of sweep_culling.h is not wired in yet).
+#include <morph/erode.h>
+
+namespace morph {
+
+/// Same contract as erode() for the jobs it supports: box stock, any tool of revolution with a
+/// profile. Throws InputError for another stock or a tool without a profile.
+ErodeResult erode2(const Job& job, const ErodeOptions& options = {});
+
+}  // namespace morph

@@ -1,0 +1,76 @@
+// SPDX-License-Identifier: Apache-2.0
+#include <morph/carve.h>
+
+#include <cstddef>
+
+namespace morph {
+namespace {
+
+Eigen::AlignedBox3d piece_box(const ConvexPiece& piece) {
+  Eigen::AlignedBox3d box;
+  for (const Eigen::Vector3d& p : corners(piece)) box.extend(p);
+  return box;
+}
+
+// `pieces` minus every sweep but `skip` whose box meets theirs.
+std::vector<ConvexPiece> minus_sweeps(std::vector<ConvexPiece> pieces, std::int32_t skip,
+                                      const std::vector<std::vector<ExactPlane>>& sweeps,
+                                      const std::vector<Eigen::AlignedBox3d>& sweep_boxes,
+                                      CarveCounts& counts) {
+  for (std::size_t j = 0; j < sweeps.size() && !pieces.empty(); ++j) {
+    if (static_cast<std::int32_t>(j) == skip) continue;
+    Eigen::AlignedBox3d reach;
+    for (const ConvexPiece& p : pieces) reach.extend(piece_box(p));
+    // Grown a little: the rounded corners are not the exact ones, and touching counts.
+    reach.min().array() -= 1e-7 * (1 + reach.min().cwiseAbs().maxCoeff());
+    reach.max().array() += 1e-7 * (1 + reach.max().cwiseAbs().maxCoeff());
+    if (!reach.intersects(sweep_boxes[j])) continue;
+    ++counts.cutters;
+    std::vector<ConvexPiece> next;
+    for (const ConvexPiece& p : pieces) subtract(p, sweeps[j], next);
+    pieces = std::move(next);
+  }
+  return pieces;
+}
+
+}  // namespace
+
+std::vector<ExactPlane> sweep_planes(const std::vector<Halfspace>& halfspaces, std::uint32_t move) {
+  std::vector<ExactPlane> planes;
+  planes.reserve(halfspaces.size());
+  for (std::size_t k = 0; k < halfspaces.size(); ++k)
+    planes.push_back(ExactPlane{halfspaces[k].normal, halfspaces[k].offset,
+                                sweep_rank(move, static_cast<std::uint32_t>(k)), 1});
+  return planes;
+}
+
+std::vector<CarvedPiece> carve_box(const Eigen::AlignedBox3d& box,
+                                   const std::vector<std::vector<ExactPlane>>& sweeps,
+                                   const std::vector<Eigen::AlignedBox3d>& sweep_boxes, CarveCounts* counts) {
+  CarveCounts local;
+  CarveCounts& c = counts ? *counts : local;
+  const std::array<ExactPlane, 6> stock = box_planes(box);
+  std::vector<CarvedPiece> out;
+  auto keep = [&](std::vector<ConvexPiece> pieces, std::int32_t move, std::int32_t face) {
+    for (ConvexPiece& p : pieces) out.push_back(CarvedPiece{std::move(p), move, face});
+  };
+  for (std::int32_t f = 0; f < 6; ++f) {
+    ++c.facets;
+    ConvexPiece face = piece_in_box(stock[f], stock);
+    keep(minus_sweeps({face}, -1, sweeps, sweep_boxes, c), -1, f);
+  }
+  for (std::size_t i = 0; i < sweeps.size(); ++i) {
+    if (!sweep_boxes[i].intersects(box)) continue;
+    for (std::size_t f = 0; f < sweeps[i].size(); ++f) {
+      ++c.facets;
+      const ConvexPiece facet = intersect(piece_in_box(sweeps[i][f], stock), sweeps[i]);
+      if (facet.empty()) continue;
+      keep(minus_sweeps({facet}, static_cast<std::int32_t>(i), sweeps, sweep_boxes, c),
+           static_cast<std::int32_t>(i), static_cast<std::int32_t>(f));
+    }
+  }
+  c.pieces += static_cast<double>(out.size());
+  return out;
+}
+
+}  // namespace morph

@@ -1,0 +1,99 @@
+// SPDX-License-Identifier: Apache-2.0
+#include <morph/carve.h>
+#include <morph/conform.h>
+#include <morph/emit.h>
+#include <morph/erode2.h>
+#include <morph/exceptions.h>
+#include <morph/sweep_polytope.h>
+#include <morph/tool_polytope.h>
+
+#include <chrono>
+#include <map>
+#include <memory>
+
+namespace morph {
+namespace {
+
+double seconds_since(std::chrono::steady_clock::time_point start) {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+}
+
+// The moves as straight segments in job order (arcs as chords), each with its move's index.
+struct Segment {
+  Eigen::Vector3d from, to;
+  std::int32_t move = 0, line = 0;
+  int tool = 0;
+};
+
+std::vector<Segment> segments_of(const Job& job, double chord_tolerance) {
+  std::vector<Segment> out;
+  const std::vector<const Move*> moves = job.moves();
+  for (std::size_t m = 0; m < moves.size(); ++m) {
+    const Move& move = *moves[m];
+    const std::vector<double> t = chord_parameters(move, chord_tolerance);
+    for (std::size_t k = 0; k + 1 < t.size(); ++k)
+      out.push_back(Segment{point_at(move, t[k]), point_at(move, t[k + 1]), static_cast<std::int32_t>(m),
+                            move.line, move.tool});
+  }
+  return out;
+}
+
+}  // namespace
+
+ErodeResult erode2(const Job& job, const ErodeOptions& options) {
+  const auto start = std::chrono::steady_clock::now();
+  if (job.stock.type != StockType::Box) throw InputError("generator 2: only box stock is supported so far");
+  const double tolerance = options.tolerance > 0.0 ? options.tolerance : job.tolerance;
+  if (!(tolerance > 0.0)) throw InputError("generator 2: the tolerance must be > 0");
+  Progress& progress = options.progress ? *options.progress : null_progress();
+
+  ErodeResult result;
+  ErodeStats& stats = result.stats;
+  stats.moves = job.move_count();
+  const std::vector<Segment> segments = segments_of(job, 0.4 * tolerance);
+  stats.segments = segments.size();
+
+  // One polytope per tool, within 0.4 of the tolerance of the exact tool.
+  std::map<int, std::unique_ptr<SweepPolytopeBuilder>> builders;
+  for (const Segment& s : segments)
+    if (!builders.count(s.tool))
+      builders.emplace(
+          s.tool, std::make_unique<SweepPolytopeBuilder>(
+                      tool_polytope(job.tool_of(*job.moves()[s.move]).profile, 0.4 * tolerance).polytope));
+  const Eigen::AlignedBox3d stock = job.stock.box;
+  std::vector<std::vector<ExactPlane>> sweeps;
+  std::vector<Eigen::AlignedBox3d> boxes;
+  std::vector<std::int32_t> move_index, move_line;
+  for (const Segment& s : segments) {
+    const SweepPolytopeBuilder& builder = *builders.at(s.tool);
+    Eigen::AlignedBox3d box = builder.tool().bounds().translated(s.from);
+    box.extend(builder.tool().bounds().translated(s.to));
+    if (box.intersects(stock)) ++stats.moves_touching_stock;
+    sweeps.push_back(
+        sweep_planes(builder.halfspaces(s.from, s.to), static_cast<std::uint32_t>(sweeps.size())));
+    boxes.push_back(box);
+    move_index.push_back(s.move);
+    move_line.push_back(s.line);
+  }
+  stats.seconds_setup = seconds_since(start);
+
+  progress.begin("erode2: carve", 1);
+  if (progress.interrupted()) throw Interrupted("erode2: interrupted");
+  CarveCounts counts;
+  const std::vector<CarvedPiece> pieces = carve_box(stock, sweeps, boxes, &counts);
+  progress.advance(1);
+  progress.end();
+  stats.patches = static_cast<std::size_t>(counts.facets);
+  stats.patches_kept = pieces.size();
+  stats.seconds_trim = seconds_since(start) - stats.seconds_setup;
+
+  const ConformedSurface surface = conform(pieces);
+  result.mesh = emit(surface, move_index, move_line);
+  stats.triangles = result.mesh.triangle_count();
+  stats.vertices = result.mesh.vertex_count();
+  stats.seconds_total = seconds_since(start);
+  stats.seconds_assemble = stats.seconds_total - stats.seconds_setup - stats.seconds_trim;
+  return result;
+}
+
+}  // namespace morph

@@ -1,0 +1,163 @@
+// SPDX-License-Identifier: Apache-2.0
+#include <morph/facet_clipping.h>
+
+#include <Eigen/Geometry>
+
+#include <cmath>
+#include <cstddef>
+
+namespace morph {
+namespace {
+
+// A float look at a piece, to skip planes that are clearly apart from it (all corners below, or
+// all above, by far more than the rounding of the corners): the exact predicates would decide
+// the same, so nothing depends on it but speed. Only for well-conditioned corners.
+class RoughCorners {
+ public:
+  explicit RoughCorners(const ConvexPiece& piece) {
+    const std::size_t n = piece.edges.size();
+    points_.reserve(n);
+    for (std::size_t k = 0; k < n; ++k) {
+      const ExactPlane& a = piece.edges[(k + n - 1) % n];
+      const ExactPlane& b = piece.edges[k];
+      const double det = std::fabs(piece.support.normal.dot(a.normal.cross(b.normal)));
+      const double scale = piece.support.normal.norm() * a.normal.norm() * b.normal.norm();
+      if (!(det > 1e-3 * scale)) {
+        usable_ = false;
+        return;
+      }
+      points_.push_back(vertex_point(piece.support, a, b));
+    }
+  }
+  // -1: every corner clearly inside `plane`; +1: every corner clearly outside; 0: undecided.
+  int side(const ExactPlane& plane) const {
+    if (!usable_) return 0;
+    int below = 0, above = 0;
+    for (const Eigen::Vector3d& p : points_) {
+      const double value = plane.normal.dot(p) - plane.offset;
+      const double margin = 1e-9 * (1 + std::fabs(plane.offset) + plane.normal.norm() * p.norm());
+      if (value < -margin)
+        ++below;
+      else if (value > margin)
+        ++above;
+      else
+        return 0;
+    }
+    return below == static_cast<int>(points_.size()) ? -1
+                                                     : (above == static_cast<int>(points_.size()) ? 1 : 0);
+  }
+
+ private:
+  std::vector<Eigen::Vector3d> points_;
+  bool usable_ = true;
+};
+
+ExactPlane box_plane(int axis, bool upper, double offset, std::uint32_t index) {
+  Eigen::Vector3d n = Eigen::Vector3d::Zero();
+  n[axis] = upper ? 1.0 : -1.0;
+  return ExactPlane{n, upper ? offset : -offset, stock_rank(index), -1};
+}
+
+}  // namespace
+
+ExactPlane flipped(const ExactPlane& p) {
+  return ExactPlane{-p.normal, -p.offset, p.rank, -p.direction};
+}
+
+std::array<ExactPlane, 6> box_planes(const Eigen::AlignedBox3d& box) {
+  std::array<ExactPlane, 6> planes;
+  for (int axis = 0; axis < 3; ++axis) {
+    planes[2 * axis] = box_plane(axis, false, box.min()[axis], 2 * axis);
+    planes[2 * axis + 1] = box_plane(axis, true, box.max()[axis], 2 * axis + 1);
+  }
+  return planes;
+}
+
+ConvexPiece piece_in_box(const ExactPlane& support, const std::array<ExactPlane, 6>& box) {
+  // Along the support's dominant axis a, its plane is a graph over the other two (b, c), so the
+  // box's b and c planes bound a quadrilateral of it; then the two a planes clip that.
+  int a = 0;
+  support.normal.cwiseAbs().maxCoeff(&a);
+  const int b = (a + 1) % 3, c = (a + 2) % 3;
+  ConvexPiece piece{support, {box[2 * c], box[2 * b + 1], box[2 * c + 1], box[2 * b]}};
+  // Counter-clockwise seen from +a in the (b, c) plane; from -a the other way round.
+  if (support.normal[a] < 0) std::swap(piece.edges[1], piece.edges[3]);
+  piece = clip(piece, box[2 * a]);
+  return clip(piece, box[2 * a + 1]);
+}
+
+ConvexPiece clip(const ConvexPiece& piece, const ExactPlane& plane) {
+  if (piece.empty() || plane.rank == piece.support.rank) return piece;
+  for (const ExactPlane& e : piece.edges)
+    if (e.rank == plane.rank) return e.direction == plane.direction ? piece : ConvexPiece{piece.support, {}};
+  const std::size_t n = piece.edges.size();
+  std::vector<int> sides(n);  // of corner k, between edges k-1 and k
+  std::size_t inside = 0;
+  for (std::size_t k = 0; k < n; ++k) {
+    sides[k] = side_at_vertex(piece.support, piece.edges[(k + n - 1) % n], piece.edges[k], plane);
+    inside += sides[k] < 0;
+  }
+  if (inside == n) return piece;
+  ConvexPiece out{piece.support, {}};
+  if (inside == 0) return out;
+  // Edge k runs from corner k to corner k+1. Exact signs on a convex piece change twice: keep
+  // the edges with a corner inside, and put `plane` after the edge that leaves.
+  for (std::size_t k = 0; k < n; ++k) {
+    const bool from_inside = sides[k] < 0, to_inside = sides[(k + 1) % n] < 0;
+    if (from_inside || to_inside) out.edges.push_back(piece.edges[k]);
+    if (from_inside && !to_inside) out.edges.push_back(plane);
+  }
+  return out;
+}
+
+ConvexPiece intersect(ConvexPiece piece, const std::vector<ExactPlane>& planes) {
+  RoughCorners rough(piece);
+  for (const ExactPlane& plane : planes) {
+    if (piece.empty()) break;
+    const int quick = rough.side(plane);
+    if (quick < 0) continue;
+    if (quick > 0) return ConvexPiece{piece.support, {}};
+    piece = clip(piece, plane);
+    if (!piece.empty()) rough = RoughCorners(piece);
+  }
+  return piece;
+}
+
+void subtract(const ConvexPiece& piece, const std::vector<ExactPlane>& cutter,
+              std::vector<ConvexPiece>& out) {
+  // Facet minus a convex polytope: peel off, plane by plane, the part outside that plane; what
+  // is inside every plane is inside the cutter and goes.
+  ConvexPiece rest = piece;
+  RoughCorners rough(rest);
+  for (const ExactPlane& plane : cutter) {
+    const int quick = rough.side(plane);
+    if (quick < 0) continue;  // wholly inside this plane: nothing is peeled off here
+    if (quick > 0) {          // wholly outside it, so outside the cutter
+      out.push_back(std::move(rest));
+      return;
+    }
+    ConvexPiece outside = clip(rest, flipped(plane));
+    if (outside.empty()) continue;
+    out.push_back(std::move(outside));
+    rest = clip(rest, plane);
+    if (rest.empty()) return;
+    rough = RoughCorners(rest);
+  }
+}
+
+std::vector<Eigen::Vector3d> corners(const ConvexPiece& piece) {
+  std::vector<Eigen::Vector3d> points;
+  const std::size_t n = piece.edges.size();
+  for (std::size_t k = 0; k < n; ++k)
+    points.push_back(vertex_point(piece.support, piece.edges[(k + n - 1) % n], piece.edges[k]));
+  return points;
+}
+
+Eigen::Vector3d area_vector(const ConvexPiece& piece) {
+  const std::vector<Eigen::Vector3d> p = corners(piece);
+  Eigen::Vector3d sum = Eigen::Vector3d::Zero();
+  for (std::size_t k = 0; k + 2 < p.size(); ++k) sum += (p[k + 1] - p[0]).cross(p[k + 2] - p[0]);
+  return sum / 2;
+}
+
+}  // namespace morph

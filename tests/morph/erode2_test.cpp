@@ -1,0 +1,162 @@
+// SPDX-License-Identifier: Apache-2.0
+// Generator 2 end to end on small jobs: closed, oriented and manifold by construction, and the
+// volume against closed forms where there is one. The jobs of ../shared/repro/generator/ are
+// rebuilt here (same stock, tool and path), at a coarser tolerance to keep the test short.
+#include <morph/erode2.h>
+#include <morph/exceptions.h>
+#include <morph/sweep_polytope.h>
+#include <morph/tool.h>
+#include <morph/tool_polytope.h>
+#include <morph/topology.h>
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+namespace {
+
+using Eigen::Vector3d;
+
+morph::Job job_of(const Eigen::AlignedBox3d& box, const morph::Tool& tool,
+                  const std::vector<Vector3d>& polyline, double tolerance = 0.05) {
+  morph::Job job;
+  job.stock.type = morph::StockType::Box;
+  job.stock.box = box;
+  job.tools.emplace(1, tool);
+  job.tolerance = tolerance;
+  morph::Path path;
+  for (std::size_t k = 0; k + 1 < polyline.size(); ++k) {
+    morph::Move m;
+    m.start = polyline[k];
+    m.end = polyline[k + 1];
+    m.tool = 1;
+    m.line = static_cast<int>(k + 2);
+    path.moves.push_back(m);
+  }
+  job.paths.push_back(path);
+  return job;
+}
+
+struct Outcome {
+  morph::TopologyReport topology;
+  morph::ErodeResult result;
+};
+
+Outcome run(const morph::Job& job) {
+  Outcome o;
+  o.result = morph::erode2(job);
+  o.topology = morph::topology_report(o.result.mesh);
+  return o;
+}
+
+void expect_closed(const Outcome& o, const char* what) {
+  EXPECT_TRUE(o.topology.closed_manifold())
+      << what << ": " << o.topology.boundary_edges << " boundary, " << o.topology.non_manifold_edges
+      << " non-manifold edges, " << o.topology.inconsistent_edges << " inconsistent, "
+      << o.topology.non_manifold_vertices << " non-manifold vertices";
+  EXPECT_EQ(o.result.mesh.tags.size(), o.result.mesh.triangle_count());
+}
+
+// The tool polytope erode2 uses (0.4 of the tolerance).
+morph::ConvexPolytope polytope_of(const morph::Tool& tool, double tolerance = 0.05) {
+  return morph::tool_polytope(tool.profile, 0.4 * tolerance).polytope;
+}
+
+TEST(Erode2, MoveInsideTheStockIsACavityOfTheSweepsVolume) {
+  const Eigen::AlignedBox3d box(Vector3d(0, 0, 0), Vector3d(20, 10, 10));
+  const morph::Tool tool = morph::ball_tool(1.5, 4.0);
+  const Vector3d a(5, 5, 3), b(15, 6, 4);
+  const Outcome o = run(job_of(box, tool, {a, b}));
+  expect_closed(o, "cavity");
+  EXPECT_EQ(o.topology.components, 2u);
+  const morph::ConvexPolytope sweep = morph::sweep_polytope(polytope_of(tool), a, b);
+  EXPECT_NEAR(o.topology.volume, box.volume() - sweep.volume(), 1e-9 * box.volume());
+}
+
+TEST(Erode2, SlotThroughThePlateAndBack) {
+  // r1/r2 shapes: a ball-end slot in from outside the stock and straight back, through and part depth.
+  const morph::Tool tool = morph::ball_tool(1.5, 20.0);
+  for (double z : {-2.0, 1.5}) {
+    const Eigen::AlignedBox3d box(Vector3d(0, 0, 0), Vector3d(40, 30, 3));
+    const Outcome there = run(job_of(box, tool, {Vector3d(20, -5, z), Vector3d(20, 15, z)}));
+    const Outcome back =
+        run(job_of(box, tool, {Vector3d(20, -5, z), Vector3d(20, 15, z), Vector3d(20, -5, z)}));
+    expect_closed(there, "slot");
+    expect_closed(back, "slot there and back");
+    EXPECT_NEAR(back.topology.volume, there.topology.volume, 1e-9 * box.volume());
+    // The removed part: the sweep within the stock, by Cavalieri: the polytope's volume is
+    // V(P) + L·A⊥(P, u), and its part inside the stock the same at the stock's faces; check
+    // the removed volume is below the whole sweep's and above the slot's straight part.
+    const morph::ConvexPolytope p = polytope_of(tool);
+    const double removed = box.volume() - there.topology.volume;
+    EXPECT_GT(removed, 0);
+    EXPECT_LT(removed, morph::sweep_polytope(p, Vector3d(20, -5, z), Vector3d(20, 15, z)).volume());
+  }
+}
+
+TEST(Erode2, PlungeAndRetractIsThePlunge) {
+  // r3 / r6: a ball-end plunge through (and into) a plate and straight back up.
+  const morph::Tool tool = morph::ball_tool(3.0, 40.0);
+  const Eigen::AlignedBox3d box(Vector3d(0, 0, 0), Vector3d(40, 30, 10));
+  for (double bottom : {-5.0, 5.0}) {
+    const Outcome plunge = run(job_of(box, tool, {Vector3d(20, 15, 20), Vector3d(20, 15, bottom)}));
+    const Outcome both =
+        run(job_of(box, tool, {Vector3d(20, 15, 20), Vector3d(20, 15, bottom), Vector3d(20, 15, 20)}));
+    expect_closed(plunge, "plunge");
+    expect_closed(both, "plunge and retract");
+    EXPECT_NEAR(both.topology.volume, plunge.topology.volume, 1e-9 * box.volume());
+    if (bottom < 0) {  // through: a prism of the tool's widest cross-section, 10 deep
+      const morph::ConvexPolytope p = polytope_of(tool);
+      double section = 0;  // the polytope's projection along z: its widest ring
+      const Vector3d down(0, 0, 1);
+      section = p.projected_area(down);
+      EXPECT_NEAR(plunge.topology.volume, box.volume() - 10 * section, 1e-9 * box.volume());
+    }
+  }
+}
+
+TEST(Erode2, TurnsBackAtAndNear180Degrees) {
+  // r8 / r11: a slot that turns back inside the stock, exactly and 3 µm sideways.
+  const morph::Tool tool = morph::ball_tool(1.5, 20.0);
+  const Eigen::AlignedBox3d box(Vector3d(0, 0, 0), Vector3d(40, 30, 5));
+  const Outcome single = run(job_of(box, tool, {Vector3d(-5, 15, 3), Vector3d(20, 15, 3)}));
+  const Outcome reverse =
+      run(job_of(box, tool, {Vector3d(-5, 15, 3), Vector3d(20, 15, 3), Vector3d(-5, 15, 3)}));
+  const Outcome near =
+      run(job_of(box, tool, {Vector3d(-5, 15, 3), Vector3d(20, 15, 3), Vector3d(-5, 15.003, 3)}));
+  expect_closed(single, "single");
+  expect_closed(reverse, "180 degrees");
+  expect_closed(near, "179.99 degrees");
+  EXPECT_NEAR(reverse.topology.volume, single.topology.volume, 1e-9 * box.volume());
+  EXPECT_LT(near.topology.volume, single.topology.volume);
+  EXPECT_GT(near.topology.volume, single.topology.volume - 25 * 3 * 0.003);
+}
+
+TEST(Erode2, TinyMoveAtACornerAndARetracedLoop) {
+  // r10b / dg: a 1e-6 mm move at a 90-degree corner; r9: a square loop, the second lap reversed.
+  const morph::Tool tool = morph::ball_tool(1.5, 20.0);
+  const Eigen::AlignedBox3d box(Vector3d(0, 0, 0), Vector3d(30, 30, 5));
+  const Outcome corner = run(job_of(
+      box, tool,
+      {Vector3d(-5, 10, 3), Vector3d(15, 10, 3), Vector3d(15 + 1e-6, 10, 3), Vector3d(15 + 1e-6, 35, 3)}));
+  expect_closed(corner, "1e-6 move at a corner");
+  const Outcome once = run(job_of(
+      box, tool,
+      {Vector3d(8, 8, 4), Vector3d(22, 8, 4), Vector3d(22, 22, 4), Vector3d(8, 22, 4), Vector3d(8, 8, 4)}));
+  const Outcome twice = run(job_of(
+      box, tool,
+      {Vector3d(8, 8, 4), Vector3d(22, 8, 4), Vector3d(22, 22, 4), Vector3d(8, 22, 4), Vector3d(8, 8, 4),
+       Vector3d(8, 22, 4), Vector3d(22, 22, 4), Vector3d(22, 8, 4), Vector3d(8, 8, 4)}));
+  expect_closed(once, "square loop");
+  expect_closed(twice, "square loop and reversed");
+  EXPECT_NEAR(twice.topology.volume, once.topology.volume, 1e-9 * box.volume());
+}
+
+TEST(Erode2, RefusesWhatItDoesNotSupport) {
+  morph::Job job = job_of(Eigen::AlignedBox3d(Vector3d(0, 0, 0), Vector3d(1, 1, 1)), morph::ball_tool(0.5, 2),
+                          {Vector3d(0, 0, 2), Vector3d(1, 1, 2)});
+  job.stock.type = morph::StockType::Cylinder;
+  EXPECT_THROW(morph::erode2(job), morph::InputError);
+}
+
+}  // namespace
