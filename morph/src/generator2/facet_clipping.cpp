@@ -127,6 +127,13 @@ void subtract(const ConvexPiece& piece, const std::vector<ExactPlane>& cutter,
               std::vector<ConvexPiece>& out) {
   // Facet minus a convex polytope: peel off, plane by plane, the part outside that plane; what
   // is inside every plane is inside the cutter and goes.
+  // A piece the cutter does not reach stays whole: splitting it along planes that cross it
+  // outside the cutter would only make fragments (and, for a retraced move's planes, which
+  // coincide with the first pass's, vertices that round to the same point).
+  if (intersect(piece, cutter).empty()) {
+    out.push_back(piece);
+    return;
+  }
   ConvexPiece rest = piece;
   RoughCorners rough(rest);
   for (const ExactPlane& plane : cutter) {
