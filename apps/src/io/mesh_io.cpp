@@ -92,23 +92,20 @@ std::mutex& openmesh_mutex() {
 
 class CapturedOpenMeshLog {
  public:
+  // OpenMesh's multiplexing streams never free a target they disconnect (mostream.hh), so the
+  // streams are redirected once for the process, into one buffer that each call empties, rather
+  // than connected and disconnected around every call (a leak per mesh read or written).
   CapturedOpenMeshLog() {
-    for (OpenMesh::mostream* s : streams()) {
-      std::vector<std::ostream*> was_connected;
-      for (std::ostream* target : {&std::cerr, &std::clog, &std::cout})
-        if (s->disconnect(*target)) was_connected.push_back(target);
-      reconnect_.push_back(was_connected);
-      s->connect(text_);
-    }
+    static std::once_flag redirected;
+    std::call_once(redirected, [] {
+      for (OpenMesh::mostream* s : streams()) {
+        for (std::ostream* target : {&std::cerr, &std::clog, &std::cout}) s->disconnect(*target);
+        s->connect(text());
+      }
+    });
+    clear();
   }
-  ~CapturedOpenMeshLog() {
-    const auto all = streams();
-    for (std::size_t i = 0; i < all.size(); ++i) {
-      all[i]->flush();
-      all[i]->disconnect(text_);
-      for (std::ostream* target : reconnect_[i]) all[i]->connect(*target);
-    }
-  }
+  ~CapturedOpenMeshLog() { clear(); }
   CapturedOpenMeshLog(const CapturedOpenMeshLog&) = delete;
   CapturedOpenMeshLog& operator=(const CapturedOpenMeshLog&) = delete;
 
@@ -116,7 +113,7 @@ class CapturedOpenMeshLog {
   /// left out.
   std::string errors() {
     for (OpenMesh::mostream* s : streams()) s->flush();
-    std::istringstream lines(text_.str());
+    std::istringstream lines(text().str());
     std::string line, kept;
     while (std::getline(lines, line)) {
       const std::string l = lower(line);
@@ -132,8 +129,16 @@ class CapturedOpenMeshLog {
 
  private:
   static std::vector<OpenMesh::mostream*> streams() { return {&::omerr(), &::omlog(), &::omout()}; }
-  std::ostringstream text_;
-  std::vector<std::vector<std::ostream*>> reconnect_;
+  /// Where OpenMesh's streams write, for the life of the process; used under openmesh_mutex().
+  static std::ostringstream& text() {
+    static std::ostringstream* captured = new std::ostringstream;  // outlives OpenMesh's streams
+    return *captured;
+  }
+  static void clear() {
+    for (OpenMesh::mostream* s : streams()) s->flush();
+    text().str("");
+    text().clear();
+  }
 };
 
 // Presents a TriangleMesh to OpenMesh's writers (positions, triangles, face normals).
