@@ -6,6 +6,7 @@
 #include <morph/file_io.h>
 #include <morph/stock.h>
 #include <morphmill/job_io.h>
+#include <morphmill/self_intersections.h>
 #include <sys/resource.h>
 #include <tbb/blocked_range.h>
 #include <tbb/global_control.h>
@@ -167,14 +168,21 @@ const std::vector<std::string>& invariant_names() {
       "no_exception",                // erode, reference and deviation ran without throwing
       "memory_bounded",              // reference within its cap; process peak RSS below the limit
       "closed_manifold",             // the generator's output is a closed oriented 2-manifold
+      "no_self_intersections",       // generator 2: no two of its triangles cross (exact predicates)
       "pieces_known",                // the generator finds the piece count known by construction
       "reference_pieces_known",      // so does the reference
       "pieces_match_reference",      // same count, volumes within half a voxel times the area
-      "volume_known",                // passes outside the stock: the generator's volume is the stock's
+      "volume_known",                // the generator's volume is the closed form's (tolerance x stock area)
+      "genus_known",                 // the generator's pieces have the genus known by construction
       "generator_within_tolerance",  // generator <-> exact surface, both ways, within the tolerance
       "sides_agree",                 // two-sided generator <-> reference within tolerance + sqrt(3) voxel
   };
   return names;
+}
+
+CaseSpace case_space(const StressOptions& options) {
+  check_generator(options.generator);
+  return CaseSpace{parse_families(options.families), options.generator};
 }
 
 CaseResult run_case(std::uint64_t seed, std::size_t index, const StressOptions& options) {
@@ -185,15 +193,17 @@ CaseResult run_case(std::uint64_t seed, std::size_t index, const StressOptions& 
   result.generator_to_reference = result.reference_to_generator = kNaN;
   const fs::path running = fs::path(options.out_dir) / "running";
   fs::path job_path;
-  std::string stock_file;
+  std::string stock_file, gcode_file;
   try {
-    const StressCase c = make_case(seed, index);
+    const StressCase c = make_case(seed, index, case_space(options));
     result.family = c.family;
+    result.expected_genus = c.expected_genus;
     result.variant = c.variant;
     result.expected_pieces = c.expected_pieces;
     result.expected_volume = c.expected_volume;
     result.voxel_size = c.voxel_size;
     stock_file = c.stock_file;
+    gcode_file = c.gcode_file;
     // The job goes through its file, so what ran is exactly what the failure file reproduces; it
     // stays in running/ while the case runs, so a crash leaves the cases in flight behind.
     job_path = write_case(c, running.string(), case_name(index) + ".json");
@@ -205,6 +215,7 @@ CaseResult run_case(std::uint64_t seed, std::size_t index, const StressOptions& 
     evaluate.reference_memory_cap_bytes =
         static_cast<std::size_t>(options.reference_memory_cap_mib * 1048576.0);
     evaluate.generator_memory_cap_bytes = memory_cap_bytes(default_memory_cap_gib());
+    evaluate.generator = options.generator;
     const Evaluation evaluation = evaluate_job(job, evaluate);
     const VerifyOutcome& o = evaluation.outcome;
     result.agreement_bound = o.agreement_bound;
@@ -212,6 +223,9 @@ CaseResult run_case(std::uint64_t seed, std::size_t index, const StressOptions& 
     result.reference_pieces = o.reference_pieces.size();
     result.generator_triangles = o.morph_triangles;
     result.generator_volume = o.morph_topology.volume;
+    if (o.morph_topology.closed_manifold())
+      result.generator_genus = static_cast<int>(
+          (2 * static_cast<long>(o.morph_topology.components) - o.morph_topology.euler_characteristic) / 2);
     for (const auto& piece : o.reference_pieces) result.reference_volume += piece.volume;
     result.generator_to_exact = o.morph_to_exact.stats.count ? o.morph_to_exact.stats.max_abs : kNaN;
     result.exact_to_generator = o.exact_to_morph.count ? o.exact_to_morph.max_abs : kNaN;
@@ -226,6 +240,13 @@ CaseResult run_case(std::uint64_t seed, std::size_t index, const StressOptions& 
     result.reference_memory_mib = static_cast<double>(evaluation.reference_stats.memory_bytes) / 1048576.0;
 
     if (!o.morph_topology.closed_manifold()) fail(result, "closed_manifold");
+    if (o.generator_skipped.empty()) {
+      // Cases run in parallel already: the check runs on this thread.
+      result.self_intersecting_pairs = find_self_intersections(evaluation.morph_mesh, 1, false).pairs;
+      // Generator 1 is measured, not held to it: its patches are trimmed apart and are known to
+      // cross where passes cross (issue 18); generator 2 promises it by construction.
+      if (result.self_intersecting_pairs > 0 && options.generator == 2) fail(result, "no_self_intersections");
+    }
     if (c.expected_pieces >= 0) {
       if (result.generator_pieces != static_cast<std::size_t>(c.expected_pieces))
         fail(result, "pieces_known");
@@ -238,6 +259,7 @@ CaseResult run_case(std::uint64_t seed, std::size_t index, const StressOptions& 
       const double bound = job.tolerance * morph::surface_area(job.stock);
       if (!(std::abs(result.generator_volume - *c.expected_volume) <= bound)) fail(result, "volume_known");
     }
+    if (c.expected_genus >= 0 && result.generator_genus != c.expected_genus) fail(result, "genus_known");
     if (!o.generator_within_tolerance) fail(result, "generator_within_tolerance");
     if (!o.sides_agree) fail(result, "sides_agree");
   } catch (const morph::LimitError& e) {
@@ -256,7 +278,7 @@ CaseResult run_case(std::uint64_t seed, std::size_t index, const StressOptions& 
   // Keep the failing case's job (and stock mesh) as a standalone reproduction.
   if (!result.failures.empty()) {
     try {
-      const StressCase c = make_case(seed, index);
+      const StressCase c = make_case(seed, index, case_space(options));
       const fs::path failures = fs::path(options.out_dir) / "failures";
       write_case(c, failures.string(), case_name(index) + ".json");
       write_text(failures / (case_name(index) + ".result.json"), case_to_json(result).dump(2) + "\n");
@@ -267,6 +289,7 @@ CaseResult run_case(std::uint64_t seed, std::size_t index, const StressOptions& 
   std::error_code ignored;
   if (!job_path.empty()) fs::remove(job_path, ignored);
   if (!stock_file.empty()) fs::remove(running / stock_file, ignored);
+  if (!gcode_file.empty()) fs::remove(running / gcode_file, ignored);
   return result;
 }
 
@@ -282,6 +305,8 @@ nlohmann::json case_to_json(const CaseResult& r) {
           {"pieces", {{"generator", r.generator_pieces}, {"reference", r.reference_pieces}}},
           {"volume", {{"generator", r.generator_volume}, {"reference", r.reference_volume}}},
           {"generator_triangles", r.generator_triangles},
+          {"genus", {{"expected", r.expected_genus}, {"generator", r.generator_genus}}},
+          {"self_intersecting_pairs", r.self_intersecting_pairs},
           {"deviation",
            {{"generator_to_exact", number_or_null(r.generator_to_exact)},
             {"exact_to_generator", number_or_null(r.exact_to_generator)},
@@ -314,6 +339,11 @@ CaseResult case_from_json(const nlohmann::json& j, const std::string& where) {
     r.reference_pieces = j.at("pieces").at("reference").get<std::size_t>();
     r.generator_volume = j.at("volume").at("generator").get<double>();
     r.reference_volume = j.at("volume").at("reference").get<double>();
+    r.self_intersecting_pairs = j.value("self_intersecting_pairs", std::size_t{0});
+    if (j.contains("genus")) {
+      r.expected_genus = j["genus"].at("expected").get<int>();
+      r.generator_genus = j["genus"].at("generator").get<int>();
+    }
     r.generator_triangles = j.at("generator_triangles").get<std::size_t>();
     const auto& d = j.at("deviation");
     r.generator_to_exact = number_from(d.at("generator_to_exact"));
@@ -336,6 +366,19 @@ CaseResult case_from_json(const nlohmann::json& j, const std::string& where) {
   }
 }
 
+namespace {
+
+/// The families of --families as one canonical text: "classic", "motion", "all" or the names.
+std::string families_text(const std::string& given) {
+  if (given == "classic" || given == "motion" || given == "all" || given.empty())
+    return given.empty() ? "classic" : given;
+  std::string text;
+  for (const auto& name : parse_families(given)) text += (text.empty() ? "" : ",") + name;
+  return text;
+}
+
+}  // namespace
+
 nlohmann::json campaign_identity(const StressOptions& options) {
   return {{"program", "morphmill"},
           {"version", program_version()},
@@ -343,6 +386,8 @@ nlohmann::json campaign_identity(const StressOptions& options) {
           {"case_generator", kCaseGeneratorVersion},
           {"--cases", options.cases},
           {"--seed", options.seed},
+          {"--generator", options.generator},
+          {"--families", families_text(options.families)},
           {"--samples", options.face_samples},
           {"--reference-memory-cap", options.reference_memory_cap_mib},
           {"--max-rss", options.max_peak_rss_mib},
@@ -465,8 +510,17 @@ std::string summary_markdown(const Summary& s) {
   md << " |\n| wall time (s, summed over shards) | " << fmt::format("{:.1f}", s.wall_seconds) << " |\n";
   md << "| peak resident memory (MiB) | " << fmt::format("{:.0f}", s.peak_rss_mib) << " |\n";
   md << "| threads | " << s.threads << " |\n";
-  for (const char* key :
-       {"version", "source_commit", "case_generator", "--samples", "--reference-memory-cap", "--max-rss"})
+  std::size_t crossing_cases = 0, crossing_pairs = 0;
+  for (const auto& r : s.results) {
+    crossing_cases += r.self_intersecting_pairs > 0;
+    crossing_pairs += r.self_intersecting_pairs;
+  }
+  md << "| generator's self-intersecting triangle pairs | " << crossing_pairs << " in " << crossing_cases
+     << " case(s)"
+     << (s.campaign.value("--generator", 1) == 2 ? "" : " (generator 1: measured, not an invariant)")
+     << " |\n";
+  for (const char* key : {"version", "source_commit", "case_generator", "--generator", "--families",
+                          "--samples", "--reference-memory-cap", "--max-rss"})
     if (s.campaign.contains(key)) md << "| " << key << " | " << s.campaign[key].dump() << " |\n";
   md << "\n";
 
@@ -617,6 +671,7 @@ Summary run_stress(const StressOptions& options) {
     throw morph::InputError(
         fmt::format("--shard: need 0 <= i < n, got {}/{}", options.shard_index, options.shard_count));
   if (options.threads < 0) throw morph::InputError("--threads must not be negative");
+  case_space(options);  // --generator and --families are checked before anything is written
   nlohmann::json identity = campaign_identity(options);
   identity["shard"] = fmt::format("{}/{}", options.shard_index, options.shard_count);
   std::vector<CaseResult> kept = prepare_shard_dir(options, identity);

@@ -13,6 +13,8 @@
 #include <string>
 #include <vector>
 
+#include "campaigns/stress_cases.h"
+
 namespace morphmill::stress {
 
 struct StressOptions {
@@ -22,6 +24,8 @@ struct StressOptions {
   std::size_t shard_index = 0;  ///< this run does the cases k with k % shard_count == shard_index
   std::size_t shard_count = 1;
   int threads = 0;                         ///< worker threads; 0 = all cores
+  int generator = 1;                       ///< the generator checked (--generator, generator_choice.h)
+  std::string families = "classic";        ///< --families: classic, motion, all or names (parse_families)
   std::size_t face_samples = 2000;         ///< area-uniform deviation samples per surface (plus every vertex)
   double reference_memory_cap_mib = 1024;  ///< per case: the reference refuses to need more
   double max_peak_rss_mib = 4096;          ///< the process's peak resident memory must stay below
@@ -41,7 +45,8 @@ struct IncompleteCampaign : std::runtime_error {
 };
 
 /// The identity of a campaign: everything that changes its results (the options --cases, --seed,
-/// --samples, --reference-memory-cap, --max-rss; the program's version and source commit; the case
+/// --generator, --families, --samples, --reference-memory-cap, --max-rss; the program's version and
+/// source commit; the case
 /// generator's version) and the shard count. Keys are named as the user knows them ("--samples").
 /// Shards of one campaign have equal identities; `campaign.json` of a shard adds its "--shard".
 nlohmann::json campaign_identity(const StressOptions& options);
@@ -63,6 +68,8 @@ struct CaseResult {
   double tolerance = 0, voxel_size = 0, agreement_bound = 0;
   std::size_t generator_pieces = 0, reference_pieces = 0, generator_triangles = 0;
   double generator_volume = 0, reference_volume = 0;
+  std::size_t self_intersecting_pairs = 0;        ///< of the generator's triangles (exact)
+  int expected_genus = -1, generator_genus = -1;  ///< sum over the pieces; -1: not known / not closed
   /// Largest |deviation| (job units) of each kind; NaN when not measured.
   double generator_to_exact = 0, exact_to_generator = 0, reference_to_exact = 0;
   double generator_to_reference = 0, reference_to_generator = 0;
@@ -79,6 +86,9 @@ CaseResult case_from_json(const nlohmann::json& json, const std::string& where);
 
 /// Runs one case (no files). Never throws for a failure of the case itself: it is recorded.
 CaseResult run_case(std::uint64_t seed, std::size_t index, const StressOptions& options);
+
+/// The cases' space of a campaign: its families and generator (checked: InputError when unknown).
+CaseSpace case_space(const StressOptions& options);
 
 /// Summary of a campaign (or of merged shards): counts, failures by invariant and by family, the
 /// worst deviation of each kind, and every case's result sorted by index.

@@ -10,6 +10,8 @@
 // no thin ridge is left between passes (partial-depth passes overlap or lie far apart).
 #include "campaigns/stress_cases.h"
 
+#include "campaigns/stress_builder.h"
+
 #include <fmt/format.h>
 #include <morph/exceptions.h>
 #include <morph/file_io.h>
@@ -47,130 +49,6 @@ bool CaseRandom::chance(double p) {
 }
 
 namespace {
-
-/// Reference voxels per tool radius: coarse enough for ~1 s per case, fine enough that every
-/// gap of kGapInRadii radii spans several voxels.
-constexpr double kVoxelsPerRadius = 4.0;
-/// Smallest width of a piece or of the material between two cuts, in tool radii.
-constexpr double kGapInRadii = 1.5;
-
-/// Rounds a drawn dimension to 1e-3 so job files read well; positions computed from rounded
-/// dimensions are written exactly (shortest round-trip form).
-double round3(double value) {
-  return std::round(value * 1000.0) / 1000.0;
-}
-
-nlohmann::json point_json(const Vector3d& p) {
-  return nlohmann::json::array({p.x(), p.y(), p.z()});
-}
-
-morph::TriangleMesh box_mesh(const Vector3d& lo, const Vector3d& hi) {
-  morph::TriangleMesh mesh;
-  for (int i = 0; i < 8; ++i)
-    mesh.vertices.emplace_back(i & 1 ? hi.x() : lo.x(), i & 2 ? hi.y() : lo.y(), i & 4 ? hi.z() : lo.z());
-  // Outward, counter-clockwise seen from outside.
-  mesh.triangles = {{0, 2, 1}, {1, 2, 3}, {4, 5, 6}, {5, 7, 6}, {0, 1, 4}, {1, 5, 4},
-                    {2, 6, 3}, {3, 6, 7}, {0, 4, 2}, {2, 4, 6}, {1, 3, 5}, {3, 7, 5}};
-  return mesh;
-}
-
-morph::TriangleMesh octahedron_mesh(const Vector3d& centre, double a) {
-  morph::TriangleMesh mesh;
-  mesh.vertices = {centre + Vector3d(a, 0, 0),  centre + Vector3d(-a, 0, 0), centre + Vector3d(0, a, 0),
-                   centre + Vector3d(0, -a, 0), centre + Vector3d(0, 0, a),  centre + Vector3d(0, 0, -a)};
-  // One triangle per octant, wound outward.
-  for (int sx = 0; sx < 2; ++sx)
-    for (int sy = 0; sy < 2; ++sy)
-      for (int sz = 0; sz < 2; ++sz) {
-        std::uint32_t x = sx ? 1 : 0, y = sy ? 3 : 2, z = sz ? 5 : 4;
-        const bool flip = (sx + sy + sz) % 2 == 1;
-        mesh.triangles.push_back(flip ? morph::Triangle{x, z, y} : morph::Triangle{x, y, z});
-      }
-  return mesh;
-}
-
-/// Builds one case's job.
-class Builder {
- public:
-  explicit Builder(StressCase& c) : c_(c) {
-    c_.job = {{"units", "mm"}, {"tolerance", 0.01}};
-    c_.job["paths"] = nlohmann::json::array();
-  }
-
-  void tolerance(double t) { c_.job["tolerance"] = t; }
-
-  // Stocks. `swap` exchanges x and y of everything added afterwards (stock and paths), so one
-  // family can cut along either axis.
-  void box(const Vector3d& lo, const Vector3d& hi) {
-    const Vector3d a = map(lo), b = map(hi);
-    c_.job["stock"] = {
-        {"type", "box"}, {"min", point_json(a.cwiseMin(b))}, {"max", point_json(a.cwiseMax(b))}};
-    stock_volume_ = (hi - lo).prod();
-  }
-  void box_as_mesh(const Vector3d& lo, const Vector3d& hi) {
-    const Vector3d a = map(lo), b = map(hi);
-    mesh_stock(box_mesh(a.cwiseMin(b), a.cwiseMax(b)), "box");
-  }
-  void cylinder(double cx, double cy, double radius, double height) {
-    const Vector3d base = map(Vector3d(cx, cy, 0));
-    c_.job["stock"] = {{"type", "cylinder"},
-                       {"base", point_json(base)},
-                       {"axis", {0, 0, 1}},
-                       {"radius", radius},
-                       {"height", height}};
-    stock_volume_ = M_PI * radius * radius * height;
-  }
-  void mesh_stock(morph::TriangleMesh mesh, const std::string& shape) {
-    c_.stock_file = case_name(c_.index) + "_stock_" + shape + ".ply";
-    c_.job["stock"] = {{"type", "mesh"}, {"path", c_.stock_file}};
-    stock_volume_ = morph::enclosed_volume(mesh);
-    c_.stock_mesh = std::move(mesh);
-  }
-
-  void tool(bool sphere, double radius, double length) {
-    sphere_ = sphere;
-    radius_ = radius;
-    if (sphere)
-      c_.job["tools"] = {{"1", {{"type", "sphere"}, {"radius", radius}}}};
-    else
-      c_.job["tools"] = {{"1", {{"type", "ballend"}, {"radius", radius}, {"length", length}}}};
-    c_.voxel_size = radius / kVoxelsPerRadius;
-  }
-  bool sphere() const { return sphere_; }
-  double radius() const { return radius_; }
-  /// Tool point z that puts the tool's lowest point at `z`.
-  double tool_z_for_lowest(double z) const { return sphere_ ? z + radius_ : z; }
-
-  void path(const std::vector<Vector3d>& points) {
-    nlohmann::json polyline = nlohmann::json::array();
-    for (const auto& p : points) polyline.push_back(point_json(map(p)));
-    c_.job["paths"].push_back({{"tool", 1}, {"polyline", polyline}});
-  }
-
-  void swap_xy(bool swap) { swap_ = swap; }
-  double stock_volume() const { return stock_volume_; }
-
-  void expected_volume(double volume) { c_.expected_volume = volume; }
-
-  void finish(const std::string& variant, int pieces) {
-    c_.variant = variant;
-    c_.expected_pieces = pieces;
-  }
-
- private:
-  Vector3d map(const Vector3d& p) const { return swap_ ? Vector3d(p.y(), p.x(), p.z()) : p; }
-
-  StressCase& c_;
-  bool swap_ = false;
-  bool sphere_ = false;
-  double radius_ = 1.0;
-  double stock_volume_ = 0.0;
-};
-
-double draw_tolerance(CaseRandom& rng) {
-  static const double choices[] = {0.01, 0.02, 0.05};
-  return choices[rng.integer(0, 2)];
-}
 
 /// Tool and stock height for cuts through the whole stock: a ball-end whose tip runs below the
 /// stock, or a sphere centred in a stock thinner than 1.2 radii (so it cuts both faces).
@@ -936,8 +814,6 @@ void mesh_split(CaseRandom& rng, Builder& b) {
            sphere ? 2 : 1);
 }
 
-using Family = void (*)(CaseRandom&, Builder&);
-
 const std::vector<std::pair<std::string, Family>>& family_table() {
   static const std::vector<std::pair<std::string, Family>> table = {
       {"through_slots", through_slots},
@@ -958,6 +834,13 @@ const std::vector<std::pair<std::string, Family>>& family_table() {
   return table;
 }
 
+Family family_named(const std::string& name) {
+  for (const auto* table : {&family_table(), &motion_family_table()})
+    for (const auto& [n, family] : *table)
+      if (n == name) return family;
+  throw morph::InputError("stress: unknown case family '" + name + "'");
+}
+
 /// One stream per (seed, index), decorrelated by hashing both.
 std::uint64_t case_stream(std::uint64_t seed, std::size_t index) {
   CaseRandom mix(seed * 0x2545F4914F6CDD1DULL + 0x9E3779B97F4A7C15ULL);
@@ -976,28 +859,64 @@ const std::vector<std::string>& case_families() {
   return names;
 }
 
+const std::vector<std::string>& motion_families() {
+  static const std::vector<std::string> names = [] {
+    std::vector<std::string> list;
+    for (const auto& [name, family] : motion_family_table()) list.push_back(name);
+    return list;
+  }();
+  return names;
+}
+
+std::vector<std::string> parse_families(const std::string& text) {
+  std::vector<std::string> all = case_families();
+  all.insert(all.end(), motion_families().begin(), motion_families().end());
+  if (text == "classic" || text.empty()) return case_families();
+  if (text == "motion") return motion_families();
+  if (text == "all") return all;
+  std::vector<std::string> chosen;
+  std::size_t start = 0;
+  while (start <= text.size()) {
+    const std::size_t comma = std::min(text.find(',', start), text.size());
+    const std::string name = text.substr(start, comma - start);
+    if (std::find(all.begin(), all.end(), name) == all.end()) {
+      std::string known;
+      for (const auto& n : all) known += (known.empty() ? "" : ", ") + n;
+      throw morph::InputError("--families: unknown family '" + name +
+                              "' (give classic, motion, all, or names separated by commas: " + known + ")");
+    }
+    if (std::find(chosen.begin(), chosen.end(), name) == chosen.end()) chosen.push_back(name);
+    start = comma + 1;
+  }
+  return chosen;
+}
+
 std::string case_name(std::size_t index) {
   return fmt::format("case_{:06d}", index);
 }
 
-StressCase make_case(std::uint64_t seed, std::size_t index) {
+StressCase make_case(std::uint64_t seed, std::size_t index, const CaseSpace& space) {
+  if (space.families.empty()) throw morph::InputError("stress: no case family chosen");
   StressCase c;
   c.seed = seed;
   c.index = index;
-  const auto& table = family_table();
-  const auto& [family_name, family] = table[index % table.size()];
-  c.family = family_name;
+  c.family = space.families[index % space.families.size()];
+  const Family family = family_named(c.family);
   CaseRandom rng(case_stream(seed, index));
   Builder builder(c);
+  builder.generator(space.generator);
   builder.tolerance(draw_tolerance(rng));
   family(rng, builder);
   c.job["name"] = fmt::format("stress_{}_{}", seed, case_name(index));
   c.job["description"] = fmt::format(
-      "morphmill stress case {} of seed {} (family {}: {}); expected pieces {}{}. Reproduce with: morphmill "
-      "verify {}.json --output OUT --voxel {}",
+      "morphmill stress case {} of seed {} (family {}: {}); expected pieces {}{}{}. Reproduce with: "
+      "morphmill "
+      "verify {}.json --output OUT --voxel {}{}",
       index, seed, c.family, c.variant, c.expected_pieces,
       c.expected_volume ? fmt::format(", expected volume {:.9g}", *c.expected_volume) : std::string(),
-      case_name(index), c.voxel_size);
+      c.expected_genus >= 0 ? fmt::format(", expected genus {}", c.expected_genus) : std::string(),
+      case_name(index), c.voxel_size,
+      space.generator != 1 ? fmt::format(" --generator {}", space.generator) : "");
   return c;
 }
 
@@ -1009,6 +928,8 @@ std::string write_case(const StressCase& stress_case, const std::string& dir, co
   morph::write_file_atomically(job_path.string(), stress_case.job.dump(2) + "\n");
   if (stress_case.stock_mesh)
     write_mesh(*stress_case.stock_mesh, (fs::path(dir) / stress_case.stock_file).string());
+  if (!stress_case.gcode_file.empty())
+    morph::write_file_atomically((fs::path(dir) / stress_case.gcode_file).string(), stress_case.gcode_text);
   return job_path.string();
 }
 

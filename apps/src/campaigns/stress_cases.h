@@ -39,9 +39,15 @@ struct StressCase {
   nlohmann::json job;      ///< the job file's content; a mesh stock is referenced by "path": stock_file
   std::optional<morph::TriangleMesh> stock_mesh;  ///< mesh stock, written next to the job as stock_file
   std::string stock_file;                         ///< file name of the stock mesh ("" without one)
+  std::string
+      gcode_file;  ///< file name of the case's G-code program, written next to the job ("" without one)
+  std::string gcode_text;    ///< that program
   int expected_pieces = -1;  ///< solid pieces of the result known by construction; -1 if not known
   /// Volume of the result known by construction (passes that never enter the stock), job units^3.
   std::optional<double> expected_volume;
+  /// Sum of the genus of the result's pieces known by construction (blind cuts leave genus 0, each
+  /// contour cut through a sheet adds one tunnel); -1 if not known.
+  int expected_genus = -1;
   double voxel_size = 0.0;  ///< reference voxel for this case, job units
 };
 
@@ -49,11 +55,31 @@ struct StressCase {
 /// job, so shards drawn by different generators are never merged as one campaign.
 constexpr int kCaseGeneratorVersion = 1;
 
-/// The families in the order the case index cycles through them.
+/// The classic families (splits, islands, removed pieces, self-crossing, coincident, tangent and
+/// grazing passes, features at the tolerance, passes outside; box, cylinder and mesh stock), in
+/// the order the case index cycles through them: the default campaign.
 const std::vector<std::string>& case_families();
 
+/// The motion families (stress_motions.cpp): retraces, plunge and retract, reversals up to
+/// 179.99 degrees and 180, sub-micron moves, arcs in G17/G18/G19 and helices, sheet cut-outs
+/// freeing parts and slugs, paths crossing themselves dozens of times, several tools in one job;
+/// box stock, blind cuts with known volume where a closed form exists.
+const std::vector<std::string>& motion_families();
+
+/// What a campaign draws its cases from.
+struct CaseSpace {
+  std::vector<std::string> families = case_families();  ///< cycled through by the case index
+  /// The generator the cases are for: motion families draw their tools from the shapes it builds
+  /// (1: sphere and ball-end; 2: every tool of revolution).
+  int generator = 1;
+};
+
+/// Families from --families: "classic" (default), "motion", "all", or names separated by commas.
+/// Throws morph::InputError naming an unknown family and listing the known ones.
+std::vector<std::string> parse_families(const std::string& text);
+
 /// The case `index` of the campaign `seed`: deterministic (same arguments, same job bytes).
-StressCase make_case(std::uint64_t seed, std::size_t index);
+StressCase make_case(std::uint64_t seed, std::size_t index, const CaseSpace& space = {});
 
 /// "case_000123".
 std::string case_name(std::size_t index);

@@ -172,7 +172,7 @@ void evaluate_setting(const morph::Job& job, const SettingKey& key, const StudyS
   // A setting whose tolerance is far too fine is refused with its estimate, not killed by the kernel.
   options.generator_memory_cap_bytes = memory_cap_bytes(default_memory_cap_gib());
   // A tool the generator cannot build yet: the setting measures the reference alone.
-  row.generator_skipped = first_move_the_generator_cannot_build(job);
+  row.generator_skipped = why_generator_cannot_build(job, kDefaultGenerator);
   options.reference_only = !row.generator_skipped.empty();
   const Evaluation evaluation = evaluate_job(job, options);
   const VerifyOutcome& o = evaluation.outcome;

@@ -2,7 +2,6 @@
 // morphmill erode: the paper's secondary 3D model of the job's erosion (morph::erode), written as
 // a mesh with per-face provenance, with a short summary of what was produced.
 #include <morph/erode.h>
-#include <morph/erode2.h>
 #include <morph/exceptions.h>
 #include <morph/topology.h>
 #include <morphmill/job_io.h>
@@ -29,6 +28,7 @@
 #include "cli/memory_cap.h"
 #include "cli/terminal_progress.h"
 #include "io/provenance.h"
+#include "verify/generator_choice.h"
 
 namespace morphmill {
 
@@ -39,7 +39,7 @@ struct ErodeCommandOptions {
   std::string mesh_path;
   double tolerance = 0.0;
   int threads = 0;
-  int generator = 1;
+  int generator = kDefaultGenerator;
   bool ascii = false;
   bool allow_open = false;
   double memory_cap_gib = 0.0;
@@ -112,9 +112,7 @@ void run_erode(const ErodeCommandOptions& options) {
   if (options.tolerance < 0.0)
     throw morph::InputError("--tolerance: must be > 0 (or 0 for the job's tolerance)");
   if (options.threads < 0) throw morph::InputError("--threads: must be >= 1 (or 0 for all cores)");
-  if (options.generator != 1 && options.generator != 2)
-    throw morph::InputError(
-        "--generator: must be 1 (today's) or 2 (exact plane-based, box stock, small jobs)");
+  check_generator(options.generator);
   std::optional<tbb::global_control> threads;
   if (options.threads > 0) threads.emplace(tbb::global_control::max_allowed_parallelism, options.threads);
   const morph::Job job = load_job(options.job_path);
@@ -127,7 +125,7 @@ void run_erode(const ErodeCommandOptions& options) {
   erode_options.memory_cap_bytes = memory_cap_bytes(options.memory_cap_gib);
   const morph::ErodeResult result = [&] {
     try {
-      return options.generator == 2 ? morph::erode2(job, erode_options) : morph::erode(job, erode_options);
+      return run_generator(job, erode_options, options.generator);
     } catch (const morph::LimitError& e) {
       throw morph::LimitError(options.job_path + ": " + e.what() + " (--memory-cap " +
                               std::to_string(options.memory_cap_gib) + " GiB)");
@@ -209,9 +207,7 @@ void register_erode_command(CLI::App& app) {
   command->add_option("--tolerance", options->tolerance,
                       "Largest distance from the exact surface, job units (default: the job's tolerance)");
   command->add_option("--threads", options->threads, "Worker threads (default: all cores)");
-  command->add_option("--generator", options->generator,
-                      "1: today's generator (default); 2: generator 2, the union of exact sweep polytopes\n"
-                      "(closed by construction; box stock only, and slow: for small jobs so far)");
+  command->add_option("--generator", options->generator, kGeneratorOptionHelp)->capture_default_str();
   command->add_flag("--ascii", options->ascii, "Write ASCII instead of binary PLY/STL");
   command->add_flag("--allow-open", options->allow_open,
                     "Write the surface even when it is not a closed, oriented 2-manifold free of\n"

@@ -10,6 +10,7 @@
 #include "cli/commands.h"
 #include "cli/stop_signals.h"
 #include "cli/terminal_progress.h"
+#include "verify/generator_choice.h"
 
 namespace morphmill {
 
@@ -68,6 +69,8 @@ void take_recorded_options(const CLI::App& command, const std::string& dir, stre
     if (command.count("--cases") == 0) run.cases = recorded.at("--cases").get<std::size_t>();
     if (command.count("--seed") == 0) run.seed = recorded.at("--seed").get<std::uint64_t>();
     if (command.count("--samples") == 0) run.face_samples = recorded.at("--samples").get<std::size_t>();
+    if (command.count("--generator") == 0) run.generator = recorded.value("--generator", 1);
+    if (command.count("--families") == 0) run.families = recorded.value("--families", std::string("classic"));
     if (command.count("--reference-memory-cap") == 0)
       run.reference_memory_cap_mib = recorded.at("--reference-memory-cap").get<double>();
     if (command.count("--max-rss") == 0) run.max_peak_rss_mib = recorded.at("--max-rss").get<double>();
@@ -89,7 +92,8 @@ void register_stress_command(CLI::App& app) {
       "Run the generator, the reference and the deviation measurement on random cases built to break\n"
       "them (slots splitting the stock, freed islands, removed pieces, self-crossing paths, coincident,\n"
       "tangent and overlapping passes, grazing contacts, features at the tolerance, passes outside the\n"
-      "stock; box, cylinder and mesh stock; sphere and ball-end tools) and check invariants on each.\n"
+      "stock; box, cylinder and mesh stock; sphere and ball-end tools; with --families motion the\n"
+      "motions of real programs and every tool shape) and check invariants on each.\n"
       "Writes DIR/campaign.json, DIR/cases/ (each finished case), DIR/failures/case_NNNNNN.json for every\n"
       "failing case and, last, DIR/summary.md and DIR/summary.json.\n"
       "SIGINT/SIGTERM stop cleanly: the cases in flight finish, the summary says what is missing, and\n"
@@ -111,6 +115,13 @@ void register_stress_command(CLI::App& app) {
                    "the options, starts the campaign if DIR holds none (for a requeued batch task)")
       ->expected(0, 1);
   command->add_option("--threads,-j", options->threads, "Worker threads (0: all cores)")
+      ->capture_default_str();
+  command->add_option("--generator", options->generator, kGeneratorOptionHelp)->capture_default_str();
+  command
+      ->add_option("--families", options->families,
+                   "Case families: classic (the default), motion (retrace, plunge_retract, reversal,\n"
+                   "submicron, arcs, cutout, self_crossing, mixed_tools: box stock, every tool shape the\n"
+                   "generator builds), all, or family names separated by commas")
       ->capture_default_str();
   command
       ->add_option("--samples", options->face_samples, "Area-uniform deviation samples per surface and case")

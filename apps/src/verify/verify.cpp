@@ -308,18 +308,6 @@ double auto_voxel_size(const morph::Job& job) {
   return std::max(smallest_radius / 6.0, floor_for_memory);
 }
 
-std::string first_move_the_generator_cannot_build(const morph::Job& job) {
-  for (const morph::Path& path : job.paths)
-    for (const morph::Move& move : path.moves) {
-      const morph::Tool& tool = job.tool_of(move);
-      if (!tool.generator_builds())
-        return "the move at line " + std::to_string(move.line) + " of " + path.source + " uses tool " +
-               std::to_string(move.tool) + " (" + morph::describe(tool) +
-               "), which the generator cannot build yet";
-    }
-  return "";
-}
-
 namespace {
 
 // The reference alone, against the exact surface: what verify can still check when the generator
@@ -396,7 +384,7 @@ Evaluation evaluate_job(const morph::Job& job, const EvaluateOptions& options) {
 
   out.reference_only_requested = options.reference_only;
   out.generator_skipped = options.reference_only ? std::string("--reference-only was given")
-                                                 : first_move_the_generator_cannot_build(job);
+                                                 : why_generator_cannot_build(job, options.generator);
   if (!out.generator_skipped.empty())
     return evaluate_reference_only(job, reference_options, options, clock, evaluation);
 
@@ -405,7 +393,7 @@ Evaluation evaluate_job(const morph::Job& job, const EvaluateOptions& options) {
   erode_options.progress = options.progress;
   erode_options.memory_cap_bytes = options.generator_memory_cap_bytes;
   morph::ErodeResult eroded =
-      clock.run("generator (morph)", [&] { return morph::erode(job, erode_options); });
+      clock.run("generator (morph)", [&] { return run_generator(job, erode_options, options.generator); });
   vdb_ref::ReferenceResult reference =
       clock.run("reference (OpenVDB)", [&] { return vdb_ref::compute_reference(job, reference_options); });
 
@@ -527,6 +515,7 @@ VerifyOutcome run_verify(const VerifyOptions& options) {
   // Bad input fails before the output directory is made (evaluate_job checks this again).
   const double tolerance = options.tolerance > 0 ? options.tolerance : job.tolerance;
   if (!(tolerance > 0)) throw morph::InputError("--tolerance must be positive");
+  check_generator(options.generator);
   std::error_code error;
   fs::create_directories(options.out_dir, error);
   if (error)
@@ -542,7 +531,8 @@ VerifyOutcome run_verify(const VerifyOptions& options) {
                                                  {"samples", options.face_samples},
                                                  {"seed", options.seed},
                                                  {"image_size", {options.image_width, options.image_height}},
-                                                 {"reference_only", options.reference_only}},
+                                                 {"reference_only", options.reference_only},
+                                                 {"generator", options.generator}},
                                                 unit);
   const std::vector<std::string> provenance_comments = provenance_lines(provenance);
 
@@ -554,6 +544,7 @@ VerifyOutcome run_verify(const VerifyOptions& options) {
   evaluate.progress = options.progress;
   evaluate.vdb_output_path = (dir / "reference.vdb").string();
   evaluate.reference_only = options.reference_only;
+  evaluate.generator = options.generator;
   if (options.memory_cap_bytes > 0) {
     evaluate.generator_memory_cap_bytes = options.memory_cap_bytes;
     evaluate.reference_memory_cap_bytes = options.memory_cap_bytes;

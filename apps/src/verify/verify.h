@@ -15,6 +15,7 @@
 #include <vector>
 #include "io/provenance.h"
 #include "verify/compare.h"
+#include "verify/generator_choice.h"
 
 namespace morphmill {
 
@@ -32,6 +33,7 @@ struct VerifyOptions {
   /// The generator and the reference each refuse (LimitError, before computing) work estimated
   /// to need more than this many bytes; 0 keeps their defaults (no generator cap, 8 GiB).
   std::size_t memory_cap_bytes = 0;
+  int generator = kDefaultGenerator;  ///< which generator runs (generator_choice.h)
   morph::Progress* progress = nullptr;
 };
 
@@ -133,6 +135,7 @@ struct EvaluateOptions {
   std::size_t reference_memory_cap_bytes = std::size_t(8)
                                            << 30;  ///< vdb_ref::ReferenceOptions::memory_cap_bytes
   std::size_t generator_memory_cap_bytes = 0;      ///< morph::ErodeOptions::memory_cap_bytes (0: none)
+  int generator = kDefaultGenerator;               ///< which generator runs (generator_choice.h)
   /// When true, each stage's peak_rss_mib is the peak resident memory during that stage alone
   /// (Linux: the high-water mark is reset through /proc/self/clear_refs before the stage);
   /// otherwise it is the process's peak so far. Only meaningful when nothing else runs in the process.
@@ -153,10 +156,6 @@ struct Evaluation {
 /// Throws what erode / compute_reference throw (InputError for bad options, LimitError when the
 /// reference would exceed its memory cap).
 Evaluation evaluate_job(const morph::Job& job, const EvaluateOptions& options);
-
-/// The first move whose tool the generator cannot build yet, as a sentence naming the move and
-/// the tool ("" if it can build them all).
-std::string first_move_the_generator_cannot_build(const morph::Job& job);
 
 /// Voxel size for a job when none is given: a sixth of the smallest tool radius, bounded below
 /// so the reference stays within memory on large stock.
