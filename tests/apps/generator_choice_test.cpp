@@ -1,0 +1,102 @@
+// SPDX-License-Identifier: Apache-2.0
+// --generator: one place decides what each generator builds, and verify runs the one chosen. A
+// flat end mill is beyond generator 1 (verify checks the reference alone and says why) and within
+// generator 2 (verify checks its surface against the exact one and the reference).
+#include <gtest/gtest.h>
+
+#include <morph/exceptions.h>
+#include <morph/mesh.h>
+#include <morph/stock.h>
+#include <morph/tool.h>
+
+#include <filesystem>
+#include <fstream>
+#include <nlohmann/json.hpp>
+#include <string>
+
+#include "apps/command_support.h"
+#include "verify/generator_choice.h"
+
+namespace fs = std::filesystem;
+
+namespace {
+
+morph::Job flat_slot_job() {
+  morph::Job job;
+  job.stock.type = morph::StockType::Box;
+  job.stock.box = Eigen::AlignedBox3d(Eigen::Vector3d(0, 0, 0), Eigen::Vector3d(16, 10, 4));
+  morph::Tool tool = morph::flat_tool(1.5, 8.0);
+  tool.number = 1;
+  job.tools[1] = tool;
+  morph::Path path;
+  morph::Move move;
+  move.start = Eigen::Vector3d(3, 5, 2.5);
+  move.end = Eigen::Vector3d(13, 5, 2.5);
+  move.tool = 1;
+  move.line = 1;
+  path.moves.push_back(move);
+  job.paths.push_back(path);
+  job.tolerance = 0.05;
+  return job;
+}
+
+std::string slurp(const fs::path& path) {
+  std::ifstream in(path, std::ios::binary);
+  return std::string(std::istreambuf_iterator<char>(in), {});
+}
+
+}  // namespace
+
+TEST(GeneratorChoice, EachGeneratorSaysWhatItCannotBuild) {
+  morph::Job job = flat_slot_job();
+  const std::string why = morphmill::why_generator_cannot_build(job, 1);
+  EXPECT_NE(why.find("which the generator cannot build yet"), std::string::npos) << why;
+  EXPECT_EQ(morphmill::why_generator_cannot_build(job, 2), "");
+  job.stock.type = morph::StockType::Cylinder;
+  job.stock.base = Eigen::Vector3d(8, 5, 0);
+  job.stock.radius = 5.0;
+  job.stock.height = 4.0;
+  EXPECT_NE(morphmill::why_generator_cannot_build(job, 2).find("box stock only"), std::string::npos);
+  EXPECT_THROW(morphmill::why_generator_cannot_build(job, 3), morph::InputError);
+  EXPECT_THROW(morphmill::check_generator(0), morph::InputError);
+}
+
+TEST(GeneratorChoice, GeneratorTwoFlatSlotVolumeIsTheClosedForm) {
+  const morph::Job job = flat_slot_job();
+  morph::ErodeOptions options;
+  const morph::ErodeResult result = morphmill::run_generator(job, options, 2);
+  // A flat end mill's level pass 1.5 deep: the slot 10 x 3 plus the two half discs, 1.5 deep.
+  const double removed = (10.0 * 3.0 + M_PI * 1.5 * 1.5) * 1.5;
+  // Within the tolerance everywhere: the volume within tolerance x the cut's area (floor and walls).
+  const double cut_area = (10.0 * 3.0 + M_PI * 1.5 * 1.5) + (2 * 10.0 + 2 * M_PI * 1.5) * 1.5;
+  EXPECT_NEAR(morph::enclosed_volume(result.mesh), 16.0 * 10.0 * 4.0 - removed, job.tolerance * cut_area);
+}
+
+TEST(GeneratorChoice, VerifyRunsTheGeneratorChosen) {
+  const fs::path dir = morphmill_test::scratch_dir("generator_choice", "verify");
+  fs::create_directories(dir);
+  const fs::path job = dir / "flat_slot.json";
+  std::ofstream(job) << R"({"stock": {"type": "box", "min": [0, 0, 0], "max": [16, 10, 4]},
+    "tools": {"1": {"type": "flat", "radius": 1.5, "length": 8}},
+    "paths": [{"tool": 1, "polyline": [[3, 5, 2.5], [13, 5, 2.5]]}], "tolerance": 0.05})";
+  const std::string binary = MORPHMILL_BINARY;
+  const std::string common = " --voxel 0.3 --samples 500 -q --json ";
+  const auto two =
+      morphmill_test::run_command(binary + " verify " + job.string() + " -o " + (dir / "g2").string() +
+                                  " --generator 2" + common + (dir / "g2.json").string());
+  EXPECT_EQ(two.exit_code, 0) << two.output;
+  const auto report = nlohmann::json::parse(slurp(dir / "g2.json"));
+  EXPECT_TRUE(report.at("pieces").at("generator").is_array()) << report.dump();
+  EXPECT_EQ(report.at("provenance").at("options").at("generator"), 2);
+  EXPECT_LE(report.at("deviation").at("generator_to_exact").at("max_abs").get<double>(), 0.05);
+  // Generator 1 cannot build the flat end mill: the reference alone, and the verdict says so.
+  const auto one = morphmill_test::run_command(binary + " verify " + job.string() + " -o " +
+                                               (dir / "g1").string() + common + (dir / "g1.json").string());
+  EXPECT_EQ(one.exit_code, 1) << one.output;
+  const auto skipped = nlohmann::json::parse(slurp(dir / "g1.json"));
+  EXPECT_TRUE(skipped.at("pieces").at("generator").is_null()) << skipped.dump();
+  const auto bad = morphmill_test::run_command(binary + " verify " + job.string() + " -o " +
+                                               (dir / "g3").string() + " --generator 3");
+  EXPECT_EQ(bad.exit_code, 2) << bad.output;
+  EXPECT_NE(bad.output.find("--generator"), std::string::npos) << bad.output;
+}
