@@ -13,9 +13,9 @@
 
 #include <algorithm>
 #include <iterator>
-#include <string>
 #include <memory>
 #include <random>
+#include <string>
 #include <tuple>
 
 namespace {
@@ -40,7 +40,8 @@ void add_path(Case& c, std::size_t tool, const std::vector<Vector3d>& polyline) 
 }
 
 // A piece as a comparable key: move, facet, support rank and the edges' (rank, direction) in order.
-using PieceKey = std::tuple<std::int32_t, std::int32_t, std::uint64_t, std::vector<std::pair<std::uint64_t, int>>>;
+using PieceKey =
+    std::tuple<std::int32_t, std::int32_t, std::uint64_t, std::vector<std::pair<std::uint64_t, int>>>;
 
 std::vector<PieceKey> keys(const std::vector<morph::CarvedPiece>& pieces) {
   std::vector<PieceKey> out;
@@ -56,8 +57,8 @@ std::vector<PieceKey> keys(const std::vector<morph::CarvedPiece>& pieces) {
 std::string describe(const std::vector<PieceKey>& keys, const char* what) {
   std::string out = std::to_string(keys.size()) + " " + what + ":";
   for (std::size_t k = 0; k < keys.size() && k < 8; ++k) {
-    out += " (move " + std::to_string(std::get<0>(keys[k])) + " facet " + std::to_string(std::get<1>(keys[k])) +
-           " edges";
+    out += " (move " + std::to_string(std::get<0>(keys[k])) + " facet " +
+           std::to_string(std::get<1>(keys[k])) + " edges";
     for (const auto& e : std::get<3>(keys[k]))
       out += " " + std::to_string(e.first >> 32) + "." + std::to_string(e.first & 0xffffffffu);
     out += ")";
@@ -90,7 +91,8 @@ void expect_same(const Case& c, const std::string& what) {
   for (std::size_t j = 0; j < c.sweeps.size(); ++j)
     planes.push_back(morph::sweep_planes(c.sweeps[j].tool->halfspaces(c.sweeps[j].from, c.sweeps[j].to),
                                          static_cast<std::uint32_t>(j)));
-  const std::vector<morph::CarvedPiece> reference = morph::carve_box(c.box, planes, morph::sweep_boxes(c.sweeps));
+  const std::vector<morph::CarvedPiece> reference =
+      morph::carve_box(c.box, planes, morph::sweep_boxes(c.sweeps));
   morph::CarveStages stages;
   const std::vector<morph::CarvedPiece> serial =
       morph::carve_culled(c.box, c.sweeps, morph::ExecutionPolicy::Sequential, &stages);
@@ -118,14 +120,22 @@ void expect_same(const Case& c, const std::string& what) {
 
 morph::Tool shape(int k) {
   switch (k) {
-    case 0: return morph::sphere_tool(1.5);
-    case 1: return morph::ball_tool(1.5, 6.0);
-    case 2: return morph::flat_tool(1.5, 6.0);
-    case 3: return morph::bullnose_tool(1.5, 0.5, 6.0);
-    case 4: return morph::conical_tool(2.0, 90.0, 6.0);
-    case 5: return morph::tapered_tool(0.5, 1.5, 6.0);
-    case 6: return morph::tapered_ball_tool(0.75, 10.0, 6.0);
-    default: return morph::conical_tool(2.0, 60.0, 6.0, 0.5);
+    case 0:
+      return morph::sphere_tool(1.5);
+    case 1:
+      return morph::ball_tool(1.5, 6.0);
+    case 2:
+      return morph::flat_tool(1.5, 6.0);
+    case 3:
+      return morph::bullnose_tool(1.5, 0.5, 6.0);
+    case 4:
+      return morph::conical_tool(2.0, 90.0, 6.0);
+    case 5:
+      return morph::tapered_tool(0.5, 1.5, 6.0);
+    case 6:
+      return morph::tapered_ball_tool(0.75, 10.0, 6.0);
+    default:
+      return morph::conical_tool(2.0, 60.0, 6.0, 0.5);
   }
 }
 constexpr int kShapes = 8;
@@ -139,23 +149,40 @@ TEST(CarveCulled, SameAsAllPairsOnTheErode2Jobs) {
     std::vector<Vector3d> path;
   };
   const std::vector<Job> jobs = {
-      {"cavity", AlignedBox3d(Vector3d(0, 0, 0), Vector3d(20, 10, 10)), morph::ball_tool(1.5, 4.0),
+      {"cavity",
+       AlignedBox3d(Vector3d(0, 0, 0), Vector3d(20, 10, 10)),
+       morph::ball_tool(1.5, 4.0),
        {Vector3d(5, 5, 3), Vector3d(15, 6, 4)}},
-      {"slot there and back, through", AlignedBox3d(Vector3d(0, 0, 0), Vector3d(40, 30, 3)),
-       morph::ball_tool(1.5, 20.0), {Vector3d(20, -5, -2), Vector3d(20, 15, -2), Vector3d(20, -5, -2)}},
-      {"slot there and back, partial", AlignedBox3d(Vector3d(0, 0, 0), Vector3d(40, 30, 3)),
-       morph::ball_tool(1.5, 20.0), {Vector3d(20, -5, 1.5), Vector3d(20, 15, 1.5), Vector3d(20, -5, 1.5)}},
-      {"plunge and retract, through", AlignedBox3d(Vector3d(0, 0, 0), Vector3d(40, 30, 10)),
-       morph::ball_tool(3.0, 40.0), {Vector3d(20, 15, 20), Vector3d(20, 15, -5), Vector3d(20, 15, 20)}},
-      {"plunge and retract, blind", AlignedBox3d(Vector3d(0, 0, 0), Vector3d(40, 30, 10)),
-       morph::ball_tool(3.0, 40.0), {Vector3d(20, 15, 20), Vector3d(20, 15, 5), Vector3d(20, 15, 20)}},
-      {"180 degrees", AlignedBox3d(Vector3d(0, 0, 0), Vector3d(40, 30, 5)), morph::ball_tool(1.5, 20.0),
+      {"slot there and back, through",
+       AlignedBox3d(Vector3d(0, 0, 0), Vector3d(40, 30, 3)),
+       morph::ball_tool(1.5, 20.0),
+       {Vector3d(20, -5, -2), Vector3d(20, 15, -2), Vector3d(20, -5, -2)}},
+      {"slot there and back, partial",
+       AlignedBox3d(Vector3d(0, 0, 0), Vector3d(40, 30, 3)),
+       morph::ball_tool(1.5, 20.0),
+       {Vector3d(20, -5, 1.5), Vector3d(20, 15, 1.5), Vector3d(20, -5, 1.5)}},
+      {"plunge and retract, through",
+       AlignedBox3d(Vector3d(0, 0, 0), Vector3d(40, 30, 10)),
+       morph::ball_tool(3.0, 40.0),
+       {Vector3d(20, 15, 20), Vector3d(20, 15, -5), Vector3d(20, 15, 20)}},
+      {"plunge and retract, blind",
+       AlignedBox3d(Vector3d(0, 0, 0), Vector3d(40, 30, 10)),
+       morph::ball_tool(3.0, 40.0),
+       {Vector3d(20, 15, 20), Vector3d(20, 15, 5), Vector3d(20, 15, 20)}},
+      {"180 degrees",
+       AlignedBox3d(Vector3d(0, 0, 0), Vector3d(40, 30, 5)),
+       morph::ball_tool(1.5, 20.0),
        {Vector3d(-5, 15, 3), Vector3d(20, 15, 3), Vector3d(-5, 15, 3)}},
-      {"179.99 degrees", AlignedBox3d(Vector3d(0, 0, 0), Vector3d(40, 30, 5)), morph::ball_tool(1.5, 20.0),
+      {"179.99 degrees",
+       AlignedBox3d(Vector3d(0, 0, 0), Vector3d(40, 30, 5)),
+       morph::ball_tool(1.5, 20.0),
        {Vector3d(-5, 15, 3), Vector3d(20, 15, 3), Vector3d(-5, 15.003, 3)}},
-      {"1e-6 move at a corner", AlignedBox3d(Vector3d(0, 0, 0), Vector3d(30, 30, 5)), morph::ball_tool(1.5, 20.0),
+      {"1e-6 move at a corner",
+       AlignedBox3d(Vector3d(0, 0, 0), Vector3d(30, 30, 5)),
+       morph::ball_tool(1.5, 20.0),
        {Vector3d(-5, 10, 3), Vector3d(15, 10, 3), Vector3d(15 + 1e-6, 10, 3), Vector3d(15 + 1e-6, 35, 3)}},
-      {"square loop and reversed", AlignedBox3d(Vector3d(0, 0, 0), Vector3d(30, 30, 5)),
+      {"square loop and reversed",
+       AlignedBox3d(Vector3d(0, 0, 0), Vector3d(30, 30, 5)),
        morph::ball_tool(1.5, 20.0),
        {Vector3d(8, 8, 4), Vector3d(22, 8, 4), Vector3d(22, 22, 4), Vector3d(8, 22, 4), Vector3d(8, 8, 4),
         Vector3d(8, 22, 4), Vector3d(22, 22, 4), Vector3d(22, 8, 4), Vector3d(8, 8, 4)}},
@@ -177,11 +204,20 @@ std::vector<Vector3d> random_path(std::mt19937& rng, int points) {
   for (int k = 1; k < points; ++k) {
     Vector3d p = path.back();
     switch (kind(rng)) {
-      case 0: p.z() = z(rng) * 0.5 + 1; break;                                   // plunge or retract
-      case 1: p.x() = x(rng) * 0.5 + 1; break;                                   // level along x
-      case 2: p.y() = y(rng) * 0.5 + 1; break;                                   // level along y
-      case 3: p = path.size() > 1 ? path[path.size() - 2] : p; break;           // retrace
-      default: p = Vector3d(x(rng) * 0.5 + 1, y(rng) * 0.5 + 1, z(rng) * 0.5 + 1);  // anywhere
+      case 0:
+        p.z() = z(rng) * 0.5 + 1;
+        break;  // plunge or retract
+      case 1:
+        p.x() = x(rng) * 0.5 + 1;
+        break;  // level along x
+      case 2:
+        p.y() = y(rng) * 0.5 + 1;
+        break;  // level along y
+      case 3:
+        p = path.size() > 1 ? path[path.size() - 2] : p;
+        break;  // retrace
+      default:
+        p = Vector3d(x(rng) * 0.5 + 1, y(rng) * 0.5 + 1, z(rng) * 0.5 + 1);  // anywhere
     }
     path.push_back(p);
   }

@@ -29,10 +29,10 @@ struct CarveSweep {
 struct CarveStages {
   CullingCounts culling;
   CarveCounts carve;
-  double seconds_setup = 0.0;  ///< the culling's trees and the sweeps' boxes
-  double seconds_cull = 0.0;   ///< SweepCulling::cull over every move
-  double seconds_facets = 0.0; ///< the kept facets within the stock and their own sweep, minus their cutters
-  double seconds_stock = 0.0;  ///< the stock faces minus the sweeps meeting them
+  double seconds_setup = 0.0;   ///< the culling's trees and the sweeps' boxes
+  double seconds_cull = 0.0;    ///< SweepCulling::cull over every move
+  double seconds_facets = 0.0;  ///< the kept facets within the stock and their own sweep, minus their cutters
+  double seconds_stock = 0.0;   ///< the stock faces minus the sweeps meeting them
 };
 
 /// The pieces of box \ ∪ sweeps, as carve_box() gives them for the same moves (up to the order

@@ -102,7 +102,8 @@ ConvexPiece own_facet(const std::vector<ExactPlane>& own, int f, const std::vect
 }
 
 // `pieces` minus each cutter in turn (the order of carve_box()).
-void minus_cutters(std::vector<ConvexPiece>& pieces, const std::vector<const std::vector<ExactPlane>*>& cutters) {
+void minus_cutters(std::vector<ConvexPiece>& pieces,
+                   const std::vector<const std::vector<ExactPlane>*>& cutters) {
   std::vector<ConvexPiece> next;
   for (const std::vector<ExactPlane>* cutter : cutters) {
     if (pieces.empty()) return;
@@ -140,7 +141,8 @@ class Carving {
                          joined_at_joint(*group.builder, moves.back(), m));
         moves.push_back(m);
       }
-      group.culling = std::make_unique<SweepCulling>(*group.builder, std::move(moves), std::move(joined), box);
+      group.culling =
+          std::make_unique<SweepCulling>(*group.builder, std::move(moves), std::move(joined), box);
     }
   }
 
@@ -152,7 +154,8 @@ class Carving {
     std::vector<ConvexPiece> pieces{piece_in_box(stock_[f], stock_)};
     ++w.stages.carve.facets;
     std::vector<std::uint32_t> near;
-    tree_.for_each_overlapping(grown(box_of(pieces)), [&](std::size_t j) { near.push_back(static_cast<std::uint32_t>(j)); });
+    tree_.for_each_overlapping(grown(box_of(pieces)),
+                               [&](std::size_t j) { near.push_back(static_cast<std::uint32_t>(j)); });
     std::sort(near.begin(), near.end());
     std::vector<ConvexPiece> next;
     for (std::uint32_t j : near) {
@@ -182,7 +185,8 @@ class Carving {
     std::map<std::uint32_t, std::vector<Halfspace>> cutter_halfspaces;  // of this move's cutters
     for (const KeptFacet& k : kept) {
       ++w.stages.carve.facets;
-      const ConvexPiece facet = own_facet(own, k.facet, facet_points(*group.builder, sweeps_[g], k.facet), stock_);
+      const ConvexPiece facet =
+          own_facet(own, k.facet, facet_points(*group.builder, sweeps_[g], k.facet), stock_);
       if (facet.empty()) continue;
       // The listed cutters with their crossing planes, and other tools' sweeps with all theirs.
       std::vector<std::pair<std::uint32_t, std::vector<ExactPlane>>> cutters;
@@ -190,7 +194,8 @@ class Carving {
         const std::uint32_t j = group.global[c.move];
         auto found = cutter_halfspaces.find(j);
         if (found == cutter_halfspaces.end())
-          found = cutter_halfspaces.emplace(j, sweeps_[j].tool->halfspaces(sweeps_[j].from, sweeps_[j].to)).first;
+          found =
+              cutter_halfspaces.emplace(j, sweeps_[j].tool->halfspaces(sweeps_[j].from, sweeps_[j].to)).first;
         std::vector<ExactPlane> planes;
         for (int h : c.planes)
           planes.push_back(ExactPlane{found->second[h].normal, found->second[h].offset,
@@ -199,9 +204,11 @@ class Carving {
       }
       if (groups_.size() > 1)
         tree_.for_each_overlapping(grown(box_of({facet})), [&](std::size_t j) {
-          if (group_of_[j] != t) cutters.emplace_back(static_cast<std::uint32_t>(j), planes_of(static_cast<std::uint32_t>(j)));
+          if (group_of_[j] != t)
+            cutters.emplace_back(static_cast<std::uint32_t>(j), planes_of(static_cast<std::uint32_t>(j)));
         });
-      std::sort(cutters.begin(), cutters.end(), [](const auto& x, const auto& y) { return x.first < y.first; });
+      std::sort(cutters.begin(), cutters.end(),
+                [](const auto& x, const auto& y) { return x.first < y.first; });
       std::vector<const std::vector<ExactPlane>*> order;
       for (const auto& c : cutters) order.push_back(&c.second);
       w.stages.carve.cutters += static_cast<double>(order.size());

@@ -158,8 +158,9 @@ void subtract(const ConvexPiece& piece, const std::vector<ExactPlane>& cutter,
 
 ConvexPiece canonical(ConvexPiece piece) {
   if (piece.empty()) return piece;
-  const auto lowest = std::min_element(piece.edges.begin(), piece.edges.end(),
-                                       [](const ExactPlane& x, const ExactPlane& y) { return x.rank < y.rank; });
+  const auto lowest =
+      std::min_element(piece.edges.begin(), piece.edges.end(),
+                       [](const ExactPlane& x, const ExactPlane& y) { return x.rank < y.rank; });
   std::rotate(piece.edges.begin(), lowest, piece.edges.end());
   return piece;
 }
