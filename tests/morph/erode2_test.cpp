@@ -55,6 +55,8 @@ void expect_closed(const Outcome& o, const char* what) {
       << " non-manifold edges, " << o.topology.inconsistent_edges << " inconsistent, "
       << o.topology.non_manifold_vertices << " non-manifold vertices";
   EXPECT_EQ(o.result.mesh.tags.size(), o.result.mesh.triangle_count());
+  // The limit step and the rounding leave no flat triangle (degenerate_collapse.h, rounding.h).
+  EXPECT_EQ(o.topology.degenerate_triangles, 0u) << what;
 }
 
 // The tool polytope erode2 uses (0.4 of the tolerance).

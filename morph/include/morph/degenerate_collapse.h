@@ -48,6 +48,7 @@ struct LimitCounts {
   std::size_t zipped_slivers = 0;      ///< ε-thin polygons zipped shut (step 3)
   std::size_t kept_apart = 0;          ///< classes left unmerged where the limit is non-manifold
   std::size_t flat_polygons_left = 0;  ///< zero-area polygons the zip could not close (target 0)
+  std::size_t unsettled = 0;           ///< 1 when no merging kept a 2-manifold: none was done (target 0)
 };
 
 struct LimitSurface {

@@ -48,7 +48,10 @@ PlanarLoop planar_loop(const ConformedSurface& surface, const ConformedPolygon& 
                        [&](const ExactPlane* p) { return !plane_of(surface.vertices[loop[k]], p->rank); }),
         common.end());
   PlanarLoop out;
+  // A vertex may hold the support turned over (an edge of a piece outside it, flipped()): a
+  // stock face's support contracts, a sweep facet's expands.
   out.support = *common.front();
+  if (out.support.direction != (polygon.move < 0 ? -1 : 1)) out.support = flipped(out.support);
   for (std::size_t k = 0; k < n; ++k)
     for (const ExactPlane* p : shared(surface.vertices[loop[k]], surface.vertices[loop[(k + 1) % n]]))
       if (p->rank != out.support.rank) {
@@ -118,13 +121,17 @@ class Limit {
         const std::vector<std::uint32_t>& root, const std::set<std::uint32_t>& apart)
       : surface_(surface) {
     rep_.resize(root.size());
-    for (std::uint32_t v = 0; v < root.size(); ++v) rep_[v] = apart.count(root[v]) ? v : root[v];
+    apart_.resize(root.size());
+    for (std::uint32_t v = 0; v < root.size(); ++v) {
+      apart_[v] = apart.count(root[v]) > 0;
+      rep_[v] = apart_[v] ? v : root[v];
+    }
     for (std::size_t i = 0; i < surface.polygons.size(); ++i) add(surface.polygons[i], planar[i]);
   }
 
   // Step 3, until no sliver is left that can be zipped.
-  void zip_slivers() {
-    for (bool changed = true; changed;) {
+  void zip_slivers(bool enabled) {
+    for (bool changed = enabled; changed;) {
       changed = false;
       for (std::size_t i = 0; i < polygons_.size(); ++i)
         if (!removed_[i] && flat(polygons_[i]) && zip(i)) changed = true;
@@ -230,6 +237,8 @@ class Limit {
   // q is on the positive side of a plane of p's crossing the line, oriented by that direction.
   bool zip(std::size_t i) {
     const LimitPolygon& d = polygons_[i];
+    // Points kept apart (step 4) are distinct vertices of one point: no order along the line.
+    if (std::any_of(d.loop.begin(), d.loop.end(), [&](std::uint32_t v) { return apart_[v]; })) return false;
     const ExactPlane& s = d.support;
     const ExactPlane& line = d.edge_planes[0];
     std::map<std::uint32_t, std::pair<const ExactPlane*, int>> crossing;  // point -> plane, its orientation
@@ -270,7 +279,10 @@ class Limit {
       if (after(y, x)) std::reverse(between.begin(), between.end());  // from y down to x
       inserts.push_back({{y, x}, between});
     }
-    for (std::size_t k = 0; k < n; ++k) owner_.erase({d.loop[k], d.loop[(k + 1) % n]});
+    for (std::size_t k = 0; k < n; ++k) {
+      const auto own = owner_.find({d.loop[k], d.loop[(k + 1) % n]});
+      if (own != owner_.end() && own->second == i) owner_.erase(own);
+    }
     for (const auto& [edge, between] : inserts) split(edge, between);
     removed_[i] = zipped_[i] = true;
     return true;
@@ -278,11 +290,14 @@ class Limit {
 
   // Inserts `between` into the edge (owned by a polygon) from edge.first to edge.second.
   void split(const Edge& edge, const std::vector<std::uint32_t>& between) {
-    const std::size_t j = owner_.at(edge);
+    const auto owner = owner_.find(edge);
+    if (owner == owner_.end()) return;  // not a 2-manifold here: step 4 keeps its classes apart
+    const std::size_t j = owner->second;
     LimitPolygon& p = polygons_[j];
     const std::size_t n = p.loop.size();
     std::size_t k = 0;
-    while (!(p.loop[k] == edge.first && p.loop[(k + 1) % n] == edge.second)) ++k;
+    while (k < n && !(p.loop[k] == edge.first && p.loop[(k + 1) % n] == edge.second)) ++k;
+    if (k == n) return;
     owner_.erase(edge);
     const ExactPlane plane = p.edge_planes[k];
     p.loop.insert(p.loop.begin() + static_cast<std::ptrdiff_t>(k + 1), between.begin(), between.end());
@@ -295,6 +310,7 @@ class Limit {
   const ConformedSurface& surface_;
   std::vector<std::uint32_t> rep_;
   std::vector<LimitPolygon> polygons_;
+  std::vector<bool> apart_;  // per vertex: its class is kept apart
   std::vector<bool> removed_, zipped_;
   std::map<Edge, std::size_t> owner_;  // directed edge -> the polygon that runs along it
 };
@@ -312,16 +328,28 @@ LimitSurface collapse_degenerates(const ConformedSurface& surface) {
   std::set<std::uint32_t> apart;
   for (;;) {
     Limit limit(surface, planar, root, apart);
-    limit.zip_slivers();
-    const std::size_t before = apart.size();
-    for (std::uint32_t c : limit.non_manifold(root))
-      if (class_size[c] > 1) apart.insert(c);
-    if (apart.size() == before) {
+    limit.zip_slivers(true);
+    const std::set<std::uint32_t> bad = limit.non_manifold(root);
+    if (bad.empty()) {
       LimitCounts counts;
       counts.kept_apart = apart.size();
       return limit.result(counts);
     }
+    const std::size_t before = apart.size();
+    for (std::uint32_t c : bad)
+      if (class_size[c] > 1) apart.insert(c);
+    if (apart.size() == before) break;
   }
+  // Not settled (not seen so far): every class apart and nothing zipped is the conformed
+  // surface itself, a 2-manifold by construction.
+  for (std::uint32_t v = 0; v < root.size(); ++v)
+    if (class_size[root[v]] > 1) apart.insert(root[v]);
+  Limit limit(surface, planar, root, apart);
+  limit.zip_slivers(false);
+  LimitCounts counts;
+  counts.kept_apart = apart.size();
+  counts.unsettled = 1;
+  return limit.result(counts);
 }
 
 }  // namespace morph
