@@ -72,13 +72,18 @@ class Settler {
   }
 
   void run(RoundingCounts& counts) {
-    for (int pass = 0; pass < 8; ++pass) {
-      const std::size_t before = counts.collapsed_edges + counts.flipped_edges;
+    // First only collapses that leave every moved triangle good, then those that make none worse.
+    for (int pass = 0; pass < 16; ++pass) {
+      strict_ = pass < 8;
+      const std::size_t before = counts.collapsed_edges + counts.flipped_edges + counts.rerounded_vertices;
       collapse_short_edges(counts);
       flip_flat(counts);
-      if (counts.collapsed_edges + counts.flipped_edges == before) break;
+      reround(counts);
+      if (counts.collapsed_edges + counts.flipped_edges + counts.rerounded_vertices == before) pass = std::max(pass, 7);
+      if (pass > 8 && counts.collapsed_edges + counts.flipped_edges + counts.rerounded_vertices == before) break;
     }
-    reround(counts);
+    for (std::uint32_t t = 0; t < mesh_.triangles.size(); ++t)
+      if (alive_[t] && !turns_right(t)) ++counts.misoriented_left;
     compact();
   }
 
@@ -155,8 +160,8 @@ class Settler {
     return (at(mesh_.triangles[t][(k + 1) % 3]) - at(mesh_.triangles[t][k])).squaredNorm();
   }
   // v into u (v's triangles take u; the edge's two triangles go), u placed at its own point,
-  // v's, or their midpoint: the first where every remaining triangle about them turns the right
-  // way and is not flat.
+  // v's, or their midpoint: the first where no remaining triangle about them gets worse (turns
+  // the wrong way or becomes flat where it was not).
   bool collapse(std::uint32_t u, std::uint32_t v) {
     const std::vector<std::uint32_t> pair = on_edge(u, v);
     if (pair.size() != 2) return false;
@@ -168,15 +173,22 @@ class Settler {
     std::set_intersection(nu.begin(), nu.end(), nv.begin(), nv.end(), std::back_inserter(common));
     if (common.size() != 2) return false;  // the link condition: only o1 and o2
     const Eigen::Vector3d pu = at(u), pv = at(v);
+    // The triangles that move, and whether each turned the right way and was not flat.
+    std::vector<std::pair<std::uint32_t, std::pair<bool, bool>>> moved;
+    for (std::uint32_t w : {u, v})
+      for (std::uint32_t t : around_[w])
+        if (t != pair[0] && t != pair[1]) moved.push_back({t, {turns_right(t), !flat(t)}});
     bool placed = pu == pv;
-    for (const Eigen::Vector3d& p : {pu, pv, Eigen::Vector3d(0.5 * (pu + pv))}) {
+    std::vector<Eigen::Vector3d> places{pu, pv, 0.5 * (pu + pv)};
+    for (int step = 1; step < 27; ++step)  // and the doubles next to u's
+      places.push_back(next_double(pu, step % 3 - 1, step / 3 % 3 - 1, step / 9 - 1));
+    for (const Eigen::Vector3d& p : places) {
       if (placed) break;
       mesh_.vertices[u] = mesh_.vertices[v] = p;
-      placed = true;
-      for (std::uint32_t w : {u, v})
-        for (std::uint32_t t : around_[w])  // the triangles that moved
-          if (p != (w == u ? pu : pv) && t != pair[0] && t != pair[1] && (!turns_right(t) || flat(t)))
-            placed = false;
+      placed = std::all_of(moved.begin(), moved.end(), [&](const auto& m) {
+        return ((!strict_ && !m.second.first) || turns_right(m.first)) &&
+               ((!strict_ && !m.second.second) || !flat(m.first));
+      });
     }
     if (!placed) {
       mesh_.vertices[u] = pu, mesh_.vertices[v] = pv;
@@ -191,6 +203,13 @@ class Settler {
     }
     around_[v].clear();
     return true;
+  }
+
+  static Eigen::Vector3d next_double(Eigen::Vector3d p, int dx, int dy, int dz) {
+    const int step[3] = {dx, dy, dz};
+    for (int i = 0; i < 3; ++i)
+      for (int k = 0; k < std::abs(step[i]); ++k) p[i] = std::nextafter(p[i], step[i] > 0 ? DBL_MAX : -DBL_MAX);
+    return p;
   }
 
   // Step 2: a flat triangle's longest edge flipped, when both new triangles turn the right way
@@ -237,10 +256,11 @@ class Settler {
   void reround(RoundingCounts& counts) {
     for (std::uint32_t t = 0; t < mesh_.triangles.size(); ++t) {
       if (!alive_[t] || turns_right(t)) continue;
-      bool fixed = false;
       for (std::uint32_t v : mesh_.triangles[t])
-        if (!fixed && move_to_neighbouring_double(v)) fixed = true, ++counts.rerounded_vertices;
-      if (!fixed) ++counts.misoriented_left;
+        if (move_to_neighbouring_double(v)) {
+          ++counts.rerounded_vertices;
+          break;
+        }
     }
   }
   bool all_right(std::uint32_t v) const {
@@ -254,12 +274,7 @@ class Settler {
         for (int dy = -reach; dy <= reach; ++dy)
           for (int dz = -reach; dz <= reach; ++dz) {
             if (std::max({std::abs(dx), std::abs(dy), std::abs(dz)}) != reach) continue;
-            const int step[3] = {dx, dy, dz};
-            Eigen::Vector3d moved = rounded;
-            for (int i = 0; i < 3; ++i)
-              for (int k = 0; k < std::abs(step[i]); ++k)
-                moved[i] = std::nextafter(moved[i], step[i] > 0 ? DBL_MAX : -DBL_MAX);
-            mesh_.vertices[v] = moved;
+            mesh_.vertices[v] = next_double(rounded, dx, dy, dz);
             if (all_right(v)) return true;
           }
     mesh_.vertices[v] = rounded;
@@ -291,6 +306,7 @@ class Settler {
   std::vector<Eigen::Vector3d>& facing_;
   std::vector<std::vector<std::uint32_t>> around_;
   std::vector<bool> alive_;
+  bool strict_ = true;
 };
 
 }  // namespace
