@@ -24,4 +24,8 @@ struct EmitCounts {
 TriangleMesh emit(const LimitSurface& surface, const std::vector<std::int32_t>& move_index,
                   const std::vector<std::int32_t>& move_line, EmitCounts* counts = nullptr);
 
+/// The same from the conformed surface: its limit (collapse_degenerates()) emitted.
+TriangleMesh emit(const ConformedSurface& surface, const std::vector<std::int32_t>& move_index,
+                  const std::vector<std::int32_t>& move_line, EmitCounts* counts = nullptr);
+
 }  // namespace morph

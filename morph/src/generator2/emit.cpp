@@ -53,4 +53,9 @@ TriangleMesh emit(const LimitSurface& surface, const std::vector<std::int32_t>& 
   return mesh;
 }
 
+TriangleMesh emit(const ConformedSurface& surface, const std::vector<std::int32_t>& move_index,
+                  const std::vector<std::int32_t>& move_line, EmitCounts* counts) {
+  return emit(collapse_degenerates(surface), move_index, move_line, counts);
+}
+
 }  // namespace morph
