@@ -59,6 +59,10 @@ constexpr double kFlat = 1e-14;
 // candidates (moving a vertex by less than 1e-12 of the triangle's size); whether the collapse
 // is made is exact (link condition, every incident triangle still turning the right way).
 constexpr double kNeedle = 1e-12;
+// Two rounded vertices this many units in the last place apart or fewer in every coordinate are
+// apart by rounding alone (a cluster of exact points closer than a double's spacing): their
+// edge is a candidate too.
+constexpr int kRoundingUlps = 4;
 constexpr std::uint32_t kGone = std::numeric_limits<std::uint32_t>::max();
 
 // The mesh with each vertex's triangles, edited in place; dropped triangles are marked.
@@ -79,8 +83,10 @@ class Settler {
       collapse_short_edges(counts);
       flip_flat(counts);
       reround(counts);
-      if (counts.collapsed_edges + counts.flipped_edges + counts.rerounded_vertices == before) pass = std::max(pass, 7);
-      if (pass > 8 && counts.collapsed_edges + counts.flipped_edges + counts.rerounded_vertices == before) break;
+      if (counts.collapsed_edges + counts.flipped_edges + counts.rerounded_vertices == before)
+        pass = std::max(pass, 7);
+      if (pass > 8 && counts.collapsed_edges + counts.flipped_edges + counts.rerounded_vertices == before)
+        break;
     }
     for (std::uint32_t t = 0; t < mesh_.triangles.size(); ++t)
       if (alive_[t] && !turns_right(t)) ++counts.misoriented_left;
@@ -150,11 +156,21 @@ class Settler {
       }
       for (int k = 0; k < 3 && alive_[t]; ++k) {
         const std::uint32_t a = mesh_.triangles[t][k], b = mesh_.triangles[t][(k + 1) % 3];
-        if (!(at(a) == at(b) || (is_flat && k == shortest && length(t, k) <= kNeedle * kNeedle * longest)))
-          continue;
+        const bool candidate = at(a) == at(b) || neighbouring_doubles(at(a), at(b)) ||
+                               (is_flat && k == shortest && length(t, k) <= kNeedle * kNeedle * longest);
+        if (!candidate) continue;
         if (collapse(std::min(a, b), std::max(a, b))) ++counts.collapsed_edges;
       }
     }
+  }
+  // Within a few units in the last place in every coordinate: apart by rounding alone.
+  static bool neighbouring_doubles(const Eigen::Vector3d& a, const Eigen::Vector3d& b) {
+    for (int i = 0; i < 3; ++i) {
+      double x = std::min(a[i], b[i]);
+      for (int k = 0; k < kRoundingUlps && x < std::max(a[i], b[i]); ++k) x = std::nextafter(x, DBL_MAX);
+      if (x < std::max(a[i], b[i])) return false;
+    }
+    return true;
   }
   double length(std::uint32_t t, int k) const {
     return (at(mesh_.triangles[t][(k + 1) % 3]) - at(mesh_.triangles[t][k])).squaredNorm();
@@ -208,7 +224,8 @@ class Settler {
   static Eigen::Vector3d next_double(Eigen::Vector3d p, int dx, int dy, int dz) {
     const int step[3] = {dx, dy, dz};
     for (int i = 0; i < 3; ++i)
-      for (int k = 0; k < std::abs(step[i]); ++k) p[i] = std::nextafter(p[i], step[i] > 0 ? DBL_MAX : -DBL_MAX);
+      for (int k = 0; k < std::abs(step[i]); ++k)
+        p[i] = std::nextafter(p[i], step[i] > 0 ? DBL_MAX : -DBL_MAX);
     return p;
   }
 
