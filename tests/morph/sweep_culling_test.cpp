@@ -136,7 +136,13 @@ TEST(SweepCulling, CullsOnlyWhatAnotherSweepOrTheStockProvesAndListsEveryCutter)
         }
       }
     }
-    EXPECT_GT(counts.by_joint, 0);
+    // The joints decide only caps whose vertices are all off the neighbour's rim (a real margin,
+    // not the rounding): a flat mill's and a taper's few cap facets all reach the rim.
+    if (name == "flat" || name == "tapered") {
+      EXPECT_EQ(counts.by_joint, 0);
+    } else {
+      EXPECT_GT(counts.by_joint, 0);
+    }
     EXPECT_GT(counts.outside_stock, 0);
     EXPECT_GT(counts.by_retrace, 0);
     // Where the facets are small next to the inscribed ball, the closed-form bounds decide some

@@ -34,8 +34,8 @@ struct CarveCounts {
 };
 
 /// The pieces of box \ ∪ sweeps[i] (each sweep the planes of sweep_planes(), move order = tie
-/// order). All pairs of sweeps whose boxes meet are tried: for small jobs (the culling of
-/// sweep_culling.h is what scales).
+/// order), each canonical(). All pairs of sweeps whose boxes meet are tried: the reference for
+/// small jobs; carve_culled.h gives the same pieces at the scale of real jobs.
 std::vector<CarvedPiece> carve_box(const Eigen::AlignedBox3d& box,
                                    const std::vector<std::vector<ExactPlane>>& sweeps,
                                    const std::vector<Eigen::AlignedBox3d>& sweep_boxes,

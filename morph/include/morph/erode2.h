@@ -4,8 +4,8 @@
 /// Generator 2 (issue 18): the boundary of box stock minus the union of the moves' convex sweep
 /// polytopes, closed, oriented and manifold by construction (exact plane predicates and one tie
 /// order: carve.h, conform.h, emit.h). Arcs become chords within 0.4 of the tolerance, the tool a
-/// polytope within 0.4 of it (tool_polytope.h). For small jobs: every pair of sweeps whose boxes
-/// meet is clipped (the culling of sweep_culling.h is not wired in yet).
+/// polytope within 0.4 of it (tool_polytope.h). The culling stage (sweep_culling.h) decides which
+/// facets and cutters the exact carving sees (carve_culled.h), in parallel under options.policy.
 #include <morph/erode.h>
 
 namespace morph {

@@ -46,8 +46,15 @@ ConvexPiece clip(const ConvexPiece& piece, const ExactPlane& plane);
 ConvexPiece intersect(ConvexPiece piece, const std::vector<ExactPlane>& planes);
 
 /// Appends to `out` the parts of `piece` outside the convex polytope that is the intersection of
-/// `cutter`'s halfspaces (the convex pieces of the BSP, one per plane that cuts).
+/// `cutter`'s halfspaces: `piece` itself when the polytope misses it, else one convex piece per
+/// plane of the cutter bounding the part inside, in rank order. The pieces depend only on that
+/// part, so any list of the cutter's planes that gives the same part gives the same pieces.
 void subtract(const ConvexPiece& piece, const std::vector<ExactPlane>& cutter, std::vector<ConvexPiece>& out);
+
+/// The same piece with its edges rotated to start at the lowest rank: a convex piece's edge
+/// cycle is unique, so two pieces of the same planes compare equal after this whatever order
+/// they were clipped in (the fan of emit.h starts at corner 0).
+ConvexPiece canonical(ConvexPiece piece);
 
 /// The corners, rounded to doubles (vertex_point()).
 std::vector<Eigen::Vector3d> corners(const ConvexPiece& piece);

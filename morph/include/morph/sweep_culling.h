@@ -6,10 +6,13 @@
 /// polytopes may cut it, with the planes of theirs that cross it. The facets' loops are never
 /// built here: a facet is a tool facet or edge placed at the move's ends, so its box, ball and
 /// vertices come from the tool. Cheapest proofs first:
-/// 1. joints, by the facets' normals alone (joint_culling.h);
+/// 1. joints, by the facets' normals alone (joint_culling.h), for the cap facets none of whose
+///    vertices lies on the neighbour's rim (there the rounded planes, not the exact tool, decide:
+///    such a facet is kept with the neighbour as a cutter);
 /// 2. the stock box (a facet wholly outside one of its planes);
 /// 3. move against move: candidates from the sweeps' boxes (AabbTree), a retraced move (the same
-///    polytope bit for bit) culled whole or dropped whole by the tie order;
+///    polytope bit for bit) culled whole or dropped whole by the tie order (so is a cap both
+///    place at the same point, when every facet around its vertices is placed there by both);
 /// 4. clusters of facets, then facets, against each candidate's capsules and swept cylinders
 ///    (tool_bounds.h): inside proves culled, missing drops the candidate; a candidate wholly
 ///    below the facet's plane (the sweeps' support functions differ only by their ends) drops too;
@@ -120,6 +123,7 @@ class SweepCulling {
   std::vector<Eigen::AlignedBox3d> tool_facet_boxes_;
   std::vector<Eigen::Vector3d> tool_facet_centres_;
   std::vector<double> tool_facet_radii_;
+  std::vector<std::vector<int>> facets_at_vertex_;  ///< the tool facets around each tool vertex
   std::vector<std::int64_t> tool_facet_cell_;  ///< cluster of each tool facet (a grid cell of its centre)
   double rounding_ = 0.0;                      ///< plane values within this of zero are undecided
   std::unique_ptr<AabbTree> tree_;             ///< the sweeps' boxes

@@ -52,7 +52,7 @@ std::vector<CarvedPiece> carve_box(const Eigen::AlignedBox3d& box,
   const std::array<ExactPlane, 6> stock = box_planes(box);
   std::vector<CarvedPiece> out;
   auto keep = [&](std::vector<ConvexPiece> pieces, std::int32_t move, std::int32_t face) {
-    for (ConvexPiece& p : pieces) out.push_back(CarvedPiece{std::move(p), move, face});
+    for (ConvexPiece& p : pieces) out.push_back(CarvedPiece{canonical(std::move(p)), move, face});
   };
   for (std::int32_t f = 0; f < 6; ++f) {
     ++c.facets;

@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: Apache-2.0
-#include <morph/carve.h>
+#include <morph/carve_culled.h>
 #include <morph/conform.h>
 #include <morph/emit.h>
 #include <morph/erode2.h>
@@ -61,29 +61,24 @@ ErodeResult erode2(const Job& job, const ErodeOptions& options) {
           s.tool, std::make_unique<SweepPolytopeBuilder>(
                       tool_polytope(job.tool_of(*job.moves()[s.move]).profile, 0.4 * tolerance).polytope));
   const Eigen::AlignedBox3d stock = job.stock.box;
-  std::vector<std::vector<ExactPlane>> sweeps;
-  std::vector<Eigen::AlignedBox3d> boxes;
+  std::vector<CarveSweep> sweeps;
   std::vector<std::int32_t> move_index, move_line;
   for (const Segment& s : segments) {
-    const SweepPolytopeBuilder& builder = *builders.at(s.tool);
-    Eigen::AlignedBox3d box = builder.tool().bounds().translated(s.from);
-    box.extend(builder.tool().bounds().translated(s.to));
-    if (box.intersects(stock)) ++stats.moves_touching_stock;
-    sweeps.push_back(
-        sweep_planes(builder.halfspaces(s.from, s.to), static_cast<std::uint32_t>(sweeps.size())));
-    boxes.push_back(box);
+    sweeps.push_back(CarveSweep{builders.at(s.tool).get(), s.from, s.to});
     move_index.push_back(s.move);
     move_line.push_back(s.line);
   }
+  for (const Eigen::AlignedBox3d& box : sweep_boxes(sweeps))
+    if (box.intersects(stock)) ++stats.moves_touching_stock;
   stats.seconds_setup = seconds_since(start);
 
   progress.begin("erode2: carve", 1);
   if (progress.interrupted()) throw Interrupted("erode2: interrupted");
-  CarveCounts counts;
-  const std::vector<CarvedPiece> pieces = carve_box(stock, sweeps, boxes, &counts);
+  CarveStages stages;
+  const std::vector<CarvedPiece> pieces = carve_culled(stock, sweeps, options.policy, &stages);
   progress.advance(1);
   progress.end();
-  stats.patches = static_cast<std::size_t>(counts.facets);
+  stats.patches = static_cast<std::size_t>(stages.culling.facets + 6);
   stats.patches_kept = pieces.size();
   stats.seconds_trim = seconds_since(start) - stats.seconds_setup;
 

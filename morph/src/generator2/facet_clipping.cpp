@@ -3,6 +3,7 @@
 
 #include <Eigen/Geometry>
 
+#include <algorithm>
 #include <cmath>
 #include <cstddef>
 
@@ -126,30 +127,42 @@ ConvexPiece intersect(ConvexPiece piece, const std::vector<ExactPlane>& planes) 
 void subtract(const ConvexPiece& piece, const std::vector<ExactPlane>& cutter,
               std::vector<ConvexPiece>& out) {
   // Facet minus a convex polytope: peel off, plane by plane, the part outside that plane; what
-  // is inside every plane is inside the cutter and goes.
+  // is inside every plane is inside the cutter and goes. Only the cutter's planes that bound the
+  // part inside it are peeled by, in rank order: the same set as peeling by all of them, and
+  // pieces that depend on that part alone, not on which other planes of the cutter are listed
+  // or in what order (the culled carving lists only the planes crossing a facet).
   // A piece the cutter does not reach stays whole: splitting it along planes that cross it
   // outside the cutter would only make fragments (and, for a retraced move's planes, which
   // coincide with the first pass's, vertices that round to the same point).
-  if (intersect(piece, cutter).empty()) {
+  const ConvexPiece inside = intersect(piece, cutter);
+  if (inside.empty()) {
     out.push_back(piece);
     return;
   }
+  std::vector<ExactPlane> bounding;
+  for (const ExactPlane& e : inside.edges) {
+    const bool own = std::any_of(piece.edges.begin(), piece.edges.end(),
+                                 [&](const ExactPlane& p) { return p.rank == e.rank; });
+    if (!own) bounding.push_back(e);
+  }
+  std::sort(bounding.begin(), bounding.end(),
+            [](const ExactPlane& x, const ExactPlane& y) { return x.rank < y.rank; });
   ConvexPiece rest = piece;
-  RoughCorners rough(rest);
-  for (const ExactPlane& plane : cutter) {
-    const int quick = rough.side(plane);
-    if (quick < 0) continue;  // wholly inside this plane: nothing is peeled off here
-    if (quick > 0) {          // wholly outside it, so outside the cutter
-      out.push_back(std::move(rest));
-      return;
-    }
+  for (const ExactPlane& plane : bounding) {
     ConvexPiece outside = clip(rest, flipped(plane));
-    if (outside.empty()) continue;
-    out.push_back(std::move(outside));
+    if (!outside.empty()) out.push_back(std::move(outside));
     rest = clip(rest, plane);
     if (rest.empty()) return;
-    rough = RoughCorners(rest);
   }
+}
+
+ConvexPiece canonical(ConvexPiece piece) {
+  if (piece.empty()) return piece;
+  const auto lowest =
+      std::min_element(piece.edges.begin(), piece.edges.end(),
+                       [](const ExactPlane& x, const ExactPlane& y) { return x.rank < y.rank; });
+  std::rotate(piece.edges.begin(), lowest, piece.edges.end());
+  return piece;
 }
 
 std::vector<Eigen::Vector3d> corners(const ConvexPiece& piece) {

@@ -1,0 +1,48 @@
+// SPDX-License-Identifier: Apache-2.0
+#pragma once
+/// \file carve_culled.h
+/// The carving of carve.h at the scale of real jobs: the same pieces as carve_box() (the same
+/// exact sets, split the same way), with the work cut down by the culling stage
+/// (sweep_culling.h). Only the facets the culling keeps are carved, each minus the moves it lists
+/// with the planes of theirs that cross it (a cutter's other planes leave the facet's part inside
+/// it unchanged, and subtract() splits by that part alone); each stock face minus the sweeps whose
+/// boxes meet it (AabbTree). A job with several tools is culled tool by tool: another tool's
+/// sweeps are cutters of a kept facet whenever their boxes meet it, with all their planes.
+/// Facets are independent and carved in parallel; the pieces come out in a fixed order.
+#include <morph/carve.h>
+#include <morph/parallel.h>
+#include <morph/sweep_culling.h>
+
+#include <Eigen/Geometry>
+
+#include <vector>
+
+namespace morph {
+
+/// One straight move of one tool, in job order (the tie order).
+struct CarveSweep {
+  const SweepPolytopeBuilder* tool = nullptr;  ///< the tool's sweeps; moves of one tool share it
+  Eigen::Vector3d from = Eigen::Vector3d::Zero(), to = Eigen::Vector3d::Zero();
+};
+
+/// What the stages did and cost: CPU seconds summed over the threads.
+struct CarveStages {
+  CullingCounts culling;
+  CarveCounts carve;
+  double seconds_setup = 0.0;   ///< the culling's trees and the sweeps' boxes
+  double seconds_cull = 0.0;    ///< SweepCulling::cull over every move
+  double seconds_facets = 0.0;  ///< the kept facets within the stock and their own sweep, minus their cutters
+  double seconds_stock = 0.0;   ///< the stock faces minus the sweeps meeting them
+};
+
+/// The pieces of box \ ∪ sweeps, as carve_box() gives them for the same moves (up to the order
+/// of the pieces): stock faces first (box_planes() order), then each move's kept facets in
+/// facet order. `policy` chooses one thread or TBB; the output does not depend on it.
+std::vector<CarvedPiece> carve_culled(const Eigen::AlignedBox3d& box, const std::vector<CarveSweep>& sweeps,
+                                      ExecutionPolicy policy = ExecutionPolicy::Parallel,
+                                      CarveStages* stages = nullptr);
+
+/// The sweeps' boxes: the tool polytope's box at both ends, grown by a rounding margin.
+std::vector<Eigen::AlignedBox3d> sweep_boxes(const std::vector<CarveSweep>& sweeps);
+
+}  // namespace morph

@@ -1,0 +1,293 @@
+// SPDX-License-Identifier: Apache-2.0
+#include <morph/aabb_tree.h>
+#include <morph/carve_culled.h>
+#include <morph/joint_culling.h>
+
+#include <tbb/enumerable_thread_specific.h>
+
+#include <algorithm>
+#include <ctime>
+#include <map>
+#include <memory>
+
+namespace morph {
+namespace {
+
+using Eigen::AlignedBox3d;
+using Eigen::Vector3d;
+
+double thread_seconds() {
+  timespec t{};
+  clock_gettime(CLOCK_THREAD_CPUTIME_ID, &t);
+  return static_cast<double>(t.tv_sec) + 1e-9 * static_cast<double>(t.tv_nsec);
+}
+
+AlignedBox3d grown(AlignedBox3d box) {
+  // The rounded corners are not the exact ones, and touching counts.
+  box.min().array() -= 1e-7 * (1 + box.min().cwiseAbs().maxCoeff());
+  box.max().array() += 1e-7 * (1 + box.max().cwiseAbs().maxCoeff());
+  return box;
+}
+
+AlignedBox3d box_of(const std::vector<ConvexPiece>& pieces) {
+  AlignedBox3d box;
+  for (const ConvexPiece& p : pieces)
+    for (const Vector3d& x : corners(p)) box.extend(x);
+  return box;
+}
+
+// The moves of one tool, culled together (the culling knows one tool polytope).
+struct ToolGroup {
+  const SweepPolytopeBuilder* builder = nullptr;
+  std::vector<std::uint32_t> global;  ///< local move index -> index in the job's sweeps
+  std::unique_ptr<SweepCulling> culling;
+};
+
+// Per thread: the culling's scratch per tool, the counts and the CPU seconds.
+struct Worker {
+  std::vector<SweepCulling::Scratch> scratch;
+  CarveStages stages;
+};
+
+// The points of sweep facet `f` as the builder places it (tool vertices at the ordered ends),
+// for choosing which of the sweep's planes can bound it; the exact facet is decided by all.
+std::vector<Vector3d> facet_points(const SweepPolytopeBuilder& builder, const CarveSweep& s, int f) {
+  const ConvexPolytope& tool = builder.tool();
+  const bool degenerate = builder.degenerate(s.from, s.to);
+  const auto [a, b] = degenerate ? std::pair{s.from, s.from} : SweepPolytopeBuilder::ordered(s.from, s.to);
+  const Vector3d motion = b - a;
+  std::vector<Vector3d> points;
+  const auto nf = static_cast<int>(tool.facets.size());
+  auto side = [&](int facet) { return degenerate ? -1 : motion_side(tool.facets[facet].normal, motion); };
+  if (f < nf) {
+    const int at = side(f);
+    for (int v : tool.facets[f].loop) {
+      if (at <= 0) points.push_back(tool.vertices[v] + a);
+      if (at >= 0) points.push_back(tool.vertices[v] + b);
+    }
+    return points;
+  }
+  int index = nf;
+  for (const SweepPolytopeBuilder::Edge& e : builder.edges()) {
+    if (side(e.left) * side(e.right) >= 0) continue;
+    if (index++ != f) continue;
+    for (int v : {e.from, e.to}) {
+      points.push_back(tool.vertices[v] + a);
+      points.push_back(tool.vertices[v] + b);
+    }
+    break;
+  }
+  return points;
+}
+
+// Facet f of a sweep within the stock and its own polytope: first by the planes passing near
+// the facet's points (which makes the piece small), then by all of them (the float look of
+// intersect() skips the planes clearly apart, so this adds little and decides exactly).
+ConvexPiece own_facet(const std::vector<ExactPlane>& own, int f, const std::vector<Vector3d>& points,
+                      const std::array<ExactPlane, 6>& stock) {
+  std::vector<ExactPlane> near;
+  for (std::size_t k = 0; k < own.size(); ++k) {
+    if (static_cast<int>(k) == f) continue;
+    const ExactPlane& h = own[k];
+    const double margin = 1e-9 * (1 + std::fabs(h.offset));
+    for (const Vector3d& x : points)
+      if (h.normal.dot(x) - h.offset > -margin * (1 + x.norm())) {
+        near.push_back(h);
+        break;
+      }
+  }
+  ConvexPiece piece = intersect(piece_in_box(own[f], stock), near);
+  if (piece.empty()) return piece;
+  return intersect(std::move(piece), own);
+}
+
+// `pieces` minus each cutter in turn (the order of carve_box()).
+void minus_cutters(std::vector<ConvexPiece>& pieces,
+                   const std::vector<const std::vector<ExactPlane>*>& cutters) {
+  std::vector<ConvexPiece> next;
+  for (const std::vector<ExactPlane>* cutter : cutters) {
+    if (pieces.empty()) return;
+    next.clear();
+    for (const ConvexPiece& p : pieces) subtract(p, *cutter, next);
+    pieces.swap(next);
+  }
+}
+
+class Carving {
+ public:
+  Carving(const AlignedBox3d& box, const std::vector<CarveSweep>& sweeps)
+      : sweeps_(sweeps), stock_(box_planes(box)), boxes_(sweep_boxes(sweeps)), tree_(boxes_) {
+    std::map<const SweepPolytopeBuilder*, std::size_t> group_index;
+    group_of_.resize(sweeps.size());
+    local_of_.resize(sweeps.size());
+    for (std::size_t g = 0; g < sweeps.size(); ++g) {
+      auto [it, added] = group_index.emplace(sweeps[g].tool, groups_.size());
+      if (added) groups_.push_back(ToolGroup{sweeps[g].tool, {}, nullptr});
+      group_of_[g] = it->second;
+      local_of_[g] = groups_[it->second].global.size();
+      groups_[it->second].global.push_back(static_cast<std::uint32_t>(g));
+    }
+    for (std::size_t t = 0; t < groups_.size(); ++t) {
+      ToolGroup& group = groups_[t];
+      std::vector<Move> moves;
+      std::vector<bool> joined;
+      for (std::uint32_t g : group.global) {
+        Move m;
+        m.start = sweeps[g].from;
+        m.end = sweeps[g].to;
+        m.tool = static_cast<int>(t);
+        // A joint only between moves next to each other in the job.
+        joined.push_back(!moves.empty() && g > 0 && group_of_[g - 1] == t &&
+                         joined_at_joint(*group.builder, moves.back(), m));
+        moves.push_back(m);
+      }
+      group.culling =
+          std::make_unique<SweepCulling>(*group.builder, std::move(moves), std::move(joined), box);
+    }
+  }
+
+  std::size_t tools() const { return groups_.size(); }
+
+  // Stock face f minus every sweep whose box meets it, in move order.
+  std::vector<ConvexPiece> stock_face(int f, Worker& w) const {
+    const double start = thread_seconds();
+    std::vector<ConvexPiece> pieces{piece_in_box(stock_[f], stock_)};
+    ++w.stages.carve.facets;
+    std::vector<std::uint32_t> near;
+    tree_.for_each_overlapping(grown(box_of(pieces)),
+                               [&](std::size_t j) { near.push_back(static_cast<std::uint32_t>(j)); });
+    std::sort(near.begin(), near.end());
+    std::vector<ConvexPiece> next;
+    for (std::uint32_t j : near) {
+      if (pieces.empty()) break;
+      if (!grown(box_of(pieces)).intersects(boxes_[j])) continue;
+      ++w.stages.carve.cutters;
+      const std::vector<ExactPlane> planes = planes_of(j);
+      next.clear();
+      for (const ConvexPiece& p : pieces) subtract(p, planes, next);
+      pieces.swap(next);
+    }
+    w.stages.seconds_stock += thread_seconds() - start;
+    return pieces;
+  }
+
+  // The kept facets of sweep g, each minus its cutters: (facet, pieces) in facet order.
+  std::vector<std::pair<int, std::vector<ConvexPiece>>> sweep(std::uint32_t g, Worker& w) const {
+    double start = thread_seconds();
+    const std::size_t t = group_of_[g];
+    const ToolGroup& group = groups_[t];
+    const std::vector<KeptFacet> kept = group.culling->cull(local_of_[g], w.stages.culling, w.scratch[t]);
+    const double culled = thread_seconds();
+    w.stages.seconds_cull += culled - start;
+    std::vector<std::pair<int, std::vector<ConvexPiece>>> out;
+    if (kept.empty()) return out;
+    const std::vector<ExactPlane> own = planes_of(g);
+    std::map<std::uint32_t, std::vector<Halfspace>> cutter_halfspaces;  // of this move's cutters
+    for (const KeptFacet& k : kept) {
+      ++w.stages.carve.facets;
+      const ConvexPiece facet =
+          own_facet(own, k.facet, facet_points(*group.builder, sweeps_[g], k.facet), stock_);
+      if (facet.empty()) continue;
+      // The listed cutters with their crossing planes, and other tools' sweeps with all theirs.
+      std::vector<std::pair<std::uint32_t, std::vector<ExactPlane>>> cutters;
+      for (const FacetCutter& c : k.cutters) {
+        const std::uint32_t j = group.global[c.move];
+        auto found = cutter_halfspaces.find(j);
+        if (found == cutter_halfspaces.end())
+          found =
+              cutter_halfspaces.emplace(j, sweeps_[j].tool->halfspaces(sweeps_[j].from, sweeps_[j].to)).first;
+        std::vector<ExactPlane> planes;
+        for (int h : c.planes)
+          planes.push_back(ExactPlane{found->second[h].normal, found->second[h].offset,
+                                      sweep_rank(j, static_cast<std::uint32_t>(h)), 1});
+        cutters.emplace_back(j, std::move(planes));
+      }
+      if (groups_.size() > 1)
+        tree_.for_each_overlapping(grown(box_of({facet})), [&](std::size_t j) {
+          if (group_of_[j] != t)
+            cutters.emplace_back(static_cast<std::uint32_t>(j), planes_of(static_cast<std::uint32_t>(j)));
+        });
+      std::sort(cutters.begin(), cutters.end(),
+                [](const auto& x, const auto& y) { return x.first < y.first; });
+      std::vector<const std::vector<ExactPlane>*> order;
+      for (const auto& c : cutters) order.push_back(&c.second);
+      w.stages.carve.cutters += static_cast<double>(order.size());
+      std::vector<ConvexPiece> pieces{facet};
+      minus_cutters(pieces, order);
+      if (!pieces.empty()) out.emplace_back(k.facet, std::move(pieces));
+    }
+    w.stages.seconds_facets += thread_seconds() - culled;
+    return out;
+  }
+
+ private:
+  std::vector<ExactPlane> planes_of(std::uint32_t j) const {
+    return sweep_planes(sweeps_[j].tool->halfspaces(sweeps_[j].from, sweeps_[j].to), j);
+  }
+
+  const std::vector<CarveSweep>& sweeps_;
+  std::array<ExactPlane, 6> stock_;
+  std::vector<AlignedBox3d> boxes_;
+  AabbTree tree_;
+  std::vector<ToolGroup> groups_;
+  std::vector<std::size_t> group_of_, local_of_;
+};
+
+}  // namespace
+
+std::vector<AlignedBox3d> sweep_boxes(const std::vector<CarveSweep>& sweeps) {
+  std::vector<AlignedBox3d> boxes;
+  boxes.reserve(sweeps.size());
+  for (const CarveSweep& s : sweeps) {
+    const AlignedBox3d tool = s.tool->tool().bounds();
+    AlignedBox3d box = tool.translated(s.from);
+    box.extend(tool.translated(s.to));
+    boxes.push_back(grown(box));
+  }
+  return boxes;
+}
+
+std::vector<CarvedPiece> carve_culled(const AlignedBox3d& box, const std::vector<CarveSweep>& sweeps,
+                                      ExecutionPolicy policy, CarveStages* stages) {
+  const double start = thread_seconds();
+  const Carving carving(box, sweeps);
+  const double setup = thread_seconds() - start;
+  tbb::enumerable_thread_specific<Worker> workers([&] {
+    Worker w;
+    w.scratch.resize(carving.tools());
+    return w;
+  });
+  // Items 0-5: the stock faces; then one per move. Each writes its own slot.
+  std::vector<std::vector<CarvedPiece>> slots(6 + sweeps.size());
+  for_each_index(policy, 0, slots.size(), [&](std::size_t item) {
+    Worker& w = workers.local();
+    std::vector<CarvedPiece>& out = slots[item];
+    if (item < 6) {
+      for (ConvexPiece& p : carving.stock_face(static_cast<int>(item), w))
+        out.push_back(CarvedPiece{canonical(std::move(p)), -1, static_cast<std::int32_t>(item)});
+      return;
+    }
+    const auto g = static_cast<std::uint32_t>(item - 6);
+    for (auto& [facet, pieces] : carving.sweep(g, w))
+      for (ConvexPiece& p : pieces)
+        out.push_back(CarvedPiece{canonical(std::move(p)), static_cast<std::int32_t>(g), facet});
+  });
+  std::vector<CarvedPiece> out;
+  CarveStages total;
+  total.seconds_setup = setup;
+  for (const Worker& w : workers) {
+    total.culling += w.stages.culling;
+    total.carve.facets += w.stages.carve.facets;
+    total.carve.cutters += w.stages.carve.cutters;
+    total.seconds_cull += w.stages.seconds_cull;
+    total.seconds_facets += w.stages.seconds_facets;
+    total.seconds_stock += w.stages.seconds_stock;
+  }
+  for (std::vector<CarvedPiece>& slot : slots)
+    for (CarvedPiece& p : slot) out.push_back(std::move(p));
+  total.carve.pieces = static_cast<double>(out.size());
+  if (stages) *stages = total;
+  return out;
+}
+
+}  // namespace morph
