@@ -124,7 +124,7 @@ ConvexPiece intersect(ConvexPiece piece, const std::vector<ExactPlane>& planes) 
   return piece;
 }
 
-void subtract(const ConvexPiece& piece, const std::vector<ExactPlane>& cutter,
+bool subtract(const ConvexPiece& piece, const std::vector<ExactPlane>& cutter,
               std::vector<ConvexPiece>& out) {
   // Facet minus a convex polytope: peel off, plane by plane, the part outside that plane; what
   // is inside every plane is inside the cutter and goes. Only the cutter's planes that bound the
@@ -137,7 +137,7 @@ void subtract(const ConvexPiece& piece, const std::vector<ExactPlane>& cutter,
   const ConvexPiece inside = intersect(piece, cutter);
   if (inside.empty()) {
     out.push_back(piece);
-    return;
+    return false;
   }
   std::vector<ExactPlane> bounding;
   for (const ExactPlane& e : inside.edges) {
@@ -152,8 +152,9 @@ void subtract(const ConvexPiece& piece, const std::vector<ExactPlane>& cutter,
     ConvexPiece outside = clip(rest, flipped(plane));
     if (!outside.empty()) out.push_back(std::move(outside));
     rest = clip(rest, plane);
-    if (rest.empty()) return;
+    if (rest.empty()) break;
   }
+  return true;
 }
 
 ConvexPiece canonical(ConvexPiece piece) {
