@@ -212,9 +212,15 @@ class Carving {
     std::map<std::uint32_t, std::vector<Halfspace>> cutter_halfspaces;  // of this move's cutters
     for (const KeptFacet& k : kept) {
       ++w.stages.carve.facets;
+      const double facet_start = thread_seconds();
+      const PredicateCounts before = predicate_counts();
       const ConvexPiece facet =
           own_facet(own, k.facet, facet_points(*group.builder, sweeps_[g], k.facet), stock_);
+      w.stages.seconds_own_facets += thread_seconds() - facet_start;
+      w.stages.predicates_own += static_cast<double>(predicate_counts().calls - before.calls);
+      w.stages.exact_own += static_cast<double>(predicate_counts().exact - before.exact);
       if (facet.empty()) continue;
+      const PredicateCounts cut_before = predicate_counts();
       // The listed cutters with their crossing planes, and other tools' sweeps with all theirs.
       std::vector<std::pair<std::uint32_t, std::vector<ExactPlane>>> cutters;
       for (const FacetCutter& c : k.cutters) {
@@ -241,6 +247,8 @@ class Carving {
       w.stages.carve.cutters += static_cast<double>(order.size());
       std::vector<ConvexPiece> pieces{facet};
       minus_cutters(pieces, order);
+      w.stages.predicates_cut += static_cast<double>(predicate_counts().calls - cut_before.calls);
+      w.stages.exact_cut += static_cast<double>(predicate_counts().exact - cut_before.exact);
       if (!pieces.empty()) out.emplace_back(k.facet, std::move(pieces));
     }
     w.stages.seconds_facets += thread_seconds() - culled;
@@ -309,6 +317,11 @@ std::vector<CarvedPiece> carve_culled(const AlignedBox3d& box, const std::vector
     total.seconds_cull += w.stages.seconds_cull;
     total.seconds_facets += w.stages.seconds_facets;
     total.seconds_stock += w.stages.seconds_stock;
+    total.seconds_own_facets += w.stages.seconds_own_facets;
+    total.predicates_own += w.stages.predicates_own;
+    total.exact_own += w.stages.exact_own;
+    total.predicates_cut += w.stages.predicates_cut;
+    total.exact_cut += w.stages.exact_cut;
   }
   for (std::vector<CarvedPiece>& slot : slots)
     for (CarvedPiece& p : slot) out.push_back(std::move(p));
