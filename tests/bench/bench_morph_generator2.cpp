@@ -99,6 +99,11 @@ void BM_Generator2(benchmark::State& state) {
     c["s_cull"] = stages.seconds_cull;
     c["s_facets"] = stages.seconds_facets;
     c["s_stock"] = stages.seconds_stock;
+    c["s_own_facets"] = stages.seconds_own_facets;
+    c["predicates_own"] = stages.predicates_own;
+    c["exact_own"] = stages.exact_own;
+    c["predicates_cut"] = stages.predicates_cut;
+    c["exact_cut"] = stages.exact_cut;
     c["s_conform"] = conform_cpu;
     c["s_emit"] = emit_cpu;
     c["wall_carve_2threads"] = carve_wall;
