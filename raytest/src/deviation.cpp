@@ -262,6 +262,7 @@ OneSidedDeviation measure_samples_tagged(const morph::TriangleMesh& from, std::v
       const std::uint32_t tx = result.samples[x].triangle, ty = result.samples[y].triangle;
       return tx != ty ? tx < ty : x < y;
     });
+  if (options.mode == DeviationMode::Signed) to.prepare_sides();
   morph::Progress& progress = options.progress ? *options.progress : morph::null_progress();
   progress.begin("measuring " + std::to_string(n) + " samples", n);
   for_each_chunk(options.policy, n, [&](std::size_t begin, std::size_t end) {
@@ -334,6 +335,7 @@ std::vector<double> vertex_deviation(const morph::TriangleMesh& mesh, const Surf
   std::vector<Eigen::Vector3d> normals;
   if (mode == DeviationMode::Ray) normals = angle_weighted_vertex_normals(mesh);
   std::vector<double> values(mesh.vertices.size(), kMiss);
+  if (mode == DeviationMode::Signed) target.prepare_sides();
   for_each_chunk(policy, values.size(), [&](std::size_t begin, std::size_t end) {
     std::uint32_t hint = kNoHint;
     for (std::size_t v = begin; v < end; ++v) {

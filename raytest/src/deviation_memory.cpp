@@ -10,7 +10,9 @@ namespace {
 // Bytes per unit, from a linear fit of measured peaks (1M/200k/50k-triangle spheres, 10 to 2M
 // samples, with and without pictures); each within 5% of the measurement it came from.
 constexpr double kMeshBytesPerTriangle = 30;
-constexpr double kIndexBytesPerTriangle = 140;
+// Index: Embree's scene plus SurfaceQuery's 136-byte record per triangle (corners and bounding
+// planes, surface_query.cpp); refitted when the record replaced 48-byte boxes (+88 B measured).
+constexpr double kIndexBytesPerTriangle = 230;
 constexpr double kBytesPerSample = 80;
 constexpr double kVertexValueBytesPerTriangle = 80;
 constexpr double kRenderBytesPerTriangle = 120;

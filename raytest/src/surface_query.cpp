@@ -2,8 +2,11 @@
 #include <embree3/rtcore.h>
 #include <morph/exceptions.h>
 #include <morph/mesh_distance.h>
+#include <morph/parallel.h>
 #include <raytest/sampling.h>
 #include <raytest/surface_query.h>
+#include <tbb/parallel_sort.h>
+#include <tbb/task_arena.h>
 
 #include <algorithm>
 #include <array>
@@ -39,6 +42,62 @@ float round_up_to_float(double x) {
   return static_cast<double>(f) >= x ? f : std::nextafter(f, std::numeric_limits<float>::infinity());
 }
 
+// A triangle as the closest-point search reads it, in one place (no index to follow): its corners
+// and planes that bound its distance from below much more cheaply than the exact closest point.
+// The triangle lies in the slab |n.x - offset| <= half_width (n its unit normal; half_width is 0 up
+// to rounding, and larger only when rounding makes the normal of a near-degenerate triangle
+// meaningless) and inside the three half-spaces e.x <= offset of its edges (e the outward normal
+// in the plane). A point outside the slab by s and outside an edge's half-space by t is then at
+// least sqrt(s^2 + t^2) away; equality holds unless a corner is nearest. Offsets are taken from
+// the corners themselves and rounded outwards, so the triangle is inside whatever the rounding;
+// storing floats costs a few float epsilons of the coordinates, which the search's rounding
+// margin covers.
+struct TriangleRecord {
+  std::array<float, 18> planes;  // n, offset, half_width, then (e, offset) of edges ab, bc, ca, 0
+  Eigen::Vector3d a, b, c;
+
+  static TriangleRecord of(const Eigen::Vector3d& a, const Eigen::Vector3d& b, const Eigen::Vector3d& c) {
+    TriangleRecord record{{}, a, b, c};  // all zero: a bound of 0, every query measures the triangle
+    const Eigen::Vector3d cross = (b - a).cross(c - a);
+    const double length = cross.norm();
+    if (!(length > 0) || !std::isfinite(length)) return record;
+    const Eigen::Vector3d* corners[3] = {&a, &b, &c};
+    const auto rounded = [](const Eigen::Vector3d& v) {
+      return Eigen::Vector3d(double(float(v.x())), double(float(v.y())), double(float(v.z())));
+    };
+    const Eigen::Vector3d n = rounded(cross / length);
+    double low = std::numeric_limits<double>::infinity(), high = -low;
+    for (const Eigen::Vector3d* v : corners) {
+      low = std::min(low, n.dot(*v));
+      high = std::max(high, n.dot(*v));
+    }
+    const float offset = static_cast<float>(0.5 * (low + high));
+    for (int k = 0; k < 3; ++k) record.planes[k] = static_cast<float>(n[k]);
+    record.planes[3] = offset;
+    record.planes[4] = round_up_to_float(std::max(high - double(offset), double(offset) - low));
+    for (int e = 0; e < 3; ++e) {
+      const Eigen::Vector3d edge = rounded((*corners[(e + 1) % 3] - *corners[e]).cross(n).normalized());
+      if (!edge.allFinite()) return TriangleRecord{{}, a, b, c};
+      double reach = -std::numeric_limits<double>::infinity();
+      for (const Eigen::Vector3d* v : corners) reach = std::max(reach, edge.dot(*v));
+      for (int k = 0; k < 3; ++k) record.planes[5 + 4 * e + k] = static_cast<float>(edge[k]);
+      record.planes[5 + 4 * e + 3] = round_up_to_float(reach);
+    }
+    return record;
+  }
+
+  // Squared lower bound of the distance from p to the triangle, up to the float rounding above.
+  double squared_distance_bound(const Eigen::Vector3d& p) const {
+    const auto along = [&](int first) {
+      const float* q = &planes[first];
+      return double(q[0]) * p.x() + double(q[1]) * p.y() + double(q[2]) * p.z() - double(q[3]);
+    };
+    const double off_plane = std::max(0.0, std::abs(along(0)) - double(planes[4]));
+    const double outside = std::max({0.0, along(5), along(9), along(13)});
+    return off_plane * off_plane + outside * outside;
+  }
+};
+
 }  // namespace
 
 struct SurfaceQuery::Impl {
@@ -47,9 +106,8 @@ struct SurfaceQuery::Impl {
   RTCDevice device = nullptr;
   RTCScene scene = nullptr;
   double coordinate_scale = 0;  // max |coordinate| of the mesh: bounds float rounding errors
-  // Each triangle's bounds in double precision (min xyz, max xyz): a lower bound of its distance
-  // that is much cheaper than the exact closest point.
-  std::vector<std::array<double, 6>> bounds;
+  // What the closest-point search reads of each triangle, in one place (no index to follow).
+  std::vector<TriangleRecord> records;
 
   // Pseudo-normals for the sign, built on first use.
   mutable std::once_flag normals_once;
@@ -75,22 +133,26 @@ struct SurfaceQuery::Impl {
   }
 
   void build_normals() const {
+    // Built while every measuring thread waits for the sign of its first point: in parallel.
     const std::size_t nt = mesh.triangles.size();
     face_normals.resize(nt);
-    for (std::size_t t = 0; t < nt; ++t) face_normals[t] = morph::face_normal(mesh, t);
+    morph::for_each_index(morph::ExecutionPolicy::Parallel, 0, nt,
+                          [&](std::size_t t) { face_normals[t] = morph::face_normal(mesh, t); });
     vertex_normals = angle_weighted_vertex_normals(mesh);
     struct HalfEdge {
       std::uint64_t key;
       std::uint32_t slot;  // 3 * triangle + k
     };
     std::vector<HalfEdge> half_edges(3 * nt);
-    for (std::size_t t = 0; t < nt; ++t)
+    morph::for_each_index(morph::ExecutionPolicy::Parallel, 0, nt, [&](std::size_t t) {
       for (int k = 0; k < 3; ++k) {
         const std::uint32_t a = mesh.triangles[t][k], b = mesh.triangles[t][(k + 1) % 3];
         half_edges[3 * t + k] = {(std::uint64_t{std::min(a, b)} << 32) | std::max(a, b),
                                  static_cast<std::uint32_t>(3 * t + k)};
       }
-    std::sort(half_edges.begin(), half_edges.end(), [](const HalfEdge& x, const HalfEdge& y) {
+    });
+    // (key, slot) orders all half-edges totally: the same sequence, so the same sums, whatever the threads.
+    tbb::parallel_sort(half_edges.begin(), half_edges.end(), [](const HalfEdge& x, const HalfEdge& y) {
       return x.key != y.key ? x.key < y.key : x.slot < y.slot;
     });
     edge_normals.resize(nt);
@@ -108,8 +170,7 @@ struct SurfaceQuery::Impl {
 namespace {
 
 struct PointQueryState {
-  const morph::TriangleMesh* mesh;
-  const std::array<double, 6>* bounds;
+  const TriangleRecord* records;
   Eigen::Vector3d p;
   double margin;
   double best = std::numeric_limits<double>::infinity();
@@ -125,18 +186,12 @@ bool visit_triangle(RTCPointQueryFunctionArguments* args) {
   auto* state = static_cast<PointQueryState*>(args->userPtr);
   const std::uint32_t t = args->primID;
   // Embree visits every triangle of a leaf whose box meets the sphere; most cannot win, and their
-  // bounds show it (a triangle farther than the best is never closer, so skipping it is exact).
-  const std::array<double, 6>& box = state->bounds[t];
-  double below = 0;
-  for (int k = 0; k < 3; ++k) {
-    const double x = state->p[k];
-    const double gap = x < box[k] ? box[k] - x : x > box[k + 3] ? x - box[k + 3] : 0.0;
-    below += gap * gap;
-  }
-  if (below > state->best * state->best * (1 + 1e-9)) return false;  // slack: ties keep the lowest index
-  const morph::Triangle& tri = state->mesh->triangles[t];
-  const Eigen::Vector3d q = morph::closest_point_on_triangle(
-      state->p, state->mesh->vertices[tri[0]], state->mesh->vertices[tri[1]], state->mesh->vertices[tri[2]]);
+  // planes show it. A triangle farther than the best is never closer, so skipping it is exact; the slack (the
+  // rounding margin and 1e-9 relative) keeps ties, settled by the lowest index.
+  const TriangleRecord& record = state->records[t];
+  const double reach = state->best * (1 + 1e-9) + state->margin;
+  if (record.squared_distance_bound(state->p) > reach * reach) return false;
+  const Eigen::Vector3d q = morph::closest_point_on_triangle(state->p, record.a, record.b, record.c);
   const double d = (state->p - q).norm();
   if (d < state->best || (d == state->best && t < state->best_triangle)) {
     state->best = d;
@@ -186,16 +241,11 @@ SurfaceQuery::SurfaceQuery(morph::TriangleMesh mesh) : impl_(std::make_unique<Im
     }
     for (std::size_t i = 0; i < m.vertices.size(); ++i)
       for (int k = 0; k < 3; ++k) vertices[3 * i + k] = static_cast<float>(m.vertices[i][k]);
-    impl_->bounds.resize(m.triangles.size());
+    impl_->records.resize(m.triangles.size());
     for (std::size_t t = 0; t < m.triangles.size(); ++t) {
-      std::array<double, 6>& box = impl_->bounds[t];
-      for (int k = 0; k < 3; ++k) {
-        indices[3 * t + k] = m.triangles[t][k];
-        box[k] = std::min({m.vertices[m.triangles[t][0]][k], m.vertices[m.triangles[t][1]][k],
-                           m.vertices[m.triangles[t][2]][k]});
-        box[k + 3] = std::max({m.vertices[m.triangles[t][0]][k], m.vertices[m.triangles[t][1]][k],
-                               m.vertices[m.triangles[t][2]][k]});
-      }
+      const morph::Triangle& tri = m.triangles[t];
+      impl_->records[t] = TriangleRecord::of(m.vertices[tri[0]], m.vertices[tri[1]], m.vertices[tri[2]]);
+      for (int k = 0; k < 3; ++k) indices[3 * t + k] = tri[k];
     }
     rtcCommitGeometry(geometry);
     rtcAttachGeometry(impl_->scene, geometry);
@@ -223,7 +273,7 @@ ClosestPoint SurfaceQuery::closest_point(const Eigen::Vector3d& p, double max_di
   ClosestPoint result;
   const morph::TriangleMesh& m = impl_->mesh;
   if (m.triangles.empty() || !p.allFinite()) return result;
-  PointQueryState state{&m, impl_->bounds.data(), p, impl_->margin(p)};
+  PointQueryState state{impl_->records.data(), p, impl_->margin(p)};
   double radius = max_distance;
   if (hint_triangle < m.triangles.size()) {
     // Start from the hint: the search then only visits triangles that can beat or tie it.
@@ -256,8 +306,15 @@ ClosestPoint SurfaceQuery::closest_point(const Eigen::Vector3d& p, double max_di
   return result;
 }
 
+void SurfaceQuery::prepare_sides() const {
+  // Isolated: while this thread waits for the parallel work inside, it must not pick up another
+  // task of an enclosing loop that would call side() and wait on this very call_once.
+  std::call_once(impl_->normals_once,
+                 [this] { tbb::this_task_arena::isolate([this] { impl_->build_normals(); }); });
+}
+
 double SurfaceQuery::side(const Eigen::Vector3d& p, const ClosestPoint& closest) const {
-  std::call_once(impl_->normals_once, [this] { impl_->build_normals(); });
+  prepare_sides();
   const morph::TriangleMesh& m = impl_->mesh;
   const morph::Triangle& tri = m.triangles[closest.triangle];
   const Eigen::Vector3d& a = m.vertices[tri[0]];

@@ -55,7 +55,12 @@ class SurfaceQuery {
                          double max_distance = std::numeric_limits<double>::infinity()) const;
 
   /// Sign (+1 outside, -1 inside) of `p` seen from the closest point `closest` of this surface.
+  /// Its pseudo-normals are built on the first call (or by prepare_sides()).
   double side(const Eigen::Vector3d& p, const ClosestPoint& closest) const;
+
+  /// Builds the pseudo-normals side() needs now, so that many threads about to call side() do
+  /// not all wait for the first of them to build them.
+  void prepare_sides() const;
 
   /// First hit along `origin + t * direction` for t in [t_min, t_max]; `direction` need not be
   /// unit (t is then in units of its length). The hit parameter is refined in double precision
