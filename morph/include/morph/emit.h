@@ -1,19 +1,31 @@
 // SPDX-License-Identifier: Apache-2.0
 #pragma once
 /// \file emit.h
-/// Generator 2's output: the conformed polygons (conform.h) as a triangle mesh. Vertices are
-/// rounded to doubles; a polygon that is only its corners is fanned from its first corner, one
-/// with inserted edge vertices from its centroid (a vertex of its own), so no triangle is flat.
+/// Generator 2's output: the limit polygons (degenerate_collapse.h) as a triangle mesh. A
+/// strictly convex polygon is fanned from its first corner, one with points on its edges' lines
+/// from its centroid (a vertex of its own), so no triangle is flat in exact arithmetic. Vertices
+/// are rounded to doubles, and what the rounding flattened or turned over is settled on the
+/// doubles taken as exact (rounding.h: collapses, flips, re-rounding; design §5).
 /// Provenance per triangle: the stock face, or the move (its global index and G-code line).
-#include <morph/conform.h>
+#include <morph/degenerate_collapse.h>
 #include <morph/mesh.h>
 
 #include <vector>
 
 namespace morph {
 
+/// What the rounding did (rounding.h: collapsed, flipped, re-rounded, left).
+struct EmitCounts {
+  std::size_t collapsed_edges = 0, flipped_edges = 0, rerounded_vertices = 0;
+  std::size_t misoriented_left = 0;  ///< triangles still flat or turned the wrong way (target 0)
+};
+
 /// `move_index[m]` and `move_line[m]` give the global move index and G-code line of sweep m.
+TriangleMesh emit(const LimitSurface& surface, const std::vector<std::int32_t>& move_index,
+                  const std::vector<std::int32_t>& move_line, EmitCounts* counts = nullptr);
+
+/// The same from the conformed surface: its limit (collapse_degenerates()) emitted.
 TriangleMesh emit(const ConformedSurface& surface, const std::vector<std::int32_t>& move_index,
-                  const std::vector<std::int32_t>& move_line);
+                  const std::vector<std::int32_t>& move_line, EmitCounts* counts = nullptr);
 
 }  // namespace morph

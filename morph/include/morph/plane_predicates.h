@@ -15,6 +15,7 @@
 /// have no vertex (vertex_exists() says so) in the perturbed arrangement either.
 #include <Eigen/Core>
 
+#include <array>
 #include <cstdint>
 
 namespace morph {
@@ -52,6 +53,15 @@ inline bool vertex_exists(const ExactPlane& a, const ExactPlane& b, const ExactP
 /// Independent of the order of a, b, c. Throws std::invalid_argument when the three planes have
 /// no vertex (vertex_exists() false).
 int side_at_vertex(const ExactPlane& a, const ExactPlane& b, const ExactPlane& c, const ExactPlane& d);
+
+/// The unperturbed sign of d.normal·x - d.offset at the vertex x of planes a, b, c (the limit of
+/// the arrangement as ε → 0): 0 exactly when d passes through x (always when d is one of a, b,
+/// c). Same filter and exact fallback as side_at_vertex(); throws like it.
+int limit_side_at_vertex(const ExactPlane& a, const ExactPlane& b, const ExactPlane& c, const ExactPlane& d);
+
+/// True iff the vertices u and v (plane triples) are the same exact point in the limit: every
+/// plane of v passes exactly through u's point (three independent planes meet in one point).
+bool same_limit_point(const std::array<ExactPlane, 3>& u, const std::array<ExactPlane, 3>& v);
 
 /// The vertex of three planes rounded to doubles (Cramer's rule in long double); for output and
 /// tests, never for decisions. Throws std::invalid_argument when it does not exist.

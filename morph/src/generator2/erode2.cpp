@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: Apache-2.0
 #include <morph/carve_culled.h>
 #include <morph/conform.h>
+#include <morph/degenerate_collapse.h>
 #include <morph/emit.h>
 #include <morph/erode2.h>
 #include <morph/exceptions.h>
@@ -83,7 +84,7 @@ ErodeResult erode2(const Job& job, const ErodeOptions& options) {
   stats.seconds_trim = seconds_since(start) - stats.seconds_setup;
 
   const ConformedSurface surface = conform(pieces, options.policy);
-  result.mesh = emit(surface, move_index, move_line);
+  result.mesh = emit(collapse_degenerates(surface), move_index, move_line);
   stats.triangles = result.mesh.triangle_count();
   stats.vertices = result.mesh.vertex_count();
   stats.seconds_total = seconds_since(start);

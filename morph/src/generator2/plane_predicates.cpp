@@ -187,6 +187,22 @@ int side_at_vertex(const ExactPlane& a, const ExactPlane& b, const ExactPlane& c
   return -det * orientation;
 }
 
+int limit_side_at_vertex(const ExactPlane& a, const ExactPlane& b, const ExactPlane& c, const ExactPlane& d) {
+  ++predicate_counts().calls;
+  const int orientation = normals_orientation(a, b, c);
+  if (orientation == 0)
+    throw std::invalid_argument("limit_side_at_vertex: the three planes have no single common point");
+  if (d.rank == a.rank || d.rank == b.rank || d.rank == c.rank) return 0;
+  FourPlanes four({row_of(a), row_of(b), row_of(c), row_of(d)});
+  return -four.determinant_sign() * orientation;
+}
+
+bool same_limit_point(const std::array<ExactPlane, 3>& u, const std::array<ExactPlane, 3>& v) {
+  for (const ExactPlane& d : v)
+    if (limit_side_at_vertex(u[0], u[1], u[2], d) != 0) return false;
+  return true;
+}
+
 Eigen::Vector3d vertex_point(const ExactPlane& a, const ExactPlane& b, const ExactPlane& c) {
   if (!vertex_exists(a, b, c))
     throw std::invalid_argument("vertex_point: the three planes have no single common point");

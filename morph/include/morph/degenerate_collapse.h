@@ -1,0 +1,64 @@
+// SPDX-License-Identifier: Apache-2.0
+#pragma once
+/// \file degenerate_collapse.h
+/// Generator 2's limit step, between conform (conform.h) and emit (emit.h). The perturbed
+/// arrangement is in general position, so where four or more planes meet in one exact point (a
+/// tool polytope's pole inside the stock, coinciding planes of retraces and near-reversals) the
+/// perturbation splits that point into several plane-triple vertices joined by ε-edges and
+/// ε-faces. Rounded to doubles they become zero-area or folded triangles. This step takes the
+/// limit ε → 0 exactly, by construction, with no distance threshold:
+///
+/// 1. Two vertices are the same point iff the unperturbed point of one lies exactly on the three
+///    planes of the other (same_limit_point()); such classes are merged into one vertex.
+/// 2. Every polygon keeps its edges between distinct points (ε-edges vanish); a polygon left with
+///    fewer than three edges (an ε-face, or a segment traversed both ways) vanishes.
+/// 3. A polygon whose limit is a segment with three or more distinct points (an ε-thin sliver) is
+///    zipped shut: its two chains are merged along the line, each neighbour across the sliver
+///    takes the other chain's points on its edge, and the sliver vanishes.
+/// 4. Where the limit is truly non-manifold (two sheets touching along a curve or at a point: an
+///    edge used by more than two polygons, or a vertex whose polygons form more than one fan) the
+///    classes involved are kept apart (each vertex stays its own point), so the output stays a
+///    2-manifold; their vertices round to the same doubles, which the exact self-intersection
+///    check then reports. Counted.
+#include <morph/conform.h>
+
+#include <array>
+#include <cstdint>
+#include <vector>
+
+namespace morph {
+
+/// A convex polygon of the limit surface: distinct points, counter-clockwise seen from outside.
+struct LimitPolygon {
+  std::vector<std::uint32_t> loop;
+  /// Edge k (loop[k] to loop[k+1]) lies on the line of `support` and edge_planes[k].
+  std::vector<ExactPlane> edge_planes;
+  ExactPlane support;
+  /// The outside is on support.normal's side (a stock face) or on the other (a sweep facet).
+  bool faces_out = true;
+  /// No point lies on a neighbouring edge's line: a fan from any corner has no flat triangle.
+  bool strictly_convex = true;
+  std::int32_t move = -1;  ///< as ConformedPolygon
+  std::int32_t face = 0;
+};
+
+struct LimitCounts {
+  std::size_t merged_vertices = 0;     ///< vertices merged into another of the same exact point
+  std::size_t removed_polygons = 0;    ///< ε-faces and segments traversed both ways
+  std::size_t zipped_slivers = 0;      ///< ε-thin polygons zipped shut (step 3)
+  std::size_t kept_apart = 0;          ///< classes left unmerged where the limit is non-manifold
+  std::size_t flat_polygons_left = 0;  ///< zero-area polygons the zip could not close (target 0)
+  std::size_t unsettled = 0;           ///< 1 when no merging kept a 2-manifold: none was done (target 0)
+};
+
+struct LimitSurface {
+  /// Each vertex's planes (conform's; vertices merged away are no longer referenced).
+  std::vector<std::array<ExactPlane, 3>> vertices;
+  std::vector<LimitPolygon> polygons;
+  LimitCounts counts;
+};
+
+/// The limit of the conformed surface as ε → 0 (steps 1-4 above).
+LimitSurface collapse_degenerates(const ConformedSurface& surface);
+
+}  // namespace morph

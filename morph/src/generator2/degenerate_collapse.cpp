@@ -1,0 +1,355 @@
+// SPDX-License-Identifier: Apache-2.0
+#include <morph/degenerate_collapse.h>
+
+#include <algorithm>
+#include <cmath>
+#include <map>
+#include <numeric>
+#include <set>
+#include <unordered_map>
+#include <utility>
+
+namespace morph {
+namespace {
+
+using Triple = std::array<ExactPlane, 3>;
+using Edge = std::pair<std::uint32_t, std::uint32_t>;
+
+// ---- step 0: each conformed polygon's support and the plane of each of its edges ----------------
+
+const ExactPlane* plane_of(const Triple& t, std::uint64_t rank) {
+  for (const ExactPlane& p : t)
+    if (p.rank == rank) return &p;
+  return nullptr;
+}
+
+// The planes two vertices share.
+std::vector<const ExactPlane*> shared(const Triple& u, const Triple& v) {
+  std::vector<const ExactPlane*> out;
+  for (const ExactPlane& p : u)
+    if (plane_of(v, p.rank)) out.push_back(&p);
+  return out;
+}
+
+// A conformed polygon with its support and edge planes (edge k: loop[k] to loop[k+1]).
+struct PlanarLoop {
+  ExactPlane support;
+  std::vector<ExactPlane> edge_planes;
+};
+
+PlanarLoop planar_loop(const ConformedSurface& surface, const ConformedPolygon& polygon) {
+  const auto& loop = polygon.loop;
+  const std::size_t n = loop.size();
+  // The support is the one plane every vertex has; consecutive vertices share it and their edge's.
+  std::vector<const ExactPlane*> common = shared(surface.vertices[loop[0]], surface.vertices[loop[1]]);
+  for (std::size_t k = 2; k < n && common.size() > 1; ++k)
+    common.erase(
+        std::remove_if(common.begin(), common.end(),
+                       [&](const ExactPlane* p) { return !plane_of(surface.vertices[loop[k]], p->rank); }),
+        common.end());
+  PlanarLoop out;
+  // A vertex may hold the support turned over (an edge of a piece outside it, flipped()): a
+  // stock face's support contracts, a sweep facet's expands.
+  out.support = *common.front();
+  if (out.support.direction != (polygon.move < 0 ? -1 : 1)) out.support = flipped(out.support);
+  for (std::size_t k = 0; k < n; ++k)
+    for (const ExactPlane* p : shared(surface.vertices[loop[k]], surface.vertices[loop[(k + 1) % n]]))
+      if (p->rank != out.support.rank) {
+        out.edge_planes.push_back(*p);
+        break;
+      }
+  return out;
+}
+
+// ---- step 1: classes of the same exact point ----------------------------------------------------
+
+class UnionFind {
+ public:
+  explicit UnionFind(std::size_t n) : parent_(n) { std::iota(parent_.begin(), parent_.end(), 0u); }
+  std::uint32_t find(std::uint32_t v) {
+    while (parent_[v] != v) v = parent_[v] = parent_[parent_[v]];
+    return v;
+  }
+  // The smaller index becomes the root, so the representative does not depend on the order.
+  void unite(std::uint32_t a, std::uint32_t b) {
+    a = find(a), b = find(b);
+    if (a != b) parent_[std::max(a, b)] = std::min(a, b);
+  }
+
+ private:
+  std::vector<std::uint32_t> parent_;
+};
+
+// Candidates are vertices whose rounded points fall in neighbouring cells of a grid much coarser
+// than any rounding error; whether they are one point is decided exactly.
+std::vector<std::uint32_t> limit_classes(const std::vector<Triple>& vertices) {
+  constexpr double kCell = 1e-6;
+  struct CellHash {
+    std::size_t operator()(const std::array<std::int64_t, 3>& c) const {
+      return static_cast<std::size_t>(c[0] * 73856093) ^ static_cast<std::size_t>(c[1] * 19349663) ^
+             static_cast<std::size_t>(c[2] * 83492791);
+    }
+  };
+  std::unordered_map<std::array<std::int64_t, 3>, std::vector<std::uint32_t>, CellHash> grid;
+  std::vector<std::array<std::int64_t, 3>> cell(vertices.size());
+  for (std::uint32_t v = 0; v < vertices.size(); ++v) {
+    const Eigen::Vector3d x = vertex_point(vertices[v][0], vertices[v][1], vertices[v][2]);
+    for (int i = 0; i < 3; ++i) cell[v][i] = static_cast<std::int64_t>(std::floor(x[i] / kCell));
+    grid[cell[v]].push_back(v);
+  }
+  UnionFind classes(vertices.size());
+  for (std::uint32_t v = 0; v < vertices.size(); ++v)
+    for (std::int64_t dx = -1; dx <= 1; ++dx)
+      for (std::int64_t dy = -1; dy <= 1; ++dy)
+        for (std::int64_t dz = -1; dz <= 1; ++dz) {
+          const auto it = grid.find({cell[v][0] + dx, cell[v][1] + dy, cell[v][2] + dz});
+          if (it == grid.end()) continue;
+          for (std::uint32_t u : it->second)
+            if (u < v && classes.find(u) != classes.find(v) && same_limit_point(vertices[u], vertices[v]))
+              classes.unite(u, v);
+        }
+  std::vector<std::uint32_t> root(vertices.size());
+  for (std::uint32_t v = 0; v < vertices.size(); ++v) root[v] = classes.find(v);
+  return root;
+}
+
+// ---- steps 2-4: the limit polygons ----------------------------------------------------------------
+
+class Limit {
+ public:
+  Limit(const ConformedSurface& surface, const std::vector<PlanarLoop>& planar,
+        const std::vector<std::uint32_t>& root, const std::set<std::uint32_t>& apart)
+      : surface_(surface) {
+    rep_.resize(root.size());
+    apart_.resize(root.size());
+    for (std::uint32_t v = 0; v < root.size(); ++v) {
+      apart_[v] = apart.count(root[v]) > 0;
+      rep_[v] = apart_[v] ? v : root[v];
+    }
+    for (std::size_t i = 0; i < surface.polygons.size(); ++i) add(surface.polygons[i], planar[i]);
+  }
+
+  // Step 3, until no sliver is left that can be zipped.
+  void zip_slivers(bool enabled) {
+    for (bool changed = enabled; changed;) {
+      changed = false;
+      for (std::size_t i = 0; i < polygons_.size(); ++i)
+        if (!removed_[i] && flat(polygons_[i]) && zip(i)) changed = true;
+    }
+  }
+
+  // Step 4: the classes (roots) at edges or vertices where the limit is not a 2-manifold.
+  std::set<std::uint32_t> non_manifold(const std::vector<std::uint32_t>& root) const {
+    std::set<std::uint32_t> bad;
+    std::map<Edge, int> uses;
+    std::map<std::uint32_t, std::vector<Edge>> wedges;  // vertex -> (next, previous) per corner
+    for (std::size_t i = 0; i < polygons_.size(); ++i) {
+      if (removed_[i]) continue;
+      const auto& loop = polygons_[i].loop;
+      const std::size_t n = loop.size();
+      for (std::size_t k = 0; k < n; ++k) {
+        ++uses[{loop[k], loop[(k + 1) % n]}];
+        wedges[loop[k]].push_back({loop[(k + 1) % n], loop[(k + n - 1) % n]});
+      }
+    }
+    for (const auto& [e, count] : uses) {
+      const auto back = uses.find({e.second, e.first});
+      if (count != 1 || back == uses.end() || back->second != 1)
+        bad.insert(root[e.first]), bad.insert(root[e.second]);
+    }
+    for (const auto& [v, around] : wedges) {
+      // One fan: from a corner, the corner whose next is this one's previous, around to the start.
+      std::map<std::uint32_t, std::uint32_t> next_of;
+      for (const Edge& w : around) next_of[w.first] = w.second;
+      std::size_t steps = 0;
+      std::uint32_t at = around.front().first;
+      do {
+        const auto it = next_of.find(at);
+        if (it == next_of.end()) break;
+        at = it->second, ++steps;
+      } while (at != around.front().first && steps <= around.size());
+      if (steps != around.size() || next_of.size() != around.size()) bad.insert(root[v]);
+    }
+    return bad;
+  }
+
+  LimitSurface result(LimitCounts counts) const {
+    LimitSurface out;
+    out.vertices = surface_.vertices;
+    for (std::size_t i = 0; i < polygons_.size(); ++i)
+      if (!removed_[i]) {
+        LimitPolygon p = polygons_[i];
+        p.strictly_convex = strictly_convex(p);
+        counts.flat_polygons_left += flat(p);
+        out.polygons.push_back(std::move(p));
+      } else if (zipped_[i]) {
+        ++counts.zipped_slivers;
+      } else {
+        ++counts.removed_polygons;
+      }
+    for (std::uint32_t v = 0; v < rep_.size(); ++v) counts.merged_vertices += rep_[v] != v;
+    out.counts = counts;
+    return out;
+  }
+
+ private:
+  const Triple& at(std::uint32_t v) const { return surface_.vertices[v]; }
+  bool on(std::uint32_t v, const ExactPlane& e) const {
+    return limit_side_at_vertex(at(v)[0], at(v)[1], at(v)[2], e) == 0;
+  }
+
+  // Step 2: the polygon's edges between distinct points.
+  void add(const ConformedPolygon& polygon, const PlanarLoop& planar) {
+    LimitPolygon p;
+    p.support = planar.support;
+    p.faces_out = polygon.move < 0;
+    p.move = polygon.move, p.face = polygon.face;
+    const std::size_t n = polygon.loop.size();
+    for (std::size_t k = 0; k < n; ++k) {
+      const std::uint32_t a = rep_[polygon.loop[k]], b = rep_[polygon.loop[(k + 1) % n]];
+      if (a == b) continue;  // an ε-edge
+      p.loop.push_back(a);
+      p.edge_planes.push_back(planar.edge_planes[k]);
+    }
+    const std::size_t index = polygons_.size();
+    removed_.push_back(p.loop.size() < 3);
+    zipped_.push_back(false);
+    if (!removed_.back())
+      for (std::size_t k = 0; k < p.loop.size(); ++k)
+        owner_[{p.loop[k], p.loop[(k + 1) % p.loop.size()]}] = index;
+    polygons_.push_back(std::move(p));
+  }
+
+  // Every point on the line of the first edge: the limit is a segment.
+  bool flat(const LimitPolygon& p) const {
+    return std::all_of(p.loop.begin(), p.loop.end(),
+                       [&](std::uint32_t v) { return on(v, p.edge_planes[0]); });
+  }
+  bool strictly_convex(const LimitPolygon& p) const {
+    const std::size_t n = p.loop.size();
+    for (std::size_t k = 0; k < n; ++k)
+      if (on(p.loop[(k + 1) % n], p.edge_planes[(k + n - 1) % n])) return false;
+    return true;
+  }
+
+  // Step 3 for polygon i (flat): its loop runs from one end of the segment to the other and back,
+  // each way monotone. Order along the line's direction support × line plane: q comes after p iff
+  // q is on the positive side of a plane of p's crossing the line, oriented by that direction.
+  bool zip(std::size_t i) {
+    const LimitPolygon& d = polygons_[i];
+    // Points kept apart (step 4) are distinct vertices of one point: no order along the line.
+    if (std::any_of(d.loop.begin(), d.loop.end(), [&](std::uint32_t v) { return apart_[v]; })) return false;
+    const ExactPlane& s = d.support;
+    const ExactPlane& line = d.edge_planes[0];
+    std::map<std::uint32_t, std::pair<const ExactPlane*, int>> crossing;  // point -> plane, its orientation
+    for (std::uint32_t v : d.loop)
+      for (const ExactPlane& c : at(v))
+        if (int o = normals_orientation(s, line, c)) {
+          crossing[v] = {&c, o};
+          break;
+        }
+    const auto after = [&](std::uint32_t q, std::uint32_t p) {
+      const auto [c, o] = crossing.at(p);
+      return limit_side_at_vertex(at(q)[0], at(q)[1], at(q)[2], *c) * o > 0;
+    };
+    const std::size_t n = d.loop.size();
+    std::size_t low = 0, high = 0;
+    for (std::size_t k = 1; k < n; ++k) {
+      if (after(d.loop[low], d.loop[k])) low = k;
+      if (after(d.loop[k], d.loop[high])) high = k;
+    }
+    // Monotone up from low to high, then down back to low; distinct points strictly ordered.
+    for (std::size_t k = low; k != high; k = (k + 1) % n)
+      if (!after(d.loop[(k + 1) % n], d.loop[k])) return false;
+    for (std::size_t k = high; k != low; k = (k + 1) % n)
+      if (!after(d.loop[k], d.loop[(k + 1) % n])) return false;
+    std::vector<std::uint32_t> sorted(d.loop);
+    std::sort(sorted.begin(), sorted.end(), [&](std::uint32_t p, std::uint32_t q) { return after(q, p); });
+    // Each neighbour across an edge x -> y of the sliver has y -> x: it takes the points strictly
+    // between, from y to x.
+    std::vector<std::pair<Edge, std::vector<std::uint32_t>>> inserts;
+    for (std::size_t k = 0; k < n; ++k) {
+      const std::uint32_t x = d.loop[k], y = d.loop[(k + 1) % n];
+      const auto across = owner_.find({y, x});
+      if (across == owner_.end()) return false;  // not a closed surface here: leave it
+      if (across->second == i) continue;         // the sliver's other chain: both edges vanish
+      std::vector<std::uint32_t> between;
+      for (std::uint32_t m : sorted)
+        if ((after(m, x) && after(y, m)) || (after(m, y) && after(x, m))) between.push_back(m);
+      if (after(y, x)) std::reverse(between.begin(), between.end());  // from y down to x
+      inserts.push_back({{y, x}, between});
+    }
+    for (std::size_t k = 0; k < n; ++k) {
+      const auto own = owner_.find({d.loop[k], d.loop[(k + 1) % n]});
+      if (own != owner_.end() && own->second == i) owner_.erase(own);
+    }
+    for (const auto& [edge, between] : inserts) split(edge, between);
+    removed_[i] = zipped_[i] = true;
+    return true;
+  }
+
+  // Inserts `between` into the edge (owned by a polygon) from edge.first to edge.second.
+  void split(const Edge& edge, const std::vector<std::uint32_t>& between) {
+    const auto owner = owner_.find(edge);
+    if (owner == owner_.end()) return;  // not a 2-manifold here: step 4 keeps its classes apart
+    const std::size_t j = owner->second;
+    LimitPolygon& p = polygons_[j];
+    const std::size_t n = p.loop.size();
+    std::size_t k = 0;
+    while (k < n && !(p.loop[k] == edge.first && p.loop[(k + 1) % n] == edge.second)) ++k;
+    if (k == n) return;
+    owner_.erase(edge);
+    const ExactPlane plane = p.edge_planes[k];
+    p.loop.insert(p.loop.begin() + static_cast<std::ptrdiff_t>(k + 1), between.begin(), between.end());
+    p.edge_planes.insert(p.edge_planes.begin() + static_cast<std::ptrdiff_t>(k + 1), between.size(), plane);
+    std::uint32_t from = edge.first;
+    for (std::uint32_t m : between) owner_[{from, m}] = j, from = m;
+    owner_[{from, edge.second}] = j;
+  }
+
+  const ConformedSurface& surface_;
+  std::vector<std::uint32_t> rep_;
+  std::vector<LimitPolygon> polygons_;
+  std::vector<bool> apart_;  // per vertex: its class is kept apart
+  std::vector<bool> removed_, zipped_;
+  std::map<Edge, std::size_t> owner_;  // directed edge -> the polygon that runs along it
+};
+
+}  // namespace
+
+LimitSurface collapse_degenerates(const ConformedSurface& surface) {
+  std::vector<PlanarLoop> planar;
+  planar.reserve(surface.polygons.size());
+  for (const ConformedPolygon& p : surface.polygons) planar.push_back(planar_loop(surface, p));
+  const std::vector<std::uint32_t> root = limit_classes(surface.vertices);
+  std::vector<std::size_t> class_size(root.size(), 0);
+  for (std::uint32_t r : root) ++class_size[r];
+  // Merge every class, then keep apart those where the limit is not a 2-manifold, until none is.
+  std::set<std::uint32_t> apart;
+  for (;;) {
+    Limit limit(surface, planar, root, apart);
+    limit.zip_slivers(true);
+    const std::set<std::uint32_t> bad = limit.non_manifold(root);
+    if (bad.empty()) {
+      LimitCounts counts;
+      counts.kept_apart = apart.size();
+      return limit.result(counts);
+    }
+    const std::size_t before = apart.size();
+    for (std::uint32_t c : bad)
+      if (class_size[c] > 1) apart.insert(c);
+    if (apart.size() == before) break;
+  }
+  // Not settled (not seen so far): every class apart and nothing zipped is the conformed
+  // surface itself, a 2-manifold by construction.
+  for (std::uint32_t v = 0; v < root.size(); ++v)
+    if (class_size[root[v]] > 1) apart.insert(root[v]);
+  Limit limit(surface, planar, root, apart);
+  limit.zip_slivers(false);
+  LimitCounts counts;
+  counts.kept_apart = apart.size();
+  counts.unsettled = 1;
+  return limit.result(counts);
+}
+
+}  // namespace morph
