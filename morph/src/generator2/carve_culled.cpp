@@ -159,6 +159,7 @@ class Carving {
     std::sort(near.begin(), near.end());
     std::vector<ConvexPiece> out;
     if (!face.empty()) carve_stock_piece(std::move(face), 0, near, out, workers, policy);
+    sort_pieces(out);
     return out;
   }
 
