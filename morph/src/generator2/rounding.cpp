@@ -59,10 +59,10 @@ constexpr double kFlat = 1e-14;
 // candidates (moving a vertex by less than 1e-12 of the triangle's size); whether the collapse
 // is made is exact (link condition, every incident triangle still turning the right way).
 constexpr double kNeedle = 1e-12;
-// Two rounded vertices this many units in the last place apart or fewer in every coordinate are
-// apart by rounding alone (a cluster of exact points closer than a double's spacing): their
-// edge is a candidate too.
-constexpr int kRoundingUlps = 4;
+// Two rounded vertices closer than this fraction of their coordinates' size (about 500 ulps)
+// are a cluster of exact points below anything the polytopes shape (the near-concurrent planes of
+// a pole split one point into several ~1e-12 apart): their edge is a candidate too.
+constexpr double kCluster = 1e-13;
 constexpr std::uint32_t kGone = std::numeric_limits<std::uint32_t>::max();
 
 // The mesh with each vertex's triangles, edited in place; dropped triangles are marked.
@@ -156,21 +156,18 @@ class Settler {
       }
       for (int k = 0; k < 3 && alive_[t]; ++k) {
         const std::uint32_t a = mesh_.triangles[t][k], b = mesh_.triangles[t][(k + 1) % 3];
-        const bool candidate = at(a) == at(b) || neighbouring_doubles(at(a), at(b)) ||
+        const bool candidate = at(a) == at(b) || clustered(at(a), at(b)) ||
                                (is_flat && k == shortest && length(t, k) <= kNeedle * kNeedle * longest);
         if (!candidate) continue;
         if (collapse(std::min(a, b), std::max(a, b))) ++counts.collapsed_edges;
       }
     }
   }
-  // Within a few units in the last place in every coordinate: apart by rounding alone.
-  static bool neighbouring_doubles(const Eigen::Vector3d& a, const Eigen::Vector3d& b) {
-    for (int i = 0; i < 3; ++i) {
-      double x = std::min(a[i], b[i]);
-      for (int k = 0; k < kRoundingUlps && x < std::max(a[i], b[i]); ++k) x = std::nextafter(x, DBL_MAX);
-      if (x < std::max(a[i], b[i])) return false;
-    }
-    return true;
+  // Closer than kCluster of the coordinates' size: a cluster of exact points far below any
+  // feature the tool polytope has (its pole's near-concurrent planes).
+  static bool clustered(const Eigen::Vector3d& a, const Eigen::Vector3d& b) {
+    const double size = std::max({1.0, a.cwiseAbs().maxCoeff(), b.cwiseAbs().maxCoeff()});
+    return (a - b).norm() <= kCluster * size;
   }
   double length(std::uint32_t t, int k) const {
     return (at(mesh_.triangles[t][(k + 1) % 3]) - at(mesh_.triangles[t][k])).squaredNorm();
