@@ -64,7 +64,8 @@ TEST(Generator2Rounding, PoleRetraceAndNearReversalHaveNoIntersectingPairs) {
 
 TEST(Generator2Rounding, SharedReproducersHaveNoIntersectingPairs) {
   // The job files themselves, at their own tolerance (0.01), where they are available.
-  for (const char* name : {"r2_blind_there_back_partial", "r6_partial_plunge_retract"}) {
+  for (const char* name : {"r2_blind_there_back_partial", "r6_partial_plunge_retract", "r8_reversal_interior",
+                           "r9_sphere_square_twice_reversed", "r10b_only_t1", "r11_near_reversal"}) {
     const std::string path = std::string(MORPHMILL_SHARED_DIR) + "/repro/generator/" + name + ".json";
     if (!std::ifstream(path)) GTEST_SKIP() << "reproducers not found at " << MORPHMILL_SHARED_DIR;
     expect_valid_solid(morphmill::load_job(path), name);

@@ -43,6 +43,16 @@ void add_path(Case& c, std::size_t tool, const std::vector<Vector3d>& polyline) 
 using PieceKey =
     std::tuple<std::int32_t, std::int32_t, std::uint64_t, std::vector<std::pair<std::uint64_t, int>>>;
 
+std::vector<PieceKey> unsorted_keys(const std::vector<morph::CarvedPiece>& pieces) {
+  std::vector<PieceKey> out;
+  for (const morph::CarvedPiece& p : pieces) {
+    std::vector<std::pair<std::uint64_t, int>> edges;
+    for (const morph::ExactPlane& e : p.piece.edges) edges.emplace_back(e.rank, e.direction);
+    out.emplace_back(p.move, p.face, p.piece.support.rank, std::move(edges));
+  }
+  return out;
+}
+
 std::vector<PieceKey> keys(const std::vector<morph::CarvedPiece>& pieces) {
   std::vector<PieceKey> out;
   for (const morph::CarvedPiece& p : pieces) {
@@ -106,6 +116,9 @@ void expect_same(const Case& c, const std::string& what) {
       << what << ": " << serial.size() << " pieces, reference " << reference.size() << "; "
       << describe(extra, "not in the reference") << describe(missing, "only in the reference");
   if (extra.empty() && missing.empty()) {
+    // In the same order too (stock faces' pieces sorted, then moves and facets in order), so the
+    // later stages see the same input.
+    EXPECT_TRUE(unsorted_keys(serial) == unsorted_keys(reference)) << what;
     EXPECT_TRUE(triangles(serial) == triangles(reference)) << what;
   }
   // TBB: the same pieces in the same order.

@@ -28,6 +28,10 @@ struct CarvedPiece {
   bool faces_out() const { return move < 0; }
 };
 
+/// Sorts a stock face's pieces (each canonical()) by their edge planes' ranks: the order the two
+/// carvings give them in differs, and later stages (emit's rounding) may depend on the order.
+void sort_pieces(std::vector<ConvexPiece>& pieces);
+
 /// Counts of the carving, for benches.
 struct CarveCounts {
   double facets = 0, cutters = 0, pieces = 0;

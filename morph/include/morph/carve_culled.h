@@ -33,6 +33,11 @@ struct CarveStages {
   double seconds_cull = 0.0;    ///< SweepCulling::cull over every move
   double seconds_facets = 0.0;  ///< the kept facets within the stock and their own sweep, minus their cutters
   double seconds_stock = 0.0;   ///< the stock faces minus the sweeps meeting them
+  /// Of seconds_facets: the kept facets within the stock and their own sweep (the rest is cutting).
+  double seconds_own_facets = 0.0;
+  /// Exact predicate calls and how many the float filter left to exact arithmetic: building the
+  /// kept facets (own) and cutting them (cut).
+  double predicates_own = 0.0, exact_own = 0.0, predicates_cut = 0.0, exact_cut = 0.0;
 };
 
 /// The pieces of box \ ∪ sweeps, as carve_box() gives them for the same moves (up to the order

@@ -7,6 +7,7 @@
 /// lying on a piece's edge line strictly inside the edge is inserted into it (decided by the
 /// exact predicates), so no T-junctions remain.
 #include <morph/carve.h>
+#include <morph/parallel.h>
 
 #include <array>
 #include <cstdint>
@@ -28,6 +29,9 @@ struct ConformedSurface {
   std::size_t inserted = 0;  ///< vertices inserted into other pieces' edges
 };
 
-ConformedSurface conform(const std::vector<CarvedPiece>& pieces);
+/// Each plane-pair line's vertices are sorted along it once; lines and pieces are independent and
+/// done in parallel under `policy` (the output does not depend on it).
+ConformedSurface conform(const std::vector<CarvedPiece>& pieces,
+                         ExecutionPolicy policy = ExecutionPolicy::Parallel);
 
 }  // namespace morph

@@ -49,7 +49,8 @@ ConvexPiece intersect(ConvexPiece piece, const std::vector<ExactPlane>& planes);
 /// `cutter`'s halfspaces: `piece` itself when the polytope misses it, else one convex piece per
 /// plane of the cutter bounding the part inside, in rank order. The pieces depend only on that
 /// part, so any list of the cutter's planes that gives the same part gives the same pieces.
-void subtract(const ConvexPiece& piece, const std::vector<ExactPlane>& cutter, std::vector<ConvexPiece>& out);
+/// Returns false when the polytope misses `piece` (then `piece` is appended whole).
+bool subtract(const ConvexPiece& piece, const std::vector<ExactPlane>& cutter, std::vector<ConvexPiece>& out);
 
 /// The same piece with its edges rotated to start at the lowest rank: a convex piece's edge
 /// cycle is unique, so two pieces of the same planes compare equal after this whatever order

@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: Apache-2.0
 #include <morph/carve.h>
 
+#include <algorithm>
 #include <cstddef>
 
 namespace morph {
@@ -35,6 +36,15 @@ std::vector<ConvexPiece> minus_sweeps(std::vector<ConvexPiece> pieces, std::int3
 
 }  // namespace
 
+void sort_pieces(std::vector<ConvexPiece>& pieces) {
+  for (ConvexPiece& p : pieces) p = canonical(std::move(p));
+  std::sort(pieces.begin(), pieces.end(), [](const ConvexPiece& x, const ConvexPiece& y) {
+    return std::lexicographical_compare(
+        x.edges.begin(), x.edges.end(), y.edges.begin(), y.edges.end(),
+        [](const ExactPlane& a, const ExactPlane& b) { return a.rank < b.rank; });
+  });
+}
+
 std::vector<ExactPlane> sweep_planes(const std::vector<Halfspace>& halfspaces, std::uint32_t move) {
   std::vector<ExactPlane> planes;
   planes.reserve(halfspaces.size());
@@ -57,7 +67,9 @@ std::vector<CarvedPiece> carve_box(const Eigen::AlignedBox3d& box,
   for (std::int32_t f = 0; f < 6; ++f) {
     ++c.facets;
     ConvexPiece face = piece_in_box(stock[f], stock);
-    keep(minus_sweeps({face}, -1, sweeps, sweep_boxes, c), -1, f);
+    std::vector<ConvexPiece> pieces = minus_sweeps({face}, -1, sweeps, sweep_boxes, c);
+    sort_pieces(pieces);
+    keep(std::move(pieces), -1, f);
   }
   for (std::size_t i = 0; i < sweeps.size(); ++i) {
     if (!sweep_boxes[i].intersects(box)) continue;

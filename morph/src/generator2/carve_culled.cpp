@@ -48,6 +48,7 @@ struct Worker {
   std::vector<SweepCulling::Scratch> scratch;
   CarveStages stages;
 };
+using Workers = tbb::enumerable_thread_specific<Worker>;
 
 // The points of sweep facet `f` as the builder places it (tool vertices at the ordered ends),
 // for choosing which of the sweep's planes can bound it; the exact facet is decided by all.
@@ -149,26 +150,53 @@ class Carving {
   std::size_t tools() const { return groups_.size(); }
 
   // Stock face f minus every sweep whose box meets it, in move order.
-  std::vector<ConvexPiece> stock_face(int f, Worker& w) const {
-    const double start = thread_seconds();
-    std::vector<ConvexPiece> pieces{piece_in_box(stock_[f], stock_)};
-    ++w.stages.carve.facets;
+  std::vector<ConvexPiece> stock_face(int f, Workers& workers, ExecutionPolicy policy) const {
+    ConvexPiece face = piece_in_box(stock_[f], stock_);
+    ++workers.local().stages.carve.facets;
     std::vector<std::uint32_t> near;
-    tree_.for_each_overlapping(grown(box_of(pieces)),
+    tree_.for_each_overlapping(grown(box_of({face})),
                                [&](std::size_t j) { near.push_back(static_cast<std::uint32_t>(j)); });
     std::sort(near.begin(), near.end());
-    std::vector<ConvexPiece> next;
-    for (std::uint32_t j : near) {
-      if (pieces.empty()) break;
-      if (!grown(box_of(pieces)).intersects(boxes_[j])) continue;
+    std::vector<ConvexPiece> out;
+    if (!face.empty()) carve_stock_piece(std::move(face), 0, near, out, workers, policy);
+    sort_pieces(out);
+    return out;
+  }
+
+  // `piece` minus the sweeps near[k...]. Each part of a split goes on by itself (the pieces are
+  // the same whatever the order they are carved in): the largest in this loop, the others, which
+  // lie along the cut, in parallel; their pieces come first, in part order.
+  void carve_stock_piece(ConvexPiece piece, std::size_t k, const std::vector<std::uint32_t>& near,
+                         std::vector<ConvexPiece>& out, Workers& workers, ExecutionPolicy policy) const {
+    AlignedBox3d box = grown(box_of({piece}));
+    std::vector<ConvexPiece> parts;
+    for (; k < near.size(); ++k) {
+      const std::uint32_t j = near[k];
+      if (!box.intersects(boxes_[j])) continue;
+      Worker& w = workers.local();
+      const double start = thread_seconds();
+      parts.clear();
+      const bool reached = subtract(piece, planes_of(j), parts);
       ++w.stages.carve.cutters;
-      const std::vector<ExactPlane> planes = planes_of(j);
-      next.clear();
-      for (const ConvexPiece& p : pieces) subtract(p, planes, next);
-      pieces.swap(next);
+      w.stages.seconds_stock += thread_seconds() - start;
+      if (!reached) continue;
+      if (parts.empty()) return;
+      std::vector<AlignedBox3d> boxes;
+      std::size_t largest = 0;
+      for (std::size_t i = 0; i < parts.size(); ++i) {
+        boxes.push_back(grown(box_of({parts[i]})));
+        if (boxes[i].diagonal().squaredNorm() > boxes[largest].diagonal().squaredNorm()) largest = i;
+      }
+      std::vector<std::vector<ConvexPiece>> results(parts.size());
+      for_each_index(policy, 0, parts.size(), [&](std::size_t i) {
+        if (i != largest) carve_stock_piece(std::move(parts[i]), k + 1, near, results[i], workers, policy);
+      });
+      for (std::vector<ConvexPiece>& r : results)
+        for (ConvexPiece& p : r) out.push_back(std::move(p));
+      piece = std::move(parts[largest]);
+      box = boxes[largest];
     }
-    w.stages.seconds_stock += thread_seconds() - start;
-    return pieces;
+    out.push_back(std::move(piece));
   }
 
   // The kept facets of sweep g, each minus its cutters: (facet, pieces) in facet order.
@@ -185,9 +213,15 @@ class Carving {
     std::map<std::uint32_t, std::vector<Halfspace>> cutter_halfspaces;  // of this move's cutters
     for (const KeptFacet& k : kept) {
       ++w.stages.carve.facets;
+      const double facet_start = thread_seconds();
+      const PredicateCounts before = predicate_counts();
       const ConvexPiece facet =
           own_facet(own, k.facet, facet_points(*group.builder, sweeps_[g], k.facet), stock_);
+      w.stages.seconds_own_facets += thread_seconds() - facet_start;
+      w.stages.predicates_own += static_cast<double>(predicate_counts().calls - before.calls);
+      w.stages.exact_own += static_cast<double>(predicate_counts().exact - before.exact);
       if (facet.empty()) continue;
+      const PredicateCounts cut_before = predicate_counts();
       // The listed cutters with their crossing planes, and other tools' sweeps with all theirs.
       std::vector<std::pair<std::uint32_t, std::vector<ExactPlane>>> cutters;
       for (const FacetCutter& c : k.cutters) {
@@ -214,6 +248,8 @@ class Carving {
       w.stages.carve.cutters += static_cast<double>(order.size());
       std::vector<ConvexPiece> pieces{facet};
       minus_cutters(pieces, order);
+      w.stages.predicates_cut += static_cast<double>(predicate_counts().calls - cut_before.calls);
+      w.stages.exact_cut += static_cast<double>(predicate_counts().exact - cut_before.exact);
       if (!pieces.empty()) out.emplace_back(k.facet, std::move(pieces));
     }
     w.stages.seconds_facets += thread_seconds() - culled;
@@ -252,7 +288,7 @@ std::vector<CarvedPiece> carve_culled(const AlignedBox3d& box, const std::vector
   const double start = thread_seconds();
   const Carving carving(box, sweeps);
   const double setup = thread_seconds() - start;
-  tbb::enumerable_thread_specific<Worker> workers([&] {
+  Workers workers([&] {
     Worker w;
     w.scratch.resize(carving.tools());
     return w;
@@ -263,7 +299,7 @@ std::vector<CarvedPiece> carve_culled(const AlignedBox3d& box, const std::vector
     Worker& w = workers.local();
     std::vector<CarvedPiece>& out = slots[item];
     if (item < 6) {
-      for (ConvexPiece& p : carving.stock_face(static_cast<int>(item), w))
+      for (ConvexPiece& p : carving.stock_face(static_cast<int>(item), workers, policy))
         out.push_back(CarvedPiece{canonical(std::move(p)), -1, static_cast<std::int32_t>(item)});
       return;
     }
@@ -282,6 +318,11 @@ std::vector<CarvedPiece> carve_culled(const AlignedBox3d& box, const std::vector
     total.seconds_cull += w.stages.seconds_cull;
     total.seconds_facets += w.stages.seconds_facets;
     total.seconds_stock += w.stages.seconds_stock;
+    total.seconds_own_facets += w.stages.seconds_own_facets;
+    total.predicates_own += w.stages.predicates_own;
+    total.exact_own += w.stages.exact_own;
+    total.predicates_cut += w.stages.predicates_cut;
+    total.exact_cut += w.stages.exact_cut;
   }
   for (std::vector<CarvedPiece>& slot : slots)
     for (CarvedPiece& p : slot) out.push_back(std::move(p));

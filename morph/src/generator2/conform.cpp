@@ -1,8 +1,8 @@
 // SPDX-License-Identifier: Apache-2.0
 #include <morph/conform.h>
+#include <morph/parallel.h>
 
 #include <algorithm>
-#include <map>
 #include <unordered_map>
 #include <utility>
 
@@ -19,18 +19,26 @@ struct KeyHash {
     return h;
   }
 };
+struct PairHash {
+  std::size_t operator()(const Pair& p) const {
+    return std::hash<std::uint64_t>()(p.first) * 1000003u ^ std::hash<std::uint64_t>()(p.second);
+  }
+};
 
 Pair pair_of(std::uint64_t a, std::uint64_t b) {
   return a < b ? Pair{a, b} : Pair{b, a};
 }
 
-// The vertex's plane that is neither of the line's two.
-const ExactPlane& third(const std::array<ExactPlane, 3>& v, std::uint64_t s, std::uint64_t e) {
-  for (const ExactPlane& p : v)
-    if (p.rank != s && p.rank != e) return p;
-  return v[0];
+// The slot of a vertex's line through planes s and e: the index (in the vertex's rank-sorted
+// planes) of its third plane.
+int slot_of(const std::array<ExactPlane, 3>& v, std::uint64_t s, std::uint64_t e) {
+  for (int i = 0; i < 3; ++i)
+    if (v[i].rank != s && v[i].rank != e) return i;
+  return 0;
 }
 
+// The vertices, and every plane-pair line with its vertices sorted along it once (by the exact
+// predicates), so an edge finds the vertices strictly inside it by two positions.
 class Builder {
  public:
   std::uint32_t vertex(const ExactPlane& a, const ExactPlane& b, const ExactPlane& c) {
@@ -41,43 +49,85 @@ class Builder {
     auto [it, added] = index_.emplace(key, static_cast<std::uint32_t>(surface_.vertices.size()));
     if (added) {
       surface_.vertices.push_back(planes);
-      for (int i = 0; i < 3; ++i) on_line_[pair_of(key[i], key[(i + 1) % 3])].push_back(it->second);
+      std::array<std::uint32_t, 3> lines{};
+      for (int slot = 0; slot < 3; ++slot) {
+        // The line of the two planes other than planes[slot].
+        const Pair line = pair_of(key[(slot + 1) % 3], key[(slot + 2) % 3]);
+        auto [found, new_line] = line_of_.emplace(line, static_cast<std::uint32_t>(lines_.size()));
+        if (new_line) lines_.emplace_back();
+        lines_[found->second].push_back(it->second);
+        lines[slot] = found->second;
+      }
+      vertex_lines_.push_back(lines);
     }
     return it->second;
   }
 
-  // The vertices strictly inside the edge from corner p to corner q on the line of planes s and
-  // e, ordered from p: another vertex r of that line is inside iff its third plane separates
-  // p from q, and r1 comes before r2 iff r1's plane separates p from r2.
-  std::vector<std::uint32_t> inside_edge(const ExactPlane& s, const ExactPlane& e, std::uint32_t p,
-                                         std::uint32_t q) {
-    const ExactPlane& a = third(surface_.vertices[p], s.rank, e.rank);
-    const ExactPlane& b = third(surface_.vertices[q], s.rank, e.rank);
-    std::vector<std::uint32_t> inside;
-    for (std::uint32_t r : on_line_[pair_of(s.rank, e.rank)]) {
-      if (r == p || r == q) continue;
-      const ExactPlane& c = third(surface_.vertices[r], s.rank, e.rank);
-      if (side_at_vertex(s, e, a, c) != side_at_vertex(s, e, b, c)) inside.push_back(r);
-    }
-    std::sort(inside.begin(), inside.end(), [&](std::uint32_t r1, std::uint32_t r2) {
-      const ExactPlane& c1 = third(surface_.vertices[r1], s.rank, e.rank);
-      const ExactPlane& c2 = third(surface_.vertices[r2], s.rank, e.rank);
-      return side_at_vertex(s, e, a, c1) != side_at_vertex(s, e, c2, c1);
+  // Sorts every line's vertices along the direction lo × hi of its planes (lo the lower rank):
+  // r1 comes first iff r1 is inside r2's third plane c2 and c2 faces along the direction, or
+  // outside it and c2 faces back.
+  void order_lines(ExecutionPolicy policy) {
+    position_.assign(surface_.vertices.size(), {0, 0, 0});
+    for_each_index(policy, 0, lines_.size(), [&](std::size_t l) {
+      std::vector<std::uint32_t>& line = lines_[l];
+      if (line.size() > 1) {
+        const std::array<ExactPlane, 3>& first = surface_.vertices[line[0]];
+        const int third = slot_of_line(line[0], static_cast<std::uint32_t>(l));
+        const ExactPlane& lo = first[third == 0 ? 1 : 0];
+        const ExactPlane& hi = first[third == 2 ? 1 : 2];
+        std::vector<std::pair<std::uint32_t, int>> facing;  // vertex, sign of its plane along the line
+        for (std::uint32_t r : line)
+          facing.emplace_back(r, normals_orientation(lo, hi, third_plane(r, static_cast<std::uint32_t>(l))));
+        std::sort(facing.begin(), facing.end(), [&](const auto& r1, const auto& r2) {
+          if (r1.first == r2.first) return false;
+          const ExactPlane& c1 = third_plane(r1.first, static_cast<std::uint32_t>(l));
+          const ExactPlane& c2 = third_plane(r2.first, static_cast<std::uint32_t>(l));
+          return (side_at_vertex(lo, hi, c1, c2) < 0) == (r2.second > 0);
+        });
+        for (std::size_t k = 0; k < line.size(); ++k) line[k] = facing[k].first;
+      }
+      for (std::size_t k = 0; k < line.size(); ++k)
+        position_[line[k]][slot_of_line(line[k], static_cast<std::uint32_t>(l))] =
+            static_cast<std::uint32_t>(k);
     });
+  }
+
+  // The vertices strictly inside the edge from corner p to corner q on the line of planes s and
+  // e, ordered from p.
+  std::vector<std::uint32_t> inside_edge(const ExactPlane& s, const ExactPlane& e, std::uint32_t p,
+                                         std::uint32_t q) const {
+    const int slot_p = slot_of(surface_.vertices[p], s.rank, e.rank);
+    const int slot_q = slot_of(surface_.vertices[q], s.rank, e.rank);
+    const std::vector<std::uint32_t>& line = lines_[vertex_lines_[p][slot_p]];
+    const std::uint32_t from = position_[p][slot_p], to = position_[q][slot_q];
+    if (from < to) return std::vector<std::uint32_t>(line.begin() + from + 1, line.begin() + to);
+    std::vector<std::uint32_t> inside(line.begin() + to + 1, line.begin() + from);
+    std::reverse(inside.begin(), inside.end());
     return inside;
   }
 
   ConformedSurface& surface() { return surface_; }
 
  private:
+  int slot_of_line(std::uint32_t r, std::uint32_t l) const {
+    const std::array<std::uint32_t, 3>& lines = vertex_lines_[r];
+    return lines[0] == l ? 0 : (lines[1] == l ? 1 : 2);
+  }
+  const ExactPlane& third_plane(std::uint32_t r, std::uint32_t l) const {
+    return surface_.vertices[r][slot_of_line(r, l)];
+  }
+
   ConformedSurface surface_;
   std::unordered_map<Key, std::uint32_t, KeyHash> index_;
-  std::map<Pair, std::vector<std::uint32_t>> on_line_;
+  std::unordered_map<Pair, std::uint32_t, PairHash> line_of_;
+  std::vector<std::vector<std::uint32_t>> lines_;           ///< each line's vertices, sorted by order_lines()
+  std::vector<std::array<std::uint32_t, 3>> vertex_lines_;  ///< per vertex, its line by slot
+  std::vector<std::array<std::uint32_t, 3>> position_;      ///< per vertex, its index on each line
 };
 
 }  // namespace
 
-ConformedSurface conform(const std::vector<CarvedPiece>& pieces) {
+ConformedSurface conform(const std::vector<CarvedPiece>& pieces, ExecutionPolicy policy) {
   Builder builder;
   std::vector<std::vector<std::uint32_t>> corner_ids(pieces.size());
   for (std::size_t i = 0; i < pieces.size(); ++i) {
@@ -86,8 +136,11 @@ ConformedSurface conform(const std::vector<CarvedPiece>& pieces) {
     for (std::size_t k = 0; k < n; ++k)
       corner_ids[i].push_back(builder.vertex(piece.support, piece.edges[(k + n - 1) % n], piece.edges[k]));
   }
+  builder.order_lines(policy);
   ConformedSurface& surface = builder.surface();
-  for (std::size_t i = 0; i < pieces.size(); ++i) {
+  surface.polygons.resize(pieces.size());
+  std::vector<std::size_t> inserted(pieces.size(), 0);
+  for_each_index(policy, 0, pieces.size(), [&](std::size_t i) {
     const ConvexPiece& piece = pieces[i].piece;
     const std::vector<std::uint32_t>& ids = corner_ids[i];
     const std::size_t n = ids.size();
@@ -97,13 +150,14 @@ ConformedSurface conform(const std::vector<CarvedPiece>& pieces) {
       const std::vector<std::uint32_t> inside =
           builder.inside_edge(piece.support, piece.edges[k], ids[k], ids[(k + 1) % n]);
       polygon.loop.insert(polygon.loop.end(), inside.begin(), inside.end());
-      surface.inserted += inside.size();
+      inserted[i] += inside.size();
     }
     // Corners run counter-clockwise about the support's normal: out of the solid for a stock
     // face, into it for a sweep's facet.
     if (!pieces[i].faces_out()) std::reverse(polygon.loop.begin(), polygon.loop.end());
-    surface.polygons.push_back(std::move(polygon));
-  }
+    surface.polygons[i] = std::move(polygon);
+  });
+  for (std::size_t n : inserted) surface.inserted += n;
   return std::move(surface);
 }
 

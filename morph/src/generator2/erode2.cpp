@@ -83,7 +83,7 @@ ErodeResult erode2(const Job& job, const ErodeOptions& options) {
   stats.patches_kept = pieces.size();
   stats.seconds_trim = seconds_since(start) - stats.seconds_setup;
 
-  const ConformedSurface surface = conform(pieces);
+  const ConformedSurface surface = conform(pieces, options.policy);
   result.mesh = emit(collapse_degenerates(surface), move_index, move_line);
   stats.triangles = result.mesh.triangle_count();
   stats.vertices = result.mesh.vertex_count();
