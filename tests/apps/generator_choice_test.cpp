@@ -56,7 +56,9 @@ TEST(GeneratorChoice, EachGeneratorSaysWhatItCannotBuild) {
   job.stock.base = Eigen::Vector3d(8, 5, 0);
   job.stock.radius = 5.0;
   job.stock.height = 4.0;
-  EXPECT_NE(morphmill::why_generator_cannot_build(job, 2).find("box stock only"), std::string::npos);
+  EXPECT_EQ(morphmill::why_generator_cannot_build(job, 2), "");
+  job.stock.type = morph::StockType::Mesh;
+  EXPECT_NE(morphmill::why_generator_cannot_build(job, 2).find("box and cylinder stock"), std::string::npos);
   EXPECT_THROW(morphmill::why_generator_cannot_build(job, 3), morph::InputError);
   EXPECT_THROW(morphmill::check_generator(0), morph::InputError);
 }

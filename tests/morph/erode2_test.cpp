@@ -164,7 +164,9 @@ TEST(Erode2, TinyMoveAtACornerAndARetracedLoop) {
 TEST(Erode2, RefusesWhatItDoesNotSupport) {
   morph::Job job = job_of(Eigen::AlignedBox3d(Vector3d(0, 0, 0), Vector3d(1, 1, 1)), morph::ball_tool(0.5, 2),
                           {Vector3d(0, 0, 2), Vector3d(1, 1, 2)});
-  job.stock.type = morph::StockType::Cylinder;
+  job.stock.type = morph::StockType::Cylinder;  // of radius 0
+  EXPECT_THROW(morph::erode2(job), morph::InputError);
+  job.stock.type = morph::StockType::Mesh;  // so far
   EXPECT_THROW(morph::erode2(job), morph::InputError);
 }
 

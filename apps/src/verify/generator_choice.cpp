@@ -9,20 +9,19 @@ namespace morphmill {
 
 const char* const kGeneratorOptionHelp =
     "1: today's generator (default; sphere and ball-end tools); 2: generator 2, the union of exact\n"
-    "sweep polytopes (closed by construction; every tool of revolution, box stock only, small jobs so far)";
+    "sweep polytopes (closed by construction; every tool of revolution, box and cylinder stock so far)";
 
 void check_generator(int generator) {
   if (generator != 1 && generator != 2)
-    throw morph::InputError("--generator: must be 1 (today's) or 2 (exact plane-based, box stock), got " +
+    throw morph::InputError("--generator: must be 1 (today's) or 2 (exact plane-based), got " +
                             std::to_string(generator));
 }
 
 std::string why_generator_cannot_build(const morph::Job& job, int generator) {
   check_generator(generator);
   if (generator == 2) {
-    if (job.stock.type != morph::StockType::Box)
-      return "generator 2 takes box stock only so far, and this job's stock is " +
-             std::string(job.stock.type == morph::StockType::Cylinder ? "a cylinder" : "a mesh");
+    if (job.stock.type == morph::StockType::Mesh)
+      return "generator 2 takes box and cylinder stock so far, and this job's stock is a mesh";
     return "";
   }
   for (const morph::Path& path : job.paths)

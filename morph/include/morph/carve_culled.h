@@ -11,6 +11,7 @@
 /// Facets are independent and carved in parallel; the pieces come out in a fixed order.
 #include <morph/carve.h>
 #include <morph/parallel.h>
+#include <morph/stock_polytope.h>
 #include <morph/sweep_culling.h>
 
 #include <Eigen/Geometry>
@@ -46,6 +47,12 @@ struct CarveStages {
 /// of the pieces): stock faces first (box_planes() order), then each move's kept facets in
 /// facet order. `policy` chooses one thread or TBB; the output does not depend on it.
 std::vector<CarvedPiece> carve_culled(const Eigen::AlignedBox3d& box, const std::vector<CarveSweep>& sweeps,
+                                      ExecutionPolicy policy = ExecutionPolicy::Parallel,
+                                      CarveStages* stages = nullptr);
+
+/// The same for a convex stock (stock_polytope.h): its faces take the place of the box's, in the
+/// order of its planes; for box_stock_polytope(box) the pieces are those of the box overload.
+std::vector<CarvedPiece> carve_culled(const StockPolytope& stock, const std::vector<CarveSweep>& sweeps,
                                       ExecutionPolicy policy = ExecutionPolicy::Parallel,
                                       CarveStages* stages = nullptr);
 

@@ -85,7 +85,7 @@ std::vector<Vector3d> facet_points(const SweepPolytopeBuilder& builder, const Ca
 // the facet's points (which makes the piece small), then by all of them (the float look of
 // intersect() skips the planes clearly apart, so this adds little and decides exactly).
 ConvexPiece own_facet(const std::vector<ExactPlane>& own, int f, const std::vector<Vector3d>& points,
-                      const std::array<ExactPlane, 6>& stock) {
+                      const StockPolytope& stock) {
   std::vector<ExactPlane> near;
   for (std::size_t k = 0; k < own.size(); ++k) {
     if (static_cast<int>(k) == f) continue;
@@ -97,7 +97,7 @@ ConvexPiece own_facet(const std::vector<ExactPlane>& own, int f, const std::vect
         break;
       }
   }
-  ConvexPiece piece = intersect(piece_in_box(own[f], stock), near);
+  ConvexPiece piece = intersect(piece_in_stock(own[f], stock), near);
   if (piece.empty()) return piece;
   return intersect(std::move(piece), own);
 }
@@ -116,8 +116,8 @@ void minus_cutters(std::vector<ConvexPiece>& pieces,
 
 class Carving {
  public:
-  Carving(const AlignedBox3d& box, const std::vector<CarveSweep>& sweeps)
-      : sweeps_(sweeps), stock_(box_planes(box)), boxes_(sweep_boxes(sweeps)), tree_(boxes_) {
+  Carving(const StockPolytope& stock, const std::vector<CarveSweep>& sweeps)
+      : sweeps_(sweeps), stock_(stock), boxes_(sweep_boxes(sweeps)), tree_(boxes_) {
     std::map<const SweepPolytopeBuilder*, std::size_t> group_index;
     group_of_.resize(sweeps.size());
     local_of_.resize(sweeps.size());
@@ -143,15 +143,16 @@ class Carving {
         moves.push_back(m);
       }
       group.culling =
-          std::make_unique<SweepCulling>(*group.builder, std::move(moves), std::move(joined), box);
+          std::make_unique<SweepCulling>(*group.builder, std::move(moves), std::move(joined), stock.bounds);
     }
   }
 
   std::size_t tools() const { return groups_.size(); }
+  std::size_t stock_faces() const { return stock_.planes.size(); }
 
   // Stock face f minus every sweep whose box meets it, in move order.
   std::vector<ConvexPiece> stock_face(int f, Workers& workers, ExecutionPolicy policy) const {
-    ConvexPiece face = piece_in_box(stock_[f], stock_);
+    ConvexPiece face = piece_in_stock(stock_.planes[f], stock_);
     ++workers.local().stages.carve.facets;
     std::vector<std::uint32_t> near;
     tree_.for_each_overlapping(grown(box_of({face})),
@@ -264,7 +265,7 @@ class Carving {
   }
 
   const std::vector<CarveSweep>& sweeps_;
-  std::array<ExactPlane, 6> stock_;
+  const StockPolytope& stock_;
   std::vector<AlignedBox3d> boxes_;
   AabbTree tree_;
   std::vector<ToolGroup> groups_;
@@ -287,25 +288,31 @@ std::vector<AlignedBox3d> sweep_boxes(const std::vector<CarveSweep>& sweeps) {
 
 std::vector<CarvedPiece> carve_culled(const AlignedBox3d& box, const std::vector<CarveSweep>& sweeps,
                                       ExecutionPolicy policy, CarveStages* stages) {
+  return carve_culled(box_stock_polytope(box), sweeps, policy, stages);
+}
+
+std::vector<CarvedPiece> carve_culled(const StockPolytope& stock, const std::vector<CarveSweep>& sweeps,
+                                      ExecutionPolicy policy, CarveStages* stages) {
   const double start = thread_seconds();
-  const Carving carving(box, sweeps);
+  const Carving carving(stock, sweeps);
   const double setup = thread_seconds() - start;
   Workers workers([&] {
     Worker w;
     w.scratch.resize(carving.tools());
     return w;
   });
-  // Items 0-5: the stock faces; then one per move. Each writes its own slot.
-  std::vector<std::vector<CarvedPiece>> slots(6 + sweeps.size());
+  // Items 0 to faces-1: the stock faces; then one per move. Each writes its own slot.
+  const std::size_t faces = carving.stock_faces();
+  std::vector<std::vector<CarvedPiece>> slots(faces + sweeps.size());
   for_each_index(policy, 0, slots.size(), [&](std::size_t item) {
     Worker& w = workers.local();
     std::vector<CarvedPiece>& out = slots[item];
-    if (item < 6) {
+    if (item < faces) {
       for (ConvexPiece& p : carving.stock_face(static_cast<int>(item), workers, policy))
         out.push_back(CarvedPiece{canonical(std::move(p)), -1, static_cast<std::int32_t>(item)});
       return;
     }
-    const auto g = static_cast<std::uint32_t>(item - 6);
+    const auto g = static_cast<std::uint32_t>(item - faces);
     for (auto& [facet, pieces] : carving.sweep(g, w))
       for (ConvexPiece& p : pieces)
         out.push_back(CarvedPiece{canonical(std::move(p)), static_cast<std::int32_t>(g), facet});

@@ -43,7 +43,7 @@ std::vector<Segment> segments_of(const Job& job, double chord_tolerance) {
 
 ErodeResult erode2(const Job& job, const ErodeOptions& options) {
   const auto start = std::chrono::steady_clock::now();
-  if (job.stock.type != StockType::Box) throw InputError("generator 2: only box stock is supported so far");
+  if (job.stock.type == StockType::Mesh) throw InputError("generator 2: mesh stock is not supported yet");
   const double tolerance = options.tolerance > 0.0 ? options.tolerance : job.tolerance;
   if (!(tolerance > 0.0)) throw InputError("generator 2: the tolerance must be > 0");
   Progress& progress = options.progress ? *options.progress : null_progress();
@@ -61,7 +61,9 @@ ErodeResult erode2(const Job& job, const ErodeOptions& options) {
       builders.emplace(
           s.tool, std::make_unique<SweepPolytopeBuilder>(
                       tool_polytope(job.tool_of(*job.moves()[s.move]).profile, 0.4 * tolerance).polytope));
-  const Eigen::AlignedBox3d stock = job.stock.box;
+  // The rest of the tolerance: a cylinder's prism within 0.2 of it.
+  const StockPolytope stock_polytope = convex_stock_polytope(job.stock, 0.2 * tolerance);
+  const Eigen::AlignedBox3d stock = stock_polytope.bounds;
   std::vector<CarveSweep> sweeps;
   std::vector<std::int32_t> move_index, move_line;
   for (const Segment& s : segments) {
@@ -76,10 +78,10 @@ ErodeResult erode2(const Job& job, const ErodeOptions& options) {
   progress.begin("erode2: carve", 1);
   if (progress.interrupted()) throw Interrupted("erode2: interrupted");
   CarveStages stages;
-  const std::vector<CarvedPiece> pieces = carve_culled(stock, sweeps, options.policy, &stages);
+  const std::vector<CarvedPiece> pieces = carve_culled(stock_polytope, sweeps, options.policy, &stages);
   progress.advance(1);
   progress.end();
-  stats.patches = static_cast<std::size_t>(stages.culling.facets + 6);
+  stats.patches = static_cast<std::size_t>(stages.culling.facets) + stock_polytope.planes.size();
   stats.patches_kept = pieces.size();
   stats.seconds_trim = seconds_since(start) - stats.seconds_setup;
 
