@@ -22,10 +22,10 @@ const std::string kData = MORPHMILL_TEST_DATA;
 
 class ErodeEstimate : public ::testing::TestWithParam<const char*> {};
 
-TEST_P(ErodeEstimate, IsWithinAFactorOfTwoOfTheMeasuredPeak) {
-  const auto dir = morphmill_test::scratch_dir("erode_estimate", GetParam());
-  const Measured m = run_measured("erode '" + kData + "/jobs/" + GetParam() + ".json' -o '" +
-                                      (dir / "out.ply").string() + "' --allow-open",
+void expect_estimate_within_two_of_the_peak(const std::string& job, const std::string& options) {
+  const auto dir = morphmill_test::scratch_dir("erode_estimate", job + options);
+  const Measured m = run_measured("erode '" + kData + "/jobs/" + job + ".json' -o '" +
+                                      (dir / "out.ply").string() + "' --allow-open" + options,
                                   dir);
   // 1 is today's generator leaving a surface that is not a sound solid (written with --allow-open):
   // the run is whole either way, and so is its peak.
@@ -39,11 +39,38 @@ TEST_P(ErodeEstimate, IsWithinAFactorOfTwoOfTheMeasuredPeak) {
   std::filesystem::remove_all(dir);
 }
 
+TEST_P(ErodeEstimate, IsWithinAFactorOfTwoOfTheMeasuredPeak) {
+  expect_estimate_within_two_of_the_peak(GetParam(), "");
+}
+
 INSTANTIATE_TEST_SUITE_P(BundledJobs, ErodeEstimate,
                          ::testing::Values("single_slot", "mesh_stock", "helix_pocket", "leave_reenter",
                                            "slots", "through_slots"));
 
+// Generator 2's estimate (the sweeps' facets, generator2/erode_limits.cpp), on the box-stock jobs.
+class Erode2Estimate : public ::testing::TestWithParam<const char*> {};
+
+TEST_P(Erode2Estimate, IsWithinAFactorOfTwoOfTheMeasuredPeak) {
+  expect_estimate_within_two_of_the_peak(GetParam(), " --generator 2");
+}
+
+INSTANTIATE_TEST_SUITE_P(BundledJobs, Erode2Estimate,
+                         ::testing::Values("single_slot", "helix_pocket", "leave_reenter", "slots",
+                                           "through_slots", "design_gouge_excess"));
+
 class ErodeRefusal : public morphmill_test::ScratchDirTest {};
+
+TEST_F(ErodeRefusal, Generator2RefusesATinyToleranceBeforeBuildingAnything) {
+  const auto r = run_measured("erode '" + kData + "/jobs/slots.json' --generator 2 --tolerance 1e-6 -o '" +
+                                  path("out.ply") + "' --memory-cap 8",
+                              dir_);
+  EXPECT_EQ(r.exit_code, 2) << r.err;
+  EXPECT_NE(r.err.find("slots.json: erode: at tolerance 1e-06"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("sweep facets"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("over the memory cap"), std::string::npos) << r.err;
+  EXPECT_FALSE(std::filesystem::exists(path("out.ply")));
+  EXPECT_LT(r.peak_bytes, 200.0 * (1 << 20));
+}
 
 TEST_F(ErodeRefusal, ACapBelowTheEstimateRefusesBeforeComputing) {
   const auto r = run_measured(

@@ -191,3 +191,24 @@ TEST(Erode2, RefusesWhatItDoesNotSupport) {
 }
 
 }  // namespace
+
+namespace {
+
+TEST(Erode2, RefusesAToleranceTheCoordinatesCannotResolve) {
+  // coord_offset_1e15 of the hostile reproducers: doubles are 0.125 apart at 1e15.
+  const Vector3d far(1e15, 0, 0);
+  morph::Job job = job_of(Eigen::AlignedBox3d(far, far + Vector3d(20, 10, 5)), morph::ball_tool(1.5, 20.0),
+                          {far + Vector3d(-5, 5, 4), far + Vector3d(25, 5, 4)}, 0.01);
+  job.file = "far.json";
+  try {
+    morph::erode2(job);
+    ADD_FAILURE() << "generator 2 ran at 1e15 with a tolerance of 0.01";
+  } catch (const morph::InputError& e) {
+    EXPECT_NE(
+        std::string(e.what()).find("far.json: tolerance 0.01 is below what the coordinates can resolve"),
+        std::string::npos)
+        << e.what();
+  }
+}
+
+}  // namespace

@@ -116,6 +116,25 @@ TEST(ToolPolytope, FinerDeviationMeansMoreFacetsAndTheSagittaFixesTheSectorCount
   EXPECT_GT(r * (1.0 - std::cos(M_PI / (fine.sectors - 4))), 0.9 * 0.004);
 }
 
+TEST(ToolPolytope, ItsSizeIsKnownWithoutBuildingIt) {
+  for (double deviation : {0.004, 0.05}) {
+    for (const auto& [name, tool] : morph_test::every_tool_shape()) {
+      SCOPED_TRACE(name + " at " + std::to_string(deviation));
+      const morph::ToolPolytope built = morph::tool_polytope(tool.profile, deviation);
+      const morph::ToolPolytopeSize size = morph::tool_polytope_size(tool.profile, deviation);
+      EXPECT_EQ(size.sectors, built.sectors);
+      EXPECT_EQ(size.meridian_points, built.meridian.size());
+      // Exact for pointed and rounded ends; a flat end's N-gon is counted as a fan of N.
+      const std::size_t n = static_cast<std::size_t>(built.sectors);
+      EXPECT_GE(size.facets, built.polytope.facets.size());
+      EXPECT_LE(size.facets, built.polytope.facets.size() + 2 * (n - 1));
+      EXPECT_EQ((size.facets - built.polytope.facets.size()) % (n - 1), 0u);
+    }
+  }
+  const morph::Tool ball = morph::ball_tool(1.0, 5.0);
+  EXPECT_THROW(morph::tool_polytope_size(ball.profile, 1e-12), morph::LimitError);
+}
+
 TEST(ToolPolytope, RejectsBadInput) {
   const morph::Tool ball = morph::ball_tool(1.0, 5.0);
   EXPECT_THROW(morph::tool_polytope(ball.profile, 0.0), morph::InputError);

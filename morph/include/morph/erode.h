@@ -84,6 +84,15 @@ struct ErodeResult {
   ErodeStats stats;
 };
 
+/// Throws LimitError when `bytes`, an up-front estimate of the peak memory at `tolerance`, is over
+/// options.memory_cap_bytes (0: no cap); the message names the estimate, `what` it counts, the cap,
+/// and what would lower it.
+void check_memory_cap(const ErodeOptions& options, double tolerance, double bytes, const std::string& what);
+
+/// Throws InputError naming job.file when `tolerance` is below what the doubles resolve at the
+/// job's largest coordinate (the stock's and the moves'), with the tolerance that would do.
+void check_tolerance_resolves(const Job& job, double tolerance);
+
 /// Computes the boundary of the regularized partial erosion of `job`. Supports sphere and ballend
 /// tools, straight moves, arcs and helices (split into chords within half the tolerance), and box
 /// and cylinder stock. Throws InputError for an unsupported tool or stock type or a non-positive

@@ -29,6 +29,16 @@ struct ToolPolytope {
   std::vector<Eigen::Vector2d> meridian;
 };
 
+/// The size of tool_polytope(profile, max_deviation) without building it, for the memory
+/// estimate made before anything large is built. `facets` is exact for tools with a pointed or
+/// rounded end and at most 2 × sectors over for flat ends (counted as fans).
+struct ToolPolytopeSize {
+  std::size_t meridian_points = 0;  ///< of the straddling meridian, the axis points included
+  int sectors = 0;                  ///< of every ring
+  std::size_t facets = 0;
+};
+ToolPolytopeSize tool_polytope_size(const ToolProfile& profile, double max_deviation);
+
 /// The tool polytope of `profile` within `max_deviation` (job units, > 0) of the exact tool
 /// surface in both directions. Throws InputError for an empty profile or a deviation that is
 /// not positive and finite, LimitError when it would need more than 2^16 sectors or meridian

@@ -2437,20 +2437,6 @@ constexpr double kBytesPerSegment = 600.0;
 constexpr double kBytesPerPatch = 400.0;
 constexpr double kBytesPerGridCell = 100.0;
 
-void check_memory_estimate(const ErodeOptions& options, double tolerance, double bytes,
-                           const std::string& what) {
-  if (options.memory_cap_bytes == 0 || bytes <= double(options.memory_cap_bytes)) return;
-  std::ostringstream message;
-  message << "erode: at tolerance " << tolerance << " the job needs about " << std::fixed
-          << std::setprecision(0) << bytes / double(1 << 20) << " MiB (" << what
-          << "), over the memory cap of " << double(options.memory_cap_bytes) / double(1 << 20)
-          << " MiB: raise the tolerance (memory grows about as 1 / tolerance) or the cap";
-  throw LimitError(message.str());
-}
-
-/// A tolerance must span this many spacings of the doubles at the job's largest coordinate.
-constexpr double kResolutionFactor = 1e6;
-
 void check_job(const Job& job, double tolerance) {
   if (!(tolerance > 0.0) || !std::isfinite(tolerance))
     throw InputError(job.file + ": tolerance must be positive, got " + std::to_string(tolerance));
@@ -2471,26 +2457,7 @@ void check_job(const Job& job, double tolerance) {
     if (tool.type == ToolType::BallEnd && !(tool.length >= 0.0))
       throw InputError(job.file + ": tool " + std::to_string(number) + " needs a non-negative length");
   }
-  // The generator compares distances and solves for roots in coordinates as large as the job's:
-  // a tolerance within kResolutionFactor spacings of the doubles there cannot be met (at x = 1e15
-  // doubles are 0.125 apart, and a 0.01 tolerance gave open meshes of negative volume).
-  double largest = 0.0;
-  const Eigen::AlignedBox3d stock_box = bounds(job.stock);
-  if (!stock_box.isEmpty())
-    largest = std::max(stock_box.min().cwiseAbs().maxCoeff(), stock_box.max().cwiseAbs().maxCoeff());
-  for (const Path& path : job.paths)
-    for (const Move& move : path.moves)
-      largest = std::max({largest, move.start.cwiseAbs().maxCoeff(), move.end.cwiseAbs().maxCoeff()});
-  const double spacing = largest * std::numeric_limits<double>::epsilon();
-  if (!(tolerance >= kResolutionFactor * spacing)) {
-    std::ostringstream message;
-    message << std::setprecision(3) << job.file << ": tolerance " << tolerance
-            << " is below what the coordinates can resolve: at " << largest << " doubles are " << spacing
-            << " apart, and the generator needs a tolerance of at least " << kResolutionFactor * spacing
-            << " (" << kResolutionFactor * spacing / tolerance
-            << " times the one asked for) there; move the job nearer the origin or raise the tolerance";
-    throw InputError(message.str());
-  }
+  check_tolerance_resolves(job, tolerance);
 }
 
 }  // namespace
@@ -2528,7 +2495,7 @@ ErodeResult erode(const Job& job, const ErodeOptions& options) {
   const double stock_triangles =
       job.stock.type == StockType::Mesh ? double(job.stock.mesh.triangles.size()) : 0.0;
   const double stock_bytes = kBytesPerStockTriangle * stock_triangles;
-  check_memory_estimate(
+  check_memory_cap(
       options, tolerance,
       kBytesFixed + stock_bytes + stock_triangles * kBytesPerPatch + segment_estimate * kBytesPerSegment,
       std::to_string(std::llround(segment_estimate)) + " segments after splitting arcs into chords, " +
@@ -2603,9 +2570,9 @@ ErodeResult erode(const Job& job, const ErodeOptions& options) {
     stats.grid_cells += (p.form == Form::Triangle ? 0.5 : 1.0) * double(p.nu) * double(p.nv);
   stats.estimated_bytes = kBytesFixed + stock_bytes + double(ctx.segments.size()) * kBytesPerSegment +
                           double(patches.size()) * kBytesPerPatch + stats.grid_cells * kBytesPerGridCell;
-  check_memory_estimate(options, tolerance, stats.estimated_bytes,
-                        std::to_string(patches.size()) + " patches with " +
-                            std::to_string(std::llround(stats.grid_cells)) + " tessellation cells");
+  check_memory_cap(options, tolerance, stats.estimated_bytes,
+                   std::to_string(patches.size()) + " patches with " +
+                       std::to_string(std::llround(stats.grid_cells)) + " tessellation cells");
   stats.seconds_setup = seconds_since(t_start);
 
   // Trim every patch independently.

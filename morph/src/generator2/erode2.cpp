@@ -8,7 +8,10 @@
 #include <morph/sweep_polytope.h>
 #include <morph/tool_polytope.h>
 
+#include "generator2/erode_limits.h"
+
 #include <chrono>
+#include <cmath>
 #include <map>
 #include <memory>
 
@@ -60,11 +63,21 @@ ErodeResult erode2(const Job& job, const ErodeOptions& options) {
   const auto start = std::chrono::steady_clock::now();
   if (job.stock.type == StockType::Mesh) throw InputError("generator 2: mesh stock is not supported yet");
   const double tolerance = options.tolerance > 0.0 ? options.tolerance : job.tolerance;
-  if (!(tolerance > 0.0)) throw InputError("generator 2: the tolerance must be > 0");
+  if (!(tolerance > 0.0) || !std::isfinite(tolerance))
+    throw InputError(job.file + ": generator 2: the tolerance must be positive, got " +
+                     std::to_string(tolerance));
+  check_tolerance_resolves(job, tolerance);
   Progress& progress = options.progress ? *options.progress : null_progress();
 
   ErodeResult result;
   ErodeStats& stats = result.stats;
+  // What the job will cost, before anything large is built.
+  const Erode2Estimate estimate = estimate_erode2(job, tolerance);
+  stats.estimated_bytes = estimate.bytes;
+  check_memory_cap(options, tolerance, estimate.bytes,
+                   std::to_string(std::llround(estimate.segments)) +
+                       " segments after splitting arcs into chords, " +
+                       std::to_string(std::llround(estimate.sweep_facets)) + " sweep facets");
   stats.moves = job.move_count();
   const std::vector<Segment> segments = segments_of(job, 0.4 * tolerance);
   stats.segments = segments.size();

@@ -121,28 +121,52 @@ PolytopeFacet facet(const std::vector<Vector3d>& vertices, std::vector<int> loop
   return f;
 }
 
-}  // namespace
+// Half the budget each to the meridian's chords and the rings' sides; straddling halves both.
+double chord_sagitta(double max_deviation) {
+  return 0.9 * max_deviation;
+}
 
-ToolPolytope tool_polytope(const ToolProfile& profile, double max_deviation) {
+// The inscribed meridian's chords within the budget (checked: the tool and the deviation).
+std::vector<Chord> meridian_chords(const ToolProfile& profile, double max_deviation) {
   if (profile.empty()) throw InputError("tool polytope: the tool has no profile");
   if (!(max_deviation > 0.0) || !std::isfinite(max_deviation))
     throw InputError("tool polytope: the deviation must be positive and finite, got " +
                      std::to_string(max_deviation));
-  // Half the budget each to the meridian's chords and the rings' sides; straddling halves both.
-  const double sagitta = 0.9 * max_deviation;
   const double scale = std::max(profile.radius(), profile.height());
   std::vector<Chord> chords;
-  for (const ProfilePiece& piece : profile.pieces()) append_chords(piece, sagitta, chords);
+  for (const ProfilePiece& piece : profile.pieces())
+    append_chords(piece, chord_sagitta(max_deviation), chords);
   chords = tidy(chords, scale);
   if (chords.size() > kMaxCount)
     throw LimitError("tool polytope: the meridian would need more than 65536 pieces");
+  return chords;
+}
 
+// Sectors of every ring, a multiple of 4 so the polytope keeps the tool's quarter symmetry.
+int sector_count(const ToolProfile& profile, double max_deviation) {
+  const double half_step = std::acos(std::max(-1.0, 1.0 - chord_sagitta(max_deviation) / profile.radius()));
+  return 4 * checked_count(M_PI / half_step / 4.0, "the rings");
+}
+
+}  // namespace
+
+ToolPolytopeSize tool_polytope_size(const ToolProfile& profile, double max_deviation) {
+  ToolPolytopeSize size;
+  size.meridian_points = meridian_chords(profile, max_deviation).size() + 1;
+  size.sectors = sector_count(profile, max_deviation);
+  // Quads between consecutive rings, and at each end an N-gon or an apex fan (counted as a fan).
+  const std::size_t rings = size.meridian_points - 2;
+  size.facets = static_cast<std::size_t>(size.sectors) * (rings + 1);
+  return size;
+}
+
+ToolPolytope tool_polytope(const ToolProfile& profile, double max_deviation) {
+  const std::vector<Chord> chords = meridian_chords(profile, max_deviation);
   ToolPolytope result;
   result.meridian = straddling_meridian(chords);
   for (Vector2d& p : result.meridian) p.y() -= profile.point_height();
   const std::vector<Vector2d>& meridian = result.meridian;
-  const double half_step = std::acos(std::max(-1.0, 1.0 - sagitta / profile.radius()));
-  const int sectors = 4 * checked_count(M_PI / half_step / 4.0, "the rings");
+  const int sectors = sector_count(profile, max_deviation);
   result.sectors = sectors;
   const double radial_scale = 2.0 / (1.0 + std::cos(M_PI / sectors));
 

@@ -1,0 +1,87 @@
+// SPDX-License-Identifier: Apache-2.0
+#include "generator2/erode_limits.h"
+
+#include <morph/exceptions.h>
+#include <morph/path.h>
+#include <morph/tool_polytope.h>
+
+#include <algorithm>
+#include <cmath>
+#include <iomanip>
+#include <limits>
+#include <map>
+#include <sstream>
+
+namespace morph {
+
+namespace {
+
+// The process itself (libraries, the job, the output's writing); measured on single_slot.json.
+constexpr double kBytesFixed = 45.0 * (1 << 20);
+// Per facet of the sweep polytopes: its halfspace and box in the culling, and for the ones kept
+// their exact polygons, cutters, conformed loops and output triangles. Measured 280-690 bytes
+// over the bundled jobs (helix_pocket the least, slots the most).
+constexpr double kBytesPerSweepFacet = 500.0;
+
+/// A tolerance must span this many spacings of the doubles at the job's largest coordinate.
+constexpr double kResolutionFactor = 1e6;
+
+}  // namespace
+
+void check_tolerance_resolves(const Job& job, double tolerance) {
+  // The generators compare distances and signs in coordinates as large as the job's: a tolerance
+  // within kResolutionFactor spacings of the doubles there cannot be met (at x = 1e15 doubles are
+  // 0.125 apart, and a 0.01 tolerance gave open meshes of negative volume).
+  double largest = 0.0;
+  const Eigen::AlignedBox3d stock_box = bounds(job.stock);
+  if (!stock_box.isEmpty())
+    largest = std::max(stock_box.min().cwiseAbs().maxCoeff(), stock_box.max().cwiseAbs().maxCoeff());
+  for (const Path& path : job.paths)
+    for (const Move& move : path.moves)
+      largest = std::max({largest, move.start.cwiseAbs().maxCoeff(), move.end.cwiseAbs().maxCoeff()});
+  const double spacing = largest * std::numeric_limits<double>::epsilon();
+  if (!(tolerance >= kResolutionFactor * spacing)) {
+    std::ostringstream message;
+    message << std::setprecision(3) << job.file << ": tolerance " << tolerance
+            << " is below what the coordinates can resolve: at " << largest << " doubles are " << spacing
+            << " apart, and the generator needs a tolerance of at least " << kResolutionFactor * spacing
+            << " (" << kResolutionFactor * spacing / tolerance
+            << " times the one asked for) there; move the job nearer the origin or raise the tolerance";
+    throw InputError(message.str());
+  }
+}
+
+void check_memory_cap(const ErodeOptions& options, double tolerance, double bytes, const std::string& what) {
+  if (options.memory_cap_bytes == 0 || bytes <= double(options.memory_cap_bytes)) return;
+  std::ostringstream message;
+  message << "erode: at tolerance " << tolerance << " the job needs about " << std::fixed
+          << std::setprecision(0) << bytes / double(1 << 20) << " MiB (" << what
+          << "), over the memory cap of " << double(options.memory_cap_bytes) / double(1 << 20)
+          << " MiB: raise the tolerance (memory grows about as 1 / tolerance) or the cap";
+  throw LimitError(message.str());
+}
+
+Erode2Estimate estimate_erode2(const Job& job, double tolerance) {
+  Erode2Estimate estimate;
+  // A sweep has the tool's facets (each at the start or at the end) and one parallelogram per
+  // silhouette edge: about two per sector and two per meridian point.
+  std::map<int, double> facets_per_sweep;
+  for (const Path& path : job.paths)
+    for (const Move& move : path.moves) {
+      auto it = facets_per_sweep.find(move.tool);
+      if (it == facets_per_sweep.end()) {
+        const ToolPolytopeSize size = tool_polytope_size(job.tool_of(move).profile, 0.4 * tolerance);
+        it =
+            facets_per_sweep
+                .emplace(move.tool, double(size.facets) + 2.0 * (size.sectors + double(size.meridian_points)))
+                .first;
+      }
+      const double segments = chord_count(move, 0.4 * tolerance);
+      estimate.segments += segments;
+      estimate.sweep_facets += segments * it->second;
+    }
+  estimate.bytes = kBytesFixed + kBytesPerSweepFacet * estimate.sweep_facets;
+  return estimate;
+}
+
+}  // namespace morph
