@@ -39,6 +39,8 @@ struct CarveStages {
   /// Exact predicate calls and how many the float filter left to exact arithmetic: building the
   /// kept facets (own) and cutting them (cut).
   double predicates_own = 0.0, exact_own = 0.0, predicates_cut = 0.0, exact_cut = 0.0;
+  /// Of those, the exact zeros settled by the tie order (building and cutting the kept facets).
+  double ties = 0.0;
 };
 
 /// The pieces of box \ ∪ sweeps, as carve_box() gives them for the same moves (up to the order

@@ -221,6 +221,7 @@ class Carving {
       w.stages.seconds_own_facets += thread_seconds() - facet_start;
       w.stages.predicates_own += static_cast<double>(predicate_counts().calls - before.calls);
       w.stages.exact_own += static_cast<double>(predicate_counts().exact - before.exact);
+      w.stages.ties += static_cast<double>(predicate_counts().ties - before.ties);
       if (facet.empty()) continue;
       const PredicateCounts cut_before = predicate_counts();
       // The listed cutters with their crossing planes, and other tools' sweeps with all theirs.
@@ -252,6 +253,7 @@ class Carving {
       if (stock_.mesh) pieces = keep_inside(*stock_.mesh, std::move(pieces));
       w.stages.predicates_cut += static_cast<double>(predicate_counts().calls - cut_before.calls);
       w.stages.exact_cut += static_cast<double>(predicate_counts().exact - cut_before.exact);
+      w.stages.ties += static_cast<double>(predicate_counts().ties - cut_before.ties);
       if (!pieces.empty()) out.emplace_back(k.facet, std::move(pieces));
     }
     w.stages.seconds_facets += thread_seconds() - culled;
@@ -331,6 +333,7 @@ std::vector<CarvedPiece> carve_culled(const StockPolytope& stock, const std::vec
     total.exact_own += w.stages.exact_own;
     total.predicates_cut += w.stages.predicates_cut;
     total.exact_cut += w.stages.exact_cut;
+    total.ties += w.stages.ties;
   }
   for (std::vector<CarvedPiece>& slot : slots)
     for (CarvedPiece& p : slot) out.push_back(std::move(p));

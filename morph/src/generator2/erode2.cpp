@@ -39,6 +39,21 @@ std::vector<Segment> segments_of(const Job& job, double chord_tolerance) {
   return out;
 }
 
+// The limit step's merges, removals and zips are exact (the construction's ε → 0); what it keeps
+// apart or leaves flat, and every change the rounding to doubles makes, is a fallback.
+std::vector<StepCount> steps_counted(const LimitCounts& limit, const EmitCounts& rounding) {
+  return {{"limit_merged_vertices", limit.merged_vertices, false},
+          {"limit_removed_polygons", limit.removed_polygons, false},
+          {"limit_zipped_slivers", limit.zipped_slivers, false},
+          {"limit_kept_apart", limit.kept_apart, true},
+          {"limit_flat_polygons_left", limit.flat_polygons_left, true},
+          {"limit_unsettled", limit.unsettled, true},
+          {"rounding_collapsed_edges", rounding.collapsed_edges, true},
+          {"rounding_flipped_edges", rounding.flipped_edges, true},
+          {"rounding_rerounded_vertices", rounding.rerounded_vertices, true},
+          {"rounding_misoriented_left", rounding.misoriented_left, true}};
+}
+
 }  // namespace
 
 ErodeResult erode2(const Job& job, const ErodeOptions& options) {
@@ -85,7 +100,10 @@ ErodeResult erode2(const Job& job, const ErodeOptions& options) {
   stats.seconds_trim = seconds_since(start) - stats.seconds_setup;
 
   const ConformedSurface surface = conform(pieces, options.policy);
-  result.mesh = emit(collapse_degenerates(surface), move_index, move_line);
+  const LimitSurface limit = collapse_degenerates(surface);
+  EmitCounts rounding;
+  result.mesh = emit(limit, move_index, move_line, &rounding);
+  stats.steps = steps_counted(limit.counts, rounding);
   stats.triangles = result.mesh.triangle_count();
   stats.vertices = result.mesh.vertex_count();
   stats.seconds_total = seconds_since(start);

@@ -1,19 +1,20 @@
 // SPDX-License-Identifier: Apache-2.0
 #include <morph/plane_predicates.h>
 
-#include <boost/multiprecision/cpp_int.hpp>
+#include "generator2/exact_determinant.h"
 
 #include <algorithm>
 #include <array>
 #include <cfloat>
 #include <cmath>
+#include <optional>
 #include <stdexcept>
 
 namespace morph {
 namespace {
 
-using Exact = boost::multiprecision::cpp_int;
-using Row = std::array<double, 4>;  // normal, offset
+using exact::ExactRows;
+using exact::Row;  // normal, offset
 
 constexpr double kUnit = DBL_EPSILON / 2;  // unit roundoff
 // Error bounds of the evaluation orders below: a 3×3 determinant by cofactors is within
@@ -33,9 +34,6 @@ Row row_of(const ExactPlane& p) {
 int sign(double v) {
   return (v > 0) - (v < 0);
 }
-int sign(const Exact& v) {
-  return v.sign();
-}
 
 struct Filtered {
   double value, bound;
@@ -54,35 +52,6 @@ Filtered det3(const Row& a, const Row& b, const Row& c) {
   const double p2 = std::fabs(b[0] * c[1]) + std::fabs(b[1] * c[0]);
   const double permanent = std::fabs(a[0]) * p0 + std::fabs(a[1]) * p1 + std::fabs(a[2]) * p2;
   return {a[0] * m0 - a[1] * m1 + a[2] * m2, kDet3Bound * permanent};
-}
-
-// The rows scaled by powers of two (each row by its own, which keeps every sign) into integers.
-std::array<std::array<Exact, 4>, 4> exact_rows(const std::array<Row, 4>& rows) {
-  std::array<std::array<Exact, 4>, 4> out;
-  for (int r = 0; r < 4; ++r) {
-    int lowest = INT32_MAX;  // exponent of the least significant bit among the row's entries
-    for (double v : rows[r])
-      if (v != 0) {
-        int e = 0;
-        std::frexp(v, &e);
-        lowest = std::min(lowest, e - DBL_MANT_DIG);
-      }
-    for (int c = 0; c < 4; ++c) {
-      const double v = rows[r][c];
-      if (v == 0) continue;
-      int e = 0;
-      const double mantissa = std::frexp(v, &e);  // v = mantissa · 2^e, 0.5 <= |mantissa| < 1
-      Exact m = static_cast<std::int64_t>(std::ldexp(mantissa, DBL_MANT_DIG));
-      out[r][c] = m << (e - DBL_MANT_DIG - lowest);
-    }
-  }
-  return out;
-}
-
-Exact exact_det3(const std::array<Exact, 4>& a, const std::array<Exact, 4>& b,
-                 const std::array<Exact, 4>& c) {
-  return a[0] * (b[1] * c[2] - b[2] * c[1]) - a[1] * (b[0] * c[2] - b[2] * c[0]) +
-         a[2] * (b[0] * c[1] - b[1] * c[0]);
 }
 
 // The four planes as rows of [normal | offset]: the cofactors of the offset column, the
@@ -106,17 +75,16 @@ class FourPlanes {
       bound += std::fabs(rows_[i][3]) * (cofactor_[i].bound + kDet4Bound * std::fabs(cofactor_[i].value));
     }
     if (int s = Filtered{value, bound}.certain()) return s;
-    const auto& x = exact();
-    Exact det = 0;
-    for (int i = 0; i < 4; ++i) det += x[i][3] * exact_cofactor(i);
     ++predicate_counts().exact;
-    return sign(det);
+    return exact().det4_sign();
   }
   // Sign of the cofactor of row i's offset.
   int cofactor_sign(int i) {
     if (int s = cofactor_[i].certain()) return s;
     ++predicate_counts().exact;
-    return sign(exact_cofactor(i));
+    const auto [a, b, c] = others(i);
+    const int minor = exact().minor_sign(a, b, c);
+    return (i % 2 == 0) ? -minor : minor;
   }
 
  private:
@@ -126,27 +94,19 @@ class FourPlanes {
       if (k != i) o[n++] = k;
     return o;
   }
-  const std::array<std::array<Exact, 4>, 4>& exact() {
-    if (!have_exact_) exact_ = exact_rows(rows_), have_exact_ = true;
-    return exact_;
-  }
-  Exact exact_cofactor(int i) {
-    const auto& x = exact();
-    const auto [a, b, c] = others(i);
-    Exact m = exact_det3(x[a], x[b], x[c]);
-    return (i % 2 == 0) ? Exact(-m) : m;
+  const ExactRows& exact() {
+    if (!exact_) exact_.emplace(rows_);
+    return *exact_;
   }
 
   std::array<Row, 4> rows_;
   std::array<Filtered, 4> cofactor_{};
-  std::array<std::array<Exact, 4>, 4> exact_;
-  bool have_exact_ = false;
+  std::optional<ExactRows> exact_;
 };
 
 int exact_normals_orientation(const Row& a, const Row& b, const Row& c) {
-  const auto x = exact_rows({a, b, c, Row{}});
   ++predicate_counts().exact;
-  return sign(exact_det3(x[0], x[1], x[2]));
+  return ExactRows({a, b, c, Row{}}, 3).minor_sign(0, 1, 2);
 }
 
 }  // namespace

@@ -1,0 +1,58 @@
+// SPDX-License-Identifier: Apache-2.0
+#pragma once
+/// \file exact_determinant.h
+/// The exact stage of generator 2's plane predicates: signs of the 4×4 determinant of up to four
+/// planes' rows [normal | offset] and of 3×3 minors of their normals, the doubles taken as exact
+/// rationals, in the narrowest integer type that provably holds every intermediate value.
+///
+/// Each row is scaled by its own power of two (which keeps every sign) into integers: an entry
+/// m·2^e (m odd, |m| < 2^53) becomes m·2^(e - e_low), e_low the row's lowest such exponent. A
+/// row's *width* W is the largest bit length of its integers, so every entry is < 2^W.
+///
+/// Bound. A k×k determinant is a sum of k! products of k entries, one from each row, so every
+/// term is < 2^(W_1+…+W_k) and every partial sum of the cofactor expansion evaluated below (each
+/// an exact sub-sum of the expansion's terms, with their signs) is < k!·2^(ΣW) ≤ 2^(ΣW + 5) for
+/// k = 4 (24 < 2^5) and 2^(ΣW + 3) for k = 3 (6 < 2^3). A signed type with B bits of magnitude
+/// therefore evaluates the determinant without overflow when ΣW + 5 ≤ B (k = 4) or ΣW + 3 ≤ B
+/// (k = 3). The tiers: __int128 (B = 127), Boost's fixed int256_t and int512_t (unchecked,
+/// signed magnitude: B = 256, 512; no allocation), and cpp_int (unbounded, allocating) beyond.
+/// Unquantized unit normals have W ≈ 53–120 (int256/int512); quantized planes (integer normals
+/// and offsets on a grid, quantize.h) have W ≤ 53 and mostly fit __int128 or int256.
+#include <array>
+#include <cstdint>
+
+namespace morph::exact {
+
+using Row = std::array<double, 4>;  ///< normal x, y, z, offset
+
+/// Which integer type evaluates: Auto picks the narrowest that the bound allows; the others
+/// force one (for tests; a forced type the bound does not allow throws std::logic_error).
+enum class Width { Auto, Bits128, Bits256, Bits512, Unbounded };
+
+/// Up to four rows as exact integers (see the file comment).
+class ExactRows {
+ public:
+  /// The first `count` (3 or 4) of `rows`; entries must be finite.
+  explicit ExactRows(const std::array<Row, 4>& rows, int count = 4);
+
+  /// Sign of det[rows 0..3] (all four columns).
+  int det4_sign(Width width = Width::Auto) const;
+  /// Sign of det[normals of rows a, b, c] (in that order).
+  int minor_sign(int a, int b, int c, Width width = Width::Auto) const;
+
+  /// The width W of row r (bits; 0 for a zero row).
+  int width(int r) const { return width_[r]; }
+
+ private:
+  std::array<std::array<std::int64_t, 4>, 4> mantissa_{};  // odd or zero
+  std::array<std::array<int, 4>, 4> shift_{};              // left shift of the mantissa
+  std::array<int, 4> width_{};
+  int count_ = 4;
+
+  template <class Int>
+  int det4_sign_in() const;
+  template <class Int>
+  int minor_sign_in(int a, int b, int c) const;
+};
+
+}  // namespace morph::exact
