@@ -186,7 +186,7 @@ TEST(Erode2, RefusesWhatItDoesNotSupport) {
                           {Vector3d(0, 0, 2), Vector3d(1, 1, 2)});
   job.stock.type = morph::StockType::Cylinder;  // of radius 0
   EXPECT_THROW(morph::erode2(job), morph::InputError);
-  job.stock.type = morph::StockType::Mesh;  // so far
+  job.stock.type = morph::StockType::Mesh;  // with no triangles
   EXPECT_THROW(morph::erode2(job), morph::InputError);
 }
 

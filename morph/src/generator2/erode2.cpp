@@ -61,7 +61,6 @@ std::vector<StepCount> steps_counted(const LimitCounts& limit, const EmitCounts&
 
 ErodeResult erode2(const Job& job, const ErodeOptions& options) {
   const auto start = std::chrono::steady_clock::now();
-  if (job.stock.type == StockType::Mesh) throw InputError("generator 2: mesh stock is not supported yet");
   const double tolerance = options.tolerance > 0.0 ? options.tolerance : job.tolerance;
   if (!(tolerance > 0.0) || !std::isfinite(tolerance))
     throw InputError(job.file + ": generator 2: the tolerance must be positive, got " +
@@ -89,8 +88,8 @@ ErodeResult erode2(const Job& job, const ErodeOptions& options) {
       builders.emplace(
           s.tool, std::make_unique<SweepPolytopeBuilder>(
                       tool_polytope(job.tool_of(*job.moves()[s.move]).profile, 0.4 * tolerance).polytope));
-  // The rest of the tolerance: a cylinder's prism within 0.2 of it.
-  const StockPolytope stock_polytope = convex_stock_polytope(job.stock, 0.2 * tolerance);
+  // The rest of the tolerance: a cylinder's prism, a mesh's vertices on a grid within 0.2 of it.
+  const StockPolytope stock_polytope = generator2_stock(job.stock, 0.2 * tolerance);
   const Eigen::AlignedBox3d stock = stock_polytope.bounds;
   std::vector<CarveSweep> sweeps;
   std::vector<std::int32_t> move_index, move_line;
