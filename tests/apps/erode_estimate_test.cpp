@@ -56,7 +56,7 @@ TEST_P(Erode2Estimate, IsWithinAFactorOfTwoOfTheMeasuredPeak) {
 
 INSTANTIATE_TEST_SUITE_P(BundledJobs, Erode2Estimate,
                          ::testing::Values("single_slot", "helix_pocket", "leave_reenter", "slots",
-                                           "through_slots", "design_gouge_excess"));
+                                           "through_slots", "design_gouge_excess", "mesh_stock"));
 
 class ErodeRefusal : public morphmill_test::ScratchDirTest {};
 

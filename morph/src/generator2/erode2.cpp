@@ -76,7 +76,8 @@ ErodeResult erode2(const Job& job, const ErodeOptions& options) {
   check_memory_cap(options, tolerance, estimate.bytes,
                    std::to_string(std::llround(estimate.segments)) +
                        " segments after splitting arcs into chords, " +
-                       std::to_string(std::llround(estimate.sweep_facets)) + " sweep facets");
+                       std::to_string(std::llround(estimate.sweep_facets)) + " sweep facets, " +
+                       std::to_string(std::llround(estimate.stock_triangles)) + " stock triangles");
   stats.moves = job.move_count();
   const std::vector<Segment> segments = segments_of(job, 0.4 * tolerance);
   stats.segments = segments.size();

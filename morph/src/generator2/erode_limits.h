@@ -12,9 +12,10 @@
 namespace morph {
 
 struct Erode2Estimate {
-  double segments = 0.0;      ///< straight pieces after splitting arcs into chords
-  double sweep_facets = 0.0;  ///< facets of all the sweep polytopes
-  double bytes = 0.0;         ///< estimated peak resident memory of the process
+  double segments = 0.0;         ///< straight pieces after splitting arcs into chords
+  double sweep_facets = 0.0;     ///< facets of all the sweep polytopes
+  double stock_triangles = 0.0;  ///< of a mesh stock
+  double bytes = 0.0;            ///< estimated peak resident memory of the process
 };
 
 /// The estimate at `tolerance` (job units; the tool polytopes and arc chords within 0.4 of it,
