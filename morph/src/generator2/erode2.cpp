@@ -95,7 +95,7 @@ ErodeResult erode2(const Job& job, const ErodeOptions& options) {
   const std::vector<CarvedPiece> pieces = carve_culled(stock_polytope, sweeps, options.policy, &stages);
   progress.advance(1);
   progress.end();
-  stats.patches = static_cast<std::size_t>(stages.culling.facets) + stock_polytope.planes.size();
+  stats.patches = static_cast<std::size_t>(stages.culling.facets) + stock_face_count(stock_polytope);
   stats.patches_kept = pieces.size();
   stats.seconds_trim = seconds_since(start) - stats.seconds_setup;
 
