@@ -14,28 +14,15 @@
 #include <fstream>
 #include <string>
 
+#include "common/test_jobs.h"
+
 namespace {
 
 using Eigen::Vector3d;
 
 morph::Job job_of(const Eigen::AlignedBox3d& box, const morph::Tool& tool,
                   const std::vector<Vector3d>& polyline) {
-  morph::Job job;
-  job.stock.type = morph::StockType::Box;
-  job.stock.box = box;
-  job.tools.emplace(1, tool);
-  job.tolerance = 0.05;
-  morph::Path path;
-  for (std::size_t k = 0; k + 1 < polyline.size(); ++k) {
-    morph::Move m;
-    m.start = polyline[k];
-    m.end = polyline[k + 1];
-    m.tool = 1;
-    m.line = static_cast<int>(k + 2);
-    path.moves.push_back(m);
-  }
-  job.paths.push_back(path);
-  return job;
+  return morphmill_test::box_polyline_job(box, tool, polyline, 0.05);
 }
 
 void expect_valid_solid(const morph::Job& job, const std::string& what) {

@@ -58,7 +58,7 @@ TEST(GeneratorChoice, EachGeneratorSaysWhatItCannotBuild) {
   job.stock.height = 4.0;
   EXPECT_EQ(morphmill::why_generator_cannot_build(job, 2), "");
   job.stock.type = morph::StockType::Mesh;
-  EXPECT_NE(morphmill::why_generator_cannot_build(job, 2).find("box and cylinder stock"), std::string::npos);
+  EXPECT_EQ(morphmill::why_generator_cannot_build(job, 2), "");
   EXPECT_THROW(morphmill::why_generator_cannot_build(job, 3), morph::InputError);
   EXPECT_THROW(morphmill::check_generator(0), morph::InputError);
 }

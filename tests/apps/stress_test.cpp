@@ -220,9 +220,10 @@ nlohmann::json comparable(const Summary& summary) {
 
 TEST(StressShards, MergeAddsUp) {
   const fs::path a = scratch("merge_a"), b = scratch("merge_b"), out = scratch("merge_out");
-  write_shard(
-      a, campaign_options(6, 0, 2),
-      {fake_result(0, {}, 0.004), fake_result(2, {"closed_manifold"}, 0.02), fake_result(4, {}, 0.001)});
+  CaseResult with_fallbacks = fake_result(4, {}, 0.001);
+  with_fallbacks.fallbacks = {{"rounding_flipped_edges", 3}, {"limit_kept_apart", 0}};
+  write_shard(a, campaign_options(6, 0, 2),
+              {fake_result(0, {}, 0.004), fake_result(2, {"closed_manifold"}, 0.02), with_fallbacks});
   write_shard(b, campaign_options(6, 1, 2),
               {fake_result(1, {"sides_agree", "pieces_known"}, 0.003), fake_result(3, {}, 0.005),
                fake_result(5, {"closed_manifold"}, 0.002)});
@@ -249,6 +250,11 @@ TEST(StressShards, MergeAddsUp) {
   EXPECT_TRUE(fs::exists(out / "failures" / "case_000002.json"));
   EXPECT_FALSE(fs::exists(out / "failures" / "case_000004.json"));
   EXPECT_TRUE(fs::exists(out / "summary.md"));
+  EXPECT_NE(
+      slurp(out / "summary.md")
+          .find("| generator's fallbacks fired (target 0) | 3 in 1 case(s): rounding_flipped_edges 3 |"),
+      std::string::npos);
+  EXPECT_EQ(merged.results[4].fallbacks.at("rounding_flipped_edges"), 3u);
   // The round trip keeps every field the summary is made of.
   const Summary again = summary_from_json(json, "summary.json");
   EXPECT_EQ(summary_to_json(again).dump(), json.dump());

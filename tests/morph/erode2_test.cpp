@@ -12,6 +12,10 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <map>
+#include <string>
+
+#include "common/test_jobs.h"
 
 namespace {
 
@@ -19,22 +23,7 @@ using Eigen::Vector3d;
 
 morph::Job job_of(const Eigen::AlignedBox3d& box, const morph::Tool& tool,
                   const std::vector<Vector3d>& polyline, double tolerance = 0.05) {
-  morph::Job job;
-  job.stock.type = morph::StockType::Box;
-  job.stock.box = box;
-  job.tools.emplace(1, tool);
-  job.tolerance = tolerance;
-  morph::Path path;
-  for (std::size_t k = 0; k + 1 < polyline.size(); ++k) {
-    morph::Move m;
-    m.start = polyline[k];
-    m.end = polyline[k + 1];
-    m.tool = 1;
-    m.line = static_cast<int>(k + 2);
-    path.moves.push_back(m);
-  }
-  job.paths.push_back(path);
-  return job;
+  return morphmill_test::box_polyline_job(box, tool, polyline, tolerance);
 }
 
 struct Outcome {
@@ -97,6 +86,37 @@ TEST(Erode2, SlotThroughThePlateAndBack) {
     EXPECT_GT(removed, 0);
     EXPECT_LT(removed, morph::sweep_polytope(p, Vector3d(20, -5, z), Vector3d(20, 15, z)).volume());
   }
+}
+
+TEST(Erode2, CountsItsExactStepsAndFallbacks) {
+  // r9: a square loop, the second lap reversed. The retraced planes coincide, and where four or
+  // more planes meet in one point the perturbation splits it; the exact limit step merges it again.
+  const morph::Tool tool = morph::ball_tool(1.5, 20.0);
+  const Eigen::AlignedBox3d box(Vector3d(0, 0, 0), Vector3d(30, 30, 5));
+  const Outcome o = run(job_of(
+      box, tool,
+      {Vector3d(8, 8, 4), Vector3d(22, 8, 4), Vector3d(22, 22, 4), Vector3d(8, 22, 4), Vector3d(8, 8, 4),
+       Vector3d(8, 22, 4), Vector3d(22, 22, 4), Vector3d(22, 8, 4), Vector3d(8, 8, 4)}));
+  expect_closed(o, "square loop and reversed");
+  std::map<std::string, const morph::StepCount*> step;
+  std::size_t fallbacks = 0;
+  for (const morph::StepCount& s : o.result.stats.steps) {
+    step[s.name] = &s;
+    if (s.fallback) fallbacks += s.count;
+  }
+  ASSERT_EQ(step.size(), 10u);
+  for (const char* exact : {"limit_merged_vertices", "limit_removed_polygons", "limit_zipped_slivers"}) {
+    ASSERT_TRUE(step.count(exact)) << exact;
+    EXPECT_FALSE(step[exact]->fallback) << exact;
+  }
+  EXPECT_GT(step["limit_merged_vertices"]->count, 0u);
+  // What the limit and the rounding leave unsettled would be a defect: none on this job.
+  for (const char* left : {"limit_flat_polygons_left", "limit_unsettled", "rounding_misoriented_left"}) {
+    ASSERT_TRUE(step.count(left)) << left;
+    EXPECT_TRUE(step[left]->fallback) << left;
+    EXPECT_EQ(step[left]->count, 0u) << left;
+  }
+  EXPECT_EQ(morph::fallbacks_fired(o.result.stats), fallbacks);
 }
 
 TEST(Erode2, PlungeAndRetractIsThePlunge) {
@@ -166,7 +186,7 @@ TEST(Erode2, RefusesWhatItDoesNotSupport) {
                           {Vector3d(0, 0, 2), Vector3d(1, 1, 2)});
   job.stock.type = morph::StockType::Cylinder;  // of radius 0
   EXPECT_THROW(morph::erode2(job), morph::InputError);
-  job.stock.type = morph::StockType::Mesh;  // so far
+  job.stock.type = morph::StockType::Mesh;  // with no triangles
   EXPECT_THROW(morph::erode2(job), morph::InputError);
 }
 

@@ -144,6 +144,19 @@ TEST(ErodeSphere, SinglePassWithinToleranceBothWays) {
   EXPECT_EQ(result.stats.moves, 1u);
   EXPECT_EQ(result.stats.moves_touching_stock, 1u);
   expect_within_tolerance_both_ways(job, result.mesh);
+  // Every fallback of this generator is counted, each by name, also when it did not fire.
+  std::vector<std::string> names;
+  std::size_t fired = 0;
+  for (const morph::StepCount& step : result.stats.steps) {
+    names.push_back(step.name);
+    EXPECT_TRUE(step.fallback) << step.name;
+    fired += step.count;
+  }
+  EXPECT_EQ(names, (std::vector<std::string>{"seam_splits", "corner_holes", "defects_repaired",
+                                             "flat_components_removed"}));
+  EXPECT_EQ(morph::fallbacks_fired(result.stats), fired);
+  EXPECT_EQ(fired, result.stats.seam_splits + result.stats.corner_holes + result.stats.defects_repaired +
+                       result.stats.flat_components_removed);
 }
 
 TEST(ErodeBallEnd, RampsPlungesAndLevelMovesWithinTolerance) {

@@ -14,7 +14,6 @@
 
 #include <cmath>
 
-
 namespace {
 
 using Eigen::Vector3d;
@@ -178,6 +177,7 @@ TEST(StockPolytope, MeshStockIsNotConvexPolytope) {
   morph::Stock s;
   s.type = morph::StockType::Mesh;
   EXPECT_THROW(morph::convex_stock_polytope(s, 0.01), morph::InputError);
+  EXPECT_THROW(morph::generator2_stock(s, 0.01), morph::InputError);  // no triangles
 }
 
 }  // namespace

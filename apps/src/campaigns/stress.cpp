@@ -222,6 +222,8 @@ CaseResult run_case(std::uint64_t seed, std::size_t index, const StressOptions& 
     result.generator_pieces = o.morph_pieces.size();
     result.reference_pieces = o.reference_pieces.size();
     result.generator_triangles = o.morph_triangles;
+    for (const morph::StepCount& step : o.generator_steps)
+      if (step.fallback) result.fallbacks[step.name] = step.count;
     result.generator_volume = o.morph_topology.volume;
     if (o.morph_topology.closed_manifold())
       result.generator_genus = static_cast<int>(
@@ -307,6 +309,7 @@ nlohmann::json case_to_json(const CaseResult& r) {
           {"generator_triangles", r.generator_triangles},
           {"genus", {{"expected", r.expected_genus}, {"generator", r.generator_genus}}},
           {"self_intersecting_pairs", r.self_intersecting_pairs},
+          {"fallbacks", r.fallbacks},
           {"deviation",
            {{"generator_to_exact", number_or_null(r.generator_to_exact)},
             {"exact_to_generator", number_or_null(r.exact_to_generator)},
@@ -340,6 +343,7 @@ CaseResult case_from_json(const nlohmann::json& j, const std::string& where) {
     r.generator_volume = j.at("volume").at("generator").get<double>();
     r.reference_volume = j.at("volume").at("reference").get<double>();
     r.self_intersecting_pairs = j.value("self_intersecting_pairs", std::size_t{0});
+    r.fallbacks = j.value("fallbacks", std::map<std::string, std::size_t>{});
     if (j.contains("genus")) {
       r.expected_genus = j["genus"].at("expected").get<int>();
       r.generator_genus = j["genus"].at("generator").get<int>();
@@ -519,6 +523,23 @@ std::string summary_markdown(const Summary& s) {
      << " case(s)"
      << (s.campaign.value("--generator", 1) == 2 ? "" : " (generator 1: measured, not an invariant)")
      << " |\n";
+  std::map<std::string, std::size_t> fallbacks;
+  std::size_t fallback_cases = 0, fallbacks_fired = 0;
+  for (const auto& r : s.results) {
+    std::size_t fired = 0;
+    for (const auto& [name, count] : r.fallbacks) {
+      fallbacks[name] += count;
+      fired += count;
+    }
+    fallback_cases += fired > 0;
+    fallbacks_fired += fired;
+  }
+  md << "| generator's fallbacks fired (target 0) | " << fallbacks_fired << " in " << fallback_cases
+     << " case(s)";
+  std::string fired_names;
+  for (const auto& [name, count] : fallbacks)
+    if (count > 0) fired_names += (fired_names.empty() ? "" : ", ") + name + " " + std::to_string(count);
+  md << (fired_names.empty() ? "" : ": " + fired_names) << " |\n";
   for (const char* key : {"version", "source_commit", "case_generator", "--generator", "--families",
                           "--samples", "--reference-memory-cap", "--max-rss"})
     if (s.campaign.contains(key)) md << "| " << key << " | " << s.campaign[key].dump() << " |\n";

@@ -7,6 +7,7 @@
 
 #include <atomic>
 #include <cstdint>
+#include <map>
 #include <nlohmann/json.hpp>
 #include <optional>
 #include <stdexcept>
@@ -69,6 +70,7 @@ struct CaseResult {
   std::size_t generator_pieces = 0, reference_pieces = 0, generator_triangles = 0;
   double generator_volume = 0, reference_volume = 0;
   std::size_t self_intersecting_pairs = 0;        ///< of the generator's triangles (exact)
+  std::map<std::string, std::size_t> fallbacks;   ///< how often each generator fallback fired
   int expected_genus = -1, generator_genus = -1;  ///< sum over the pieces; -1: not known / not closed
   /// Largest |deviation| (job units) of each kind; NaN when not measured.
   double generator_to_exact = 0, exact_to_generator = 0, reference_to_exact = 0;

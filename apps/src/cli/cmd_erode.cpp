@@ -14,6 +14,7 @@
 #include <fcntl.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <cerrno>
 #include <cstring>
 #include <exception>
@@ -47,6 +48,25 @@ struct ErodeCommandOptions {
   CLI::Option* json_option = nullptr;
 };
 
+nlohmann::json steps_json(const morph::ErodeStats& stats, bool fallbacks) {
+  nlohmann::json out = nlohmann::json::object();
+  for (const morph::StepCount& step : stats.steps)
+    if (step.fallback == fallbacks) out[step.name] = step.count;
+  return out;
+}
+
+// "none" or "3 (rounding_flipped_edges 2, limit_kept_apart 1)": the steps of one kind that fired.
+std::string describe_steps(const morph::ErodeStats& stats, bool fallbacks) {
+  std::size_t total = 0;
+  std::string fired;
+  for (const morph::StepCount& step : stats.steps)
+    if (step.fallback == fallbacks && step.count > 0) {
+      total += step.count;
+      fired += (fired.empty() ? "" : ", ") + step.name + " " + std::to_string(step.count);
+    }
+  return total == 0 ? std::string("none") : std::to_string(total) + " (" + fired + ")";
+}
+
 nlohmann::json summary_json(const ErodeCommandOptions& options, const morph::Job& job, double tolerance,
                             const morph::ErodeResult& result, const morph::TopologyReport& topology,
                             const SelfIntersections& crossings, bool written) {
@@ -71,11 +91,10 @@ nlohmann::json summary_json(const ErodeCommandOptions& options, const morph::Job
           {"self_intersecting_pairs", crossings.pairs},
           {"first_self_intersecting_pairs", pairs},
           {"volume", topology.volume},
-          {"fallbacks",
-           {{"seam_splits", s.seam_splits},
-            {"corner_holes", s.corner_holes},
-            {"defects_repaired", s.defects_repaired},
-            {"flat_components_removed", s.flat_components_removed}}},
+          {"generator", options.generator},
+          {"fallbacks_fired", morph::fallbacks_fired(s)},
+          {"fallbacks", steps_json(s, true)},
+          {"exact_steps", steps_json(s, false)},
           {"seconds",
            {{"setup", s.seconds_setup},
             {"trim", s.seconds_trim},
@@ -173,7 +192,12 @@ void run_erode(const ErodeCommandOptions& options) {
               << ") -> " << (valid || options.allow_open ? options.mesh_path : "not written") << '\n'
               << "  memory: estimated " << describe_bytes(s.estimated_bytes) << " up front (" << s.segments
               << " segments, " << s.patches << " patches, " << std::setprecision(0) << s.grid_cells
-              << " grid cells)\n";
+              << " grid cells)\n"
+              << "  fallbacks fired: " << describe_steps(s, true);
+    if (std::any_of(s.steps.begin(), s.steps.end(),
+                    [](const morph::StepCount& step) { return !step.fallback; }))
+      std::cout << "; exact limit steps: " << describe_steps(s, false);
+    std::cout << '\n';
   }
   if (options.json_option->count() > 0)
     write_json(summary_json(options, job, options.tolerance > 0.0 ? options.tolerance : job.tolerance, result,

@@ -9,7 +9,7 @@ namespace morphmill {
 
 const char* const kGeneratorOptionHelp =
     "1: today's generator (default; sphere and ball-end tools); 2: generator 2, the union of exact\n"
-    "sweep polytopes (closed by construction; every tool of revolution, box and cylinder stock so far)";
+    "sweep polytopes (closed by construction; every tool of revolution, every stock)";
 
 void check_generator(int generator) {
   if (generator != 1 && generator != 2)
@@ -20,8 +20,6 @@ void check_generator(int generator) {
 std::string why_generator_cannot_build(const morph::Job& job, int generator) {
   check_generator(generator);
   if (generator == 2) {
-    if (job.stock.type == morph::StockType::Mesh)
-      return "generator 2 takes box and cylinder stock so far, and this job's stock is a mesh";
     return "";
   }
   for (const morph::Path& path : job.paths)

@@ -2,7 +2,7 @@
 #pragma once
 // Which surface generator a command runs (`--generator`): 1, today's sweep-patch generator
 // (morph::erode: sphere and ball-end tools, every stock), or 2, generator 2 (morph::erode2: the
-// union of exact sweep polytopes, closed by construction; every tool of revolution, box and cylinder stock).
+// union of exact sweep polytopes, closed by construction; every tool of revolution, every stock).
 // One place decides what each can build, so erode, verify, compare, stress and study agree.
 #include <morph/erode.h>
 #include <morph/job.h>

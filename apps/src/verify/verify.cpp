@@ -398,6 +398,7 @@ Evaluation evaluate_job(const morph::Job& job, const EvaluateOptions& options) {
       clock.run("reference (OpenVDB)", [&] { return vdb_ref::compute_reference(job, reference_options); });
 
   out.morph_triangles = eroded.mesh.triangle_count();
+  out.generator_steps = eroded.stats.steps;
   out.reference_triangles = reference.mesh.triangle_count();
   out.reference_active_voxels = reference.stats.active_voxels;
   out.morph_topology = morph::topology_report(eroded.mesh);

@@ -103,6 +103,8 @@ struct VerifyOutcome {
   /// Why the generator was not run ("" when it was): --reference-only, or the first move whose
   /// tool it cannot build yet, named with the tool.
   std::string generator_skipped;
+  /// What the generator counted (morph::ErodeStats::steps): its fallbacks and exact steps.
+  std::vector<morph::StepCount> generator_steps;
   bool reference_only_requested = false;
   /// Reference against the exact surface (judged when the generator is not run): the largest
   /// deviation over the samples where the surface is resolvable at the voxel size, its bound

@@ -18,6 +18,8 @@
 #include <morph/progress.h>
 
 #include <cstddef>
+#include <string>
+#include <vector>
 
 namespace morph {
 
@@ -34,6 +36,15 @@ struct ErodeOptions {
   /// bytes; 0: no cap. The estimate comes from the job alone: segments after splitting arcs,
   /// then the patches' tessellation grids (ErodeStats::estimated_bytes).
   std::size_t memory_cap_bytes = 0;
+};
+
+/// How often one step of the surface's assembly fired. A fallback repairs what the construction
+/// left wrong (its target is 0, and code that never fires goes); an exact step is part of the
+/// construction itself (generator 2's limit of the perturbation), counted for insight.
+struct StepCount {
+  std::string name;  ///< snake_case, e.g. "rounding_flipped_edges"
+  std::size_t count = 0;
+  bool fallback = true;
 };
 
 struct ErodeStats {
@@ -55,7 +66,18 @@ struct ErodeStats {
   double seconds_total = 0.0;
   double grid_cells = 0.0;       ///< cells of the patches' tessellation grids before trimming
   double estimated_bytes = 0.0;  ///< the up-front estimate of the peak memory
+  /// Every counted step, fallbacks and exact steps, in a fixed order per generator (all listed,
+  /// also when 0).
+  std::vector<StepCount> steps;
 };
+
+/// Sum of the counts of the fallbacks among `stats.steps`.
+inline std::size_t fallbacks_fired(const ErodeStats& stats) {
+  std::size_t fired = 0;
+  for (const StepCount& step : stats.steps)
+    if (step.fallback) fired += step.count;
+  return fired;
+}
 
 struct ErodeResult {
   TriangleMesh mesh;  ///< tagged with FaceTag provenance, wound outward

@@ -7,13 +7,15 @@
 /// polytope within 0.4 of it (tool_polytope.h). The culling stage (sweep_culling.h) decides which
 /// facets and cutters the exact carving sees (carve_culled.h), in parallel under options.policy.
 /// A box stock is its six planes; a cylinder a prism within 0.2 of the tolerance of it
-/// (stock_polytope.h), carved by the same code.
+/// (stock_polytope.h), carved by the same code; a mesh stock its triangles, their vertices on a
+/// grid within 0.2 of the tolerance (stock_mesh.h), the sweeps' pieces kept where inside it.
 #include <morph/erode.h>
 
 namespace morph {
 
-/// Same contract as erode() for the jobs it supports: box or cylinder stock, any tool of revolution
-/// with a profile. Throws InputError for a mesh stock or a tool without a profile.
+/// Same contract as erode() for the jobs it supports: any stock, any tool of revolution with a
+/// profile. Throws InputError for a tool without a profile or a mesh stock it cannot make exact
+/// (not a closed 2-manifold, degenerate on its grid, coordinates too large; stock_mesh.h).
 ErodeResult erode2(const Job& job, const ErodeOptions& options = {});
 
 }  // namespace morph

@@ -2813,6 +2813,10 @@ ErodeResult erode(const Job& job, const ErodeOptions& options) {
   stats.open_edges = repair_stats.defects == repair_stats.repaired ? 0 : boundary_edge_count(mesh, edge_uses);
   stats.seam_splits = seam_stats.splits;
   stats.corner_holes = seam_stats.holes_filled;
+  stats.steps = {{"seam_splits", stats.seam_splits},
+                 {"corner_holes", stats.corner_holes},
+                 {"defects_repaired", stats.defects_repaired},
+                 {"flat_components_removed", stats.flat_components_removed}};
   stats.triangles = mesh.triangles.size();
   stats.vertices = mesh.vertices.size();
   stats.seconds_assemble = seconds_since(t_assemble);

@@ -149,11 +149,11 @@ class Carving {
   }
 
   std::size_t tools() const { return groups_.size(); }
-  std::size_t stock_faces() const { return stock_.planes.size(); }
+  std::size_t stock_faces() const { return stock_face_count(stock_); }
 
   // Stock face f minus every sweep whose box meets it, in move order.
   std::vector<ConvexPiece> stock_face(int f, Workers& workers, ExecutionPolicy policy) const {
-    ConvexPiece face = piece_in_stock(stock_.planes[f], stock_);
+    ConvexPiece face = morph::stock_face(stock_, static_cast<std::size_t>(f));
     ++workers.local().stages.carve.facets;
     std::vector<std::uint32_t> near;
     tree_.for_each_overlapping(grown(box_of({face})),
@@ -252,6 +252,7 @@ class Carving {
       w.stages.carve.cutters += static_cast<double>(order.size());
       std::vector<ConvexPiece> pieces{facet};
       minus_cutters(pieces, order);
+      if (stock_.mesh) pieces = keep_inside(*stock_.mesh, std::move(pieces));
       w.stages.predicates_cut += static_cast<double>(predicate_counts().calls - cut_before.calls);
       w.stages.exact_cut += static_cast<double>(predicate_counts().exact - cut_before.exact);
       w.stages.ties += static_cast<double>(predicate_counts().ties - cut_before.ties);

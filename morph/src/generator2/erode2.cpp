@@ -39,11 +39,25 @@ std::vector<Segment> segments_of(const Job& job, double chord_tolerance) {
   return out;
 }
 
+// The limit step's merges, removals and zips are exact (the construction's ε → 0); what it keeps
+// apart or leaves flat, and every change the rounding to doubles makes, is a fallback.
+std::vector<StepCount> steps_counted(const LimitCounts& limit, const EmitCounts& rounding) {
+  return {{"limit_merged_vertices", limit.merged_vertices, false},
+          {"limit_removed_polygons", limit.removed_polygons, false},
+          {"limit_zipped_slivers", limit.zipped_slivers, false},
+          {"limit_kept_apart", limit.kept_apart, true},
+          {"limit_flat_polygons_left", limit.flat_polygons_left, true},
+          {"limit_unsettled", limit.unsettled, true},
+          {"rounding_collapsed_edges", rounding.collapsed_edges, true},
+          {"rounding_flipped_edges", rounding.flipped_edges, true},
+          {"rounding_rerounded_vertices", rounding.rerounded_vertices, true},
+          {"rounding_misoriented_left", rounding.misoriented_left, true}};
+}
+
 }  // namespace
 
 ErodeResult erode2(const Job& job, const ErodeOptions& options) {
   const auto start = std::chrono::steady_clock::now();
-  if (job.stock.type == StockType::Mesh) throw InputError("generator 2: mesh stock is not supported yet");
   const double tolerance = options.tolerance > 0.0 ? options.tolerance : job.tolerance;
   if (!(tolerance > 0.0)) throw InputError("generator 2: the tolerance must be > 0");
   Progress& progress = options.progress ? *options.progress : null_progress();
@@ -61,8 +75,8 @@ ErodeResult erode2(const Job& job, const ErodeOptions& options) {
       builders.emplace(
           s.tool, std::make_unique<SweepPolytopeBuilder>(
                       tool_polytope(job.tool_of(*job.moves()[s.move]).profile, 0.4 * tolerance).polytope));
-  // The rest of the tolerance: a cylinder's prism within 0.2 of it.
-  const StockPolytope stock_polytope = convex_stock_polytope(job.stock, 0.2 * tolerance);
+  // The rest of the tolerance: a cylinder's prism, a mesh's vertices on a grid within 0.2 of it.
+  const StockPolytope stock_polytope = generator2_stock(job.stock, 0.2 * tolerance);
   const Eigen::AlignedBox3d stock = stock_polytope.bounds;
   std::vector<CarveSweep> sweeps;
   std::vector<std::int32_t> move_index, move_line;
@@ -84,7 +98,10 @@ ErodeResult erode2(const Job& job, const ErodeOptions& options) {
   stats.seconds_trim = seconds_since(start) - stats.seconds_setup;
 
   const ConformedSurface surface = conform(pieces, options.policy);
-  result.mesh = emit(collapse_degenerates(surface), move_index, move_line);
+  const LimitSurface limit = collapse_degenerates(surface);
+  EmitCounts rounding;
+  result.mesh = emit(limit, move_index, move_line, &rounding);
+  stats.steps = steps_counted(limit.counts, rounding);
   stats.triangles = result.mesh.triangle_count();
   stats.vertices = result.mesh.vertex_count();
   stats.seconds_total = seconds_since(start);

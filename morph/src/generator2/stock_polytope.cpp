@@ -101,6 +101,27 @@ StockPolytope convex_stock_polytope(const Stock& stock, double deviation) {
   throw InputError("generator 2: a mesh stock is not a convex polytope");
 }
 
+StockPolytope generator2_stock(const Stock& stock, double deviation) {
+  if (stock.type != StockType::Mesh) return convex_stock_polytope(stock, deviation);
+  StockPolytope out;
+  out.mesh = std::make_shared<const MeshStock>(
+      mesh_stock(stock.mesh, deviation, stock.mesh_path.empty() ? "(in memory)" : stock.mesh_path));
+  out.bounds = out.mesh->bounds;
+  return out;
+}
+
+std::size_t stock_face_count(const StockPolytope& stock) {
+  return stock.mesh ? stock.mesh->faces.size() : stock.planes.size();
+}
+
+ConvexPiece stock_face(const StockPolytope& stock, std::size_t f) {
+  return stock.mesh ? stock.mesh->faces[f] : piece_in_stock(stock.planes[f], stock);
+}
+
+ConvexPiece piece_in_bounds(const ExactPlane& support, const Eigen::AlignedBox3d& bounds) {
+  return piece_in_box(support, helper_box(bounds));
+}
+
 ConvexPiece piece_in_stock(const ExactPlane& support, const StockPolytope& stock) {
   if (stock.box) {
     std::array<ExactPlane, 6> box;
