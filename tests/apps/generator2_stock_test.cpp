@@ -9,6 +9,7 @@
 #include <morph/tool.h>
 #include <morph/topology.h>
 #include <morphmill/job_io.h>
+#include <morphmill/mesh_io.h>
 #include <morphmill/self_intersections.h>
 
 #include <cmath>
@@ -61,6 +62,28 @@ TEST(Generator2Stock, CylinderWithASlotAndAGrooveIsAValidSolid) {
   const double cylinder = M_PI * r * r * 8, slot_volume = strip * 1.0;
   EXPECT_LT(t.volume, cylinder - slot_volume + job.tolerance * t.area);
   EXPECT_GT(t.volume, cylinder - slot_volume - M_PI * 4 * 11 * M_PI / 2 - job.tolerance * t.area);
+}
+
+TEST(Generator2Stock, FineCurvedMeshStockIsAValidSolid) {
+  // 41,090 triangles, many under a millimetre: on the tolerance's grid (2^-9 mm) some would
+  // degenerate; the finest grid on which every plane is exact keeps them whole.
+  morph::Job job;
+  job.stock.type = morph::StockType::Mesh;
+  job.stock.mesh_path = std::string(MORPHMILL_TEST_DATA) + "/meshes/design_gouge_excess.stl";
+  job.stock.mesh = morphmill::read_mesh(job.stock.mesh_path);
+  job.tolerance = 0.01;
+  job.tools.emplace(1, morph::ball_tool(2, 30));
+  morph::Path path;
+  morph::Move m;
+  m.tool = 1, m.line = 1, m.start = Vector3d(-5, 13, 18), m.end = Vector3d(30, 17, 16);
+  path.moves.push_back(m);
+  m.line = 2, m.start = m.end, m.end = Vector3d(65, 25, 17);
+  path.moves.push_back(m);
+  job.paths.push_back(path);
+  // One flat needle of a sweep where the groove turns (the rounding stage's, as on box stock).
+  const morph::TopologyReport t = expect_valid_solid(job, "design_gouge_excess", 1);
+  EXPECT_EQ(t.components, 1u);
+  EXPECT_LT(t.volume, morph::enclosed_volume(job.stock.mesh) - 100.0);  // the groove is there
 }
 
 TEST(Generator2Stock, MeshStockJobsAreValidSolids) {

@@ -106,6 +106,7 @@ void BM_Generator2(benchmark::State& state) {
     c["predicates_cut"] = stages.predicates_cut;
     c["exact_cut"] = stages.exact_cut;
     c["ties"] = stages.ties;
+    c["refined"] = stages.refined;
     c["s_conform"] = conform_cpu;
     c["s_collapse_emit"] = emit_cpu;
     c["wall_carve_2threads"] = carve_wall;

@@ -6,12 +6,15 @@
 #include <morph/carve_culled.h>
 #include <morph/conform.h>
 #include <morph/emit.h>
+#include <morph/exceptions.h>
+#include <morph/progress.h>
 #include <morph/tool.h>
 #include <morph/tool_polytope.h>
 
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <atomic>
 #include <iterator>
 #include <memory>
 #include <random>
@@ -262,6 +265,48 @@ TEST(CarveCulled, SameAsAllPairsWithSeveralTools) {
     add_path(c, 0, random_path(rng, 3));
     expect_same(c, "two tools, trial " + std::to_string(trial));
   }
+}
+
+// Progress: one unit per stock face and per move, every unit reported once (from both threads),
+// the same pieces as without it; a caller that asks to stop gets Interrupted.
+class CountingProgress : public morph::Progress {
+ public:
+  void begin(const std::string& stage, std::size_t total) override {
+    stage_ = stage;
+    total_ = total;
+    ++begun_;
+  }
+  void advance(std::size_t done) override { done_ += done; }
+  void end() override { ++ended_; }
+  bool interrupted() const override { return stop_after_ > 0 && done_ >= stop_after_; }
+
+  std::string stage_;
+  std::size_t total_ = 0, stop_after_ = 0;
+  std::atomic<std::size_t> done_{0};
+  int begun_ = 0, ended_ = 0;
+};
+
+TEST(CarveCulled, ReportsProgressPerMoveAndStopsWhenAsked) {
+  Case c;
+  c.box = AlignedBox3d(Vector3d(0, 0, 0), Vector3d(10, 8, 4));
+  add_tool(c, shape(1), 0.1);
+  add_path(c, 0,
+           {Vector3d(1, 1, 3), Vector3d(8, 2, 3), Vector3d(8, 6, 2), Vector3d(2, 6, 3), Vector3d(5, 4, 5)});
+  CountingProgress progress;
+  const auto pieces =
+      morph::carve_culled(c.box, c.sweeps, morph::ExecutionPolicy::Parallel, nullptr, &progress);
+  EXPECT_EQ(progress.stage_, "erode2: carve");
+  EXPECT_EQ(progress.total_, 6 + c.sweeps.size());
+  EXPECT_EQ(progress.done_.load(), progress.total_);
+  EXPECT_EQ(progress.begun_, 1);
+  EXPECT_EQ(progress.ended_, 1);
+  EXPECT_EQ(keys(pieces), keys(morph::carve_culled(c.box, c.sweeps)));
+
+  CountingProgress stopping;
+  stopping.stop_after_ = 2;
+  EXPECT_THROW(morph::carve_culled(c.box, c.sweeps, morph::ExecutionPolicy::Sequential, nullptr, &stopping),
+               morph::Interrupted);
+  EXPECT_LT(stopping.done_.load(), stopping.total_);
 }
 
 }  // namespace

@@ -113,9 +113,9 @@ TEST(StockMesh, PlanesAreExactThroughTheRoundedVertices) {
   const morph::TriangleMesh box = box_mesh(Eigen::AlignedBox3d(Vector3d(0, 0, 0), Vector3d(10, 6, 2)));
   ASSERT_GT(morph::enclosed_volume(box), 0.0);
   const morph::MeshStock stock = morph::mesh_stock(box, 0.002, "box");
-  EXPECT_EQ(stock.grid, std::ldexp(1.0, -9));  // 2^-9·√3/2 = 0.0017 <= 0.002 < 2^-8·√3/2
-  EXPECT_EQ(stock.planes, 6u);                 // coplanar triangles share their support
-  EXPECT_EQ(stock.edge_planes, 6u);            // each face's diagonal
+  EXPECT_EQ(stock.grid, std::ldexp(1.0, -20));  // the finest: an axis-aligned box's planes are small
+  EXPECT_EQ(stock.planes, 6u);                  // coplanar triangles share their support
+  EXPECT_EQ(stock.edge_planes, 6u);             // each face's diagonal
   ASSERT_EQ(stock.faces.size(), 12u);
   for (std::size_t t = 0; t < 12; ++t) {
     const morph::ConvexPiece& f = stock.faces[t];
@@ -161,7 +161,12 @@ TEST(StockMesh, RefusesMeshesThatAreNotClosedManifolds) {
   EXPECT_THROW(
       morph::mesh_stock(tetra(Vector3d(1e6 + 0.3, 1e6 - 0.7, 1e6 + 0.1), 987.654321), 0.002, "tetra"),
       morph::InputError);
-  EXPECT_EQ(morph::mesh_stock(tetra(Vector3d::Zero(), 1.0), 0.002, "tetra").faces.size(), 4u);
+  const morph::MeshStock small = morph::mesh_stock(tetra(Vector3d::Zero(), 1.0), 0.002, "tetra");
+  EXPECT_EQ(small.faces.size(), 4u);
+  // A tilted triangle's plane needs about 3·log2(size / grid) bits: a coarser grid than 2^-20,
+  // at most 2^-9 (2^-9·√3/2 = 0.0017 <= 0.002 < 2^-8·√3/2).
+  EXPECT_GT(small.grid, std::ldexp(1.0, -20));
+  EXPECT_LE(small.grid, std::ldexp(1.0, -9));
   EXPECT_THROW(morph::mesh_stock(morph::TriangleMesh{}, 0.002, "empty"), morph::InputError);
 }
 
@@ -172,7 +177,8 @@ TEST(StockMesh, BoxAsAMeshIsCarvedAsTheBox) {
       {Vector3d(-3, 5, 4.5), Vector3d(23, 4, 5.5)},  // a groove right across
       {Vector3d(5, 5, 2), Vector3d(15, 6, 3)},       // a cavity
       {Vector3d(4, -3, 7), Vector3d(4, 5, 4), Vector3d(16, 5, 4), Vector3d(16, 13, 7)},  // a U in the top
-      {Vector3d(18.5, 8.5, 3), Vector3d(18.5, 8.5, -3)}};  // a plunge through a corner
+      {Vector3d(18.5, 8.5, 3), Vector3d(18.5, 8.5, -3)},              // a plunge through a corner
+      {Vector3d(-3, 5, 6), Vector3d(23, 5, 6), Vector3d(10, 7, 5)}};  // grazing the top, then in
   for (const std::vector<Vector3d>& path : paths) {
     const Outcome as_box = closed(job_of(box_stock_of(box), ball, path), "box");
     const Outcome as_mesh = closed(job_of(mesh_stock_of(box_mesh(box)), ball, path), "box as a mesh");
@@ -208,6 +214,14 @@ TEST(StockMesh, SlotsInANonConvexMeshHaveTheClosedFormVolume) {
     EXPECT_EQ(o.topology.components, 1u);
     EXPECT_NEAR(o.topology.volume, whole - 5 * 2 * R * 5, tolerance * o.topology.area);
     EXPECT_LT(o.topology.volume, whole - 0.9 * 5 * 2 * R * 5);
+  }
+  {  // Along x with the flat bottom exactly on the plate's top (z = 10): the wall's top half goes,
+     // the sweep's bottom lies in the plate's top face (a tie the perturbation decides, one way).
+    const Outcome o =
+        closed(job_of(l, flat, {Vector3d(-4, 5, 10), Vector3d(24, 5, 10)}, tolerance), "on the plate");
+    EXPECT_EQ(o.topology.components, 1u);
+    EXPECT_NEAR(o.topology.volume, whole - 5 * 2 * R * 10, tolerance * o.topology.area);
+    EXPECT_LT(o.topology.volume, whole - 0.9 * 5 * 2 * R * 10);
   }
   {  // Along x at z = 8 through the wall and the plate: 2 deep in the plate, through the wall.
     const Outcome o = closed(job_of(l, flat, {Vector3d(-4, 5, 8), Vector3d(24, 5, 8)}, tolerance), "both");

@@ -11,6 +11,7 @@
 /// Facets are independent and carved in parallel; the pieces come out in a fixed order.
 #include <morph/carve.h>
 #include <morph/parallel.h>
+#include <morph/progress.h>
 #include <morph/stock_polytope.h>
 #include <morph/sweep_culling.h>
 
@@ -41,6 +42,8 @@ struct CarveStages {
   double predicates_own = 0.0, exact_own = 0.0, predicates_cut = 0.0, exact_cut = 0.0;
   /// Of those, the exact zeros settled by the tie order (building and cutting the kept facets).
   double ties = 0.0;
+  /// Decided by the double-word filter, not counted in exact_* (building and cutting).
+  double refined = 0.0;
 };
 
 /// The pieces of box \ ∪ sweeps, as carve_box() gives them for the same moves (up to the order
@@ -48,13 +51,15 @@ struct CarveStages {
 /// facet order. `policy` chooses one thread or TBB; the output does not depend on it.
 std::vector<CarvedPiece> carve_culled(const Eigen::AlignedBox3d& box, const std::vector<CarveSweep>& sweeps,
                                       ExecutionPolicy policy = ExecutionPolicy::Parallel,
-                                      CarveStages* stages = nullptr);
+                                      CarveStages* stages = nullptr, Progress* progress = nullptr);
 
 /// The same for a convex stock (stock_polytope.h): its faces take the place of the box's, in the
 /// order of its planes; for box_stock_polytope(box) the pieces are those of the box overload.
+/// `progress`, when given, sees the stage "erode2: carve" with one unit per stock face and per
+/// move, and may stop it: carve_culled() then throws Interrupted.
 std::vector<CarvedPiece> carve_culled(const StockPolytope& stock, const std::vector<CarveSweep>& sweeps,
                                       ExecutionPolicy policy = ExecutionPolicy::Parallel,
-                                      CarveStages* stages = nullptr);
+                                      CarveStages* stages = nullptr, Progress* progress = nullptr);
 
 /// The sweeps' boxes: the tool polytope's box at both ends, grown by a rounding margin.
 std::vector<Eigen::AlignedBox3d> sweep_boxes(const std::vector<CarveSweep>& sweeps);

@@ -43,6 +43,40 @@ std::vector<JointVerdict> joint_verdicts(const ConvexPolytope& tool, const Eigen
                                          const std::optional<Eigen::Vector3d>& previous_motion,
                                          const std::optional<Eigen::Vector3d>& next_motion);
 
+/// The tool facets around each tool vertex (indices into tool.facets), for the rim conditions.
+std::vector<std::vector<int>> facets_at_vertices(const ConvexPolytope& tool);
+
+/// joint_verdicts() for the rounded planes: the verdicts hold for the exact tool, but a facet
+/// with a vertex on the neighbour's boundary (the neighbour's rim there) is inside it, or shares
+/// its planes, only up to the rounding of the planes and the tie order, so it may keep a sliver
+/// the exact clipping finds. Such a facet is Kept (the caller lists the neighbour among its
+/// cutters). A facet whose every vertex has all its facets on its own side of the motions keeps
+/// its verdict: it is decided by a real margin.
+std::vector<JointVerdict> joint_verdicts_off_rim(const ConvexPolytope& tool,
+                                                 const std::vector<std::vector<int>>& facets_at_vertex,
+                                                 const Eigen::Vector3d& motion,
+                                                 const std::optional<Eigen::Vector3d>& previous_motion,
+                                                 const std::optional<Eigen::Vector3d>& next_motion);
+
+/// How a sweep places its tool facets: `ordered_motion` is its ordered end minus its ordered
+/// start (SweepPolytopeBuilder::ordered()); a degenerate sweep places every facet at its start.
+struct Placement {
+  Eigen::Vector3d ordered_motion;
+  bool degenerate = false;
+  /// -1 at the ordered start, +1 at the ordered end, 0 swept (motion_side()).
+  int side(const Eigen::Vector3d& normal) const {
+    return degenerate ? -1 : motion_side(normal, ordered_motion);
+  }
+};
+
+/// The shared-cap rule's condition: tool facet `facet`, placed by `own` on side `own_side` and by
+/// `other` on side `other_side` at one point, is one facet of both polytopes with every plane
+/// near it the same bit for bit when every tool facet around its vertices is placed on those
+/// same sides by both; then the tie order alone decides (the earlier move owns it). Otherwise a
+/// neighbour's rim passes through a vertex and the rounding decides: the facet is kept.
+bool cap_placed_alike(const ConvexPolytope& tool, const std::vector<std::vector<int>>& facets_at_vertex,
+                      int facet, const Placement& own, int own_side, const Placement& other, int other_side);
+
 /// True when `next` follows `move` at a joint the verdicts may use: both straight, the same
 /// tool, `move`'s end is `next`'s start bit for bit, and neither is degenerate for `sweeps`.
 bool joined_at_joint(const SweepPolytopeBuilder& sweeps, const Move& move, const Move& next);

@@ -4,8 +4,9 @@
 /// Generator 2's exact predicates on planes, with its one tie order. A vertex is three planes; a
 /// plane's side at it is the sign of a 4×4 determinant (the planes' normals and offsets) over the
 /// 3×3 determinant of the vertex's normals. The doubles of the coefficients are taken as exact
-/// rationals: a floating-point filter with an error bound decides almost always, else exact
-/// integer arithmetic (Boost.Multiprecision) does.
+/// rationals: a floating-point filter with an error bound decides almost always, else the same
+/// in double-word arithmetic with its bound, else exact integers in the narrowest type that
+/// holds them (__int128, Boost.Multiprecision's fixed int256/int512, cpp_int).
 ///
 /// Ties (the plane through the vertex) are settled by symbolic perturbation of the offsets: plane
 /// p's offset becomes offset + direction·ε_rank, with ε_r ≫ ε_s whenever rank r < rank s. Stock
@@ -67,10 +68,11 @@ bool same_limit_point(const std::array<ExactPlane, 3>& u, const std::array<Exact
 /// tests, never for decisions. Throws std::invalid_argument when it does not exist.
 Eigen::Vector3d vertex_point(const ExactPlane& a, const ExactPlane& b, const ExactPlane& c);
 
-/// How often the filter failed and exact arithmetic decided, and how often a tie was settled by
-/// the perturbation, in this thread (for the benches).
+/// How often the double filter failed and the double-word filter decided (refined), how often
+/// both failed and exact integers decided (exact), and how often a tie was settled by the
+/// perturbation, in this thread (for the benches).
 struct PredicateCounts {
-  std::uint64_t calls = 0, exact = 0, ties = 0;
+  std::uint64_t calls = 0, exact = 0, ties = 0, refined = 0;
 };
 PredicateCounts& predicate_counts();
 

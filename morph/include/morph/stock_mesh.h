@@ -2,8 +2,8 @@
 #pragma once
 /// \file stock_mesh.h
 /// Generator 2's mesh stock as exact planes. The mesh's vertices are rounded to a grid of a power
-/// of two (within the stock's deviation budget), so that each triangle's plane through its three
-/// vertices is exact in doubles (integer normal reduced by its gcd, integer offset times the
+/// of two (the finest from 2^-20 mm up to the stock's deviation budget on which this works), so
+/// that each triangle's plane through its three vertices is exact in doubles (integer normal reduced by its gcd, integer offset times the
 /// grid); the planes of all triangles at a vertex pass exactly through it. A triangle is a convex
 /// piece of its plane bounded by three edge planes: across a crease, the neighbour's plane turned
 /// so the triangle is inside it (the seam is then one plane pair, the same on both sides); between
@@ -40,7 +40,8 @@ struct MeshStock {
 };
 
 /// The mesh stock of `mesh` (closed, outward, each edge used once each way) within `deviation`
-/// (mm): vertices rounded to the largest power-of-two grid with half its diagonal within it.
+/// (mm): vertices rounded to the finest power-of-two grid from 2^-20 mm on which every plane is
+/// exact in doubles, at most the one with half its cell's diagonal within `deviation`.
 /// `what` names the mesh in messages. Throws InputError when the mesh is not a closed 2-manifold,
 /// when a triangle becomes degenerate on the grid, or when an exact plane needs more than 53 bits
 /// (coordinates too large for the deviation).

@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: Apache-2.0
 #include <morph/aabb_tree.h>
 #include <morph/carve_culled.h>
+#include <morph/exceptions.h>
 #include <morph/joint_culling.h>
 
 #include <tbb/enumerable_thread_specific.h>
@@ -222,6 +223,7 @@ class Carving {
       w.stages.predicates_own += static_cast<double>(predicate_counts().calls - before.calls);
       w.stages.exact_own += static_cast<double>(predicate_counts().exact - before.exact);
       w.stages.ties += static_cast<double>(predicate_counts().ties - before.ties);
+      w.stages.refined += static_cast<double>(predicate_counts().refined - before.refined);
       if (facet.empty()) continue;
       const PredicateCounts cut_before = predicate_counts();
       // The listed cutters with their crossing planes, and other tools' sweeps with all theirs.
@@ -254,6 +256,7 @@ class Carving {
       w.stages.predicates_cut += static_cast<double>(predicate_counts().calls - cut_before.calls);
       w.stages.exact_cut += static_cast<double>(predicate_counts().exact - cut_before.exact);
       w.stages.ties += static_cast<double>(predicate_counts().ties - cut_before.ties);
+      w.stages.refined += static_cast<double>(predicate_counts().refined - cut_before.refined);
       if (!pieces.empty()) out.emplace_back(k.facet, std::move(pieces));
     }
     w.stages.seconds_facets += thread_seconds() - culled;
@@ -288,12 +291,13 @@ std::vector<AlignedBox3d> sweep_boxes(const std::vector<CarveSweep>& sweeps) {
 }
 
 std::vector<CarvedPiece> carve_culled(const AlignedBox3d& box, const std::vector<CarveSweep>& sweeps,
-                                      ExecutionPolicy policy, CarveStages* stages) {
-  return carve_culled(box_stock_polytope(box), sweeps, policy, stages);
+                                      ExecutionPolicy policy, CarveStages* stages, Progress* progress) {
+  return carve_culled(box_stock_polytope(box), sweeps, policy, stages, progress);
 }
 
 std::vector<CarvedPiece> carve_culled(const StockPolytope& stock, const std::vector<CarveSweep>& sweeps,
-                                      ExecutionPolicy policy, CarveStages* stages) {
+                                      ExecutionPolicy policy, CarveStages* stages, Progress* progress) {
+  Progress& report = progress ? *progress : null_progress();
   const double start = thread_seconds();
   const Carving carving(stock, sweeps);
   const double setup = thread_seconds() - start;
@@ -305,19 +309,24 @@ std::vector<CarvedPiece> carve_culled(const StockPolytope& stock, const std::vec
   // Items 0 to faces-1: the stock faces; then one per move. Each writes its own slot.
   const std::size_t faces = carving.stock_faces();
   std::vector<std::vector<CarvedPiece>> slots(faces + sweeps.size());
+  report.begin("erode2: carve", slots.size());
   for_each_index(policy, 0, slots.size(), [&](std::size_t item) {
+    if (report.interrupted()) return;
     Worker& w = workers.local();
     std::vector<CarvedPiece>& out = slots[item];
     if (item < faces) {
       for (ConvexPiece& p : carving.stock_face(static_cast<int>(item), workers, policy))
         out.push_back(CarvedPiece{canonical(std::move(p)), -1, static_cast<std::int32_t>(item)});
-      return;
+    } else {
+      const auto g = static_cast<std::uint32_t>(item - faces);
+      for (auto& [facet, pieces] : carving.sweep(g, w))
+        for (ConvexPiece& p : pieces)
+          out.push_back(CarvedPiece{canonical(std::move(p)), static_cast<std::int32_t>(g), facet});
     }
-    const auto g = static_cast<std::uint32_t>(item - faces);
-    for (auto& [facet, pieces] : carving.sweep(g, w))
-      for (ConvexPiece& p : pieces)
-        out.push_back(CarvedPiece{canonical(std::move(p)), static_cast<std::int32_t>(g), facet});
+    report.advance(1);
   });
+  report.end();
+  if (report.interrupted()) throw Interrupted("erode2: carve interrupted");
   std::vector<CarvedPiece> out;
   CarveStages total;
   total.seconds_setup = setup;
@@ -334,6 +343,7 @@ std::vector<CarvedPiece> carve_culled(const StockPolytope& stock, const std::vec
     total.predicates_cut += w.stages.predicates_cut;
     total.exact_cut += w.stages.exact_cut;
     total.ties += w.stages.ties;
+    total.refined += w.stages.refined;
   }
   for (std::vector<CarvedPiece>& slot : slots)
     for (CarvedPiece& p : slot) out.push_back(std::move(p));

@@ -103,13 +103,11 @@ ErodeResult erode2(const Job& job, const ErodeOptions& options) {
     if (box.intersects(stock)) ++stats.moves_touching_stock;
   stats.seconds_setup = seconds_since(start);
 
-  progress.begin("erode2: carve", 1);
   if (progress.interrupted()) throw Interrupted("erode2: interrupted");
   CarveStages stages;
-  const std::vector<CarvedPiece> pieces = carve_culled(stock_polytope, sweeps, options.policy, &stages);
-  progress.advance(1);
-  progress.end();
-  stats.patches = static_cast<std::size_t>(stages.culling.facets) + stock_polytope.planes.size();
+  const std::vector<CarvedPiece> pieces =
+      carve_culled(stock_polytope, sweeps, options.policy, &stages, &progress);
+  stats.patches = static_cast<std::size_t>(stages.culling.facets) + stock_face_count(stock_polytope);
   stats.patches_kept = pieces.size();
   stats.seconds_trim = seconds_since(start) - stats.seconds_setup;
 

@@ -25,4 +25,41 @@ std::vector<JointVerdict> joint_verdicts(const ConvexPolytope& tool, const Eigen
   return verdicts;
 }
 
+std::vector<std::vector<int>> facets_at_vertices(const ConvexPolytope& tool) {
+  std::vector<std::vector<int>> out(tool.vertices.size());
+  for (std::size_t f = 0; f < tool.facets.size(); ++f)
+    for (int v : tool.facets[f].loop) out[v].push_back(static_cast<int>(f));
+  return out;
+}
+
+std::vector<JointVerdict> joint_verdicts_off_rim(const ConvexPolytope& tool,
+                                                 const std::vector<std::vector<int>>& facets_at_vertex,
+                                                 const Eigen::Vector3d& motion,
+                                                 const std::optional<Eigen::Vector3d>& previous_motion,
+                                                 const std::optional<Eigen::Vector3d>& next_motion) {
+  std::vector<JointVerdict> joint = joint_verdicts(tool, motion, previous_motion, next_motion);
+  for (std::size_t f = 0; f < tool.facets.size(); ++f) {
+    if (!culled(joint[f])) continue;
+    const bool owned = joint[f] == JointVerdict::OwnedByPrevious;
+    const Eigen::Vector3d& neighbour = joint[f] == JointVerdict::InsideNext ? *next_motion : *previous_motion;
+    const int side = joint[f] == JointVerdict::InsidePrevious ? -1 : 1;
+    for (int v : tool.facets[f].loop)
+      for (int g : facets_at_vertex[v])
+        if (motion_side(tool.facets[g].normal, neighbour) != side ||
+            (owned && motion_side(tool.facets[g].normal, motion) >= 0))
+          joint[f] = JointVerdict::Kept;
+  }
+  return joint;
+}
+
+bool cap_placed_alike(const ConvexPolytope& tool, const std::vector<std::vector<int>>& facets_at_vertex,
+                      int facet, const Placement& own, int own_side, const Placement& other, int other_side) {
+  for (int v : tool.facets[facet].loop)
+    for (int g : facets_at_vertex[v]) {
+      const Eigen::Vector3d& n = tool.facets[g].normal;
+      if (own.side(n) != own_side || other.side(n) != other_side) return false;
+    }
+  return true;
+}
+
 }  // namespace morph

@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: Apache-2.0
 #include <morph/plane_predicates.h>
 
+#include "generator2/double_double_filter.h"
 #include "generator2/exact_determinant.h"
 
 #include <algorithm>
@@ -75,15 +76,24 @@ class FourPlanes {
       bound += std::fabs(rows_[i][3]) * (cofactor_[i].bound + kDet4Bound * std::fabs(cofactor_[i].value));
     }
     if (int s = Filtered{value, bound}.certain()) return s;
+    if (int s = exact::double_double_det4_sign(rows_)) {
+      ++predicate_counts().refined;
+      return s;
+    }
     ++predicate_counts().exact;
     return exact().det4_sign();
   }
   // Sign of the cofactor of row i's offset.
   int cofactor_sign(int i) {
     if (int s = cofactor_[i].certain()) return s;
-    ++predicate_counts().exact;
     const auto [a, b, c] = others(i);
-    const int minor = exact().minor_sign(a, b, c);
+    int minor = exact::double_double_minor_sign(rows_[a], rows_[b], rows_[c]);
+    if (minor != 0) {
+      ++predicate_counts().refined;
+    } else {
+      ++predicate_counts().exact;
+      minor = exact().minor_sign(a, b, c);
+    }
     return (i % 2 == 0) ? -minor : minor;
   }
 
@@ -105,6 +115,10 @@ class FourPlanes {
 };
 
 int exact_normals_orientation(const Row& a, const Row& b, const Row& c) {
+  if (int s = exact::double_double_minor_sign(a, b, c)) {
+    ++predicate_counts().refined;
+    return s;
+  }
   ++predicate_counts().exact;
   return ExactRows({a, b, c, Row{}}, 3).minor_sign(0, 1, 2);
 }

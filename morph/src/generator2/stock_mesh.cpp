@@ -63,16 +63,9 @@ Eigen::AlignedBox3d grown(Eigen::AlignedBox3d box) {
   return box;
 }
 
-}  // namespace
-
-MeshStock mesh_stock(const TriangleMesh& mesh, double deviation, const std::string& what) {
-  if (!(std::isfinite(deviation) && deviation > 0.0))
-    throw InputError("mesh stock " + what + ": the deviation must be positive");
-  if (mesh.triangles.empty()) throw InputError("mesh stock " + what + " has no triangles");
-  MeshStock out;
-  // Half the grid cell's diagonal within the deviation: grid·√3/2 <= deviation.
-  out.grid = std::ldexp(1.0, static_cast<int>(std::floor(std::log2(2.0 * deviation / std::sqrt(3.0)))));
-
+// The mesh stock on the grid `out.grid`; false when a coordinate or a plane needs more bits than
+// the grid allows there (a coarser grid may do).
+bool build_on_grid(const TriangleMesh& mesh, const std::string& what, MeshStock& out) {
   // Vertices on the grid; those that round to one grid point become one vertex.
   std::map<GridPoint, int> index_of;
   std::vector<GridPoint> points;
@@ -81,9 +74,9 @@ MeshStock mesh_stock(const TriangleMesh& mesh, double deviation, const std::stri
     GridPoint q{};
     for (int a = 0; a < 3; ++a) {
       const double x = mesh.vertices[v][a] / out.grid;
-      if (!(std::fabs(x) < 0x1p40))
-        throw InputError("mesh stock " + what + ": vertex " + std::to_string(v) +
-                         " is not finite or too far out");
+      if (!std::isfinite(x))
+        throw InputError("mesh stock " + what + ": vertex " + std::to_string(v) + " is not finite");
+      if (!(std::fabs(x) < 0x1p40)) return false;
       q[a] = std::llround(x);
     }
     auto [it, added] = index_of.emplace(q, static_cast<int>(points.size()));
@@ -114,9 +107,7 @@ MeshStock mesh_stock(const TriangleMesh& mesh, double deviation, const std::stri
     support[t] = plane_through(normal, a);
     if (!fits(support[t].offset) || !fits(support[t].n[0]) || !fits(support[t].n[1]) ||
         !fits(support[t].n[2]))
-      throw InputError("mesh stock " + what + ": the plane of triangle " + std::to_string(t) +
-                       " needs more than 53 bits on a grid of " + std::to_string(out.grid) +
-                       " mm (coordinates too large for the tolerance; move the part nearer the origin)");
+      return false;
     rank[t] = plane_rank.emplace(support[t], static_cast<std::uint32_t>(plane_rank.size())).first->second;
   }
   out.planes = plane_rank.size();
@@ -171,9 +162,7 @@ MeshStock mesh_stock(const TriangleMesh& mesh, double deviation, const std::stri
         m[i1] = d[i2];
         m[i2] = -d[i1];
         const GridPlane plane = plane_through(m, p);
-        if (!fits(plane.offset) || !fits(plane.n[i1]) || !fits(plane.n[i2]))
-          throw InputError("mesh stock " + what +
-                           ": an edge plane needs more than 53 bits (coordinates too large)");
+        if (!fits(plane.offset) || !fits(plane.n[i1]) || !fits(plane.n[i2])) return false;
         found =
             edge_planes.emplace(key, std::pair{plane, static_cast<std::uint32_t>(edge_planes.size())}).first;
       }
@@ -198,7 +187,28 @@ MeshStock mesh_stock(const TriangleMesh& mesh, double deviation, const std::stri
     out.boxes.push_back(grown(box));
   }
   out.tree = AabbTree(out.boxes);
-  return out;
+  return true;
+}
+
+}  // namespace
+
+MeshStock mesh_stock(const TriangleMesh& mesh, double deviation, const std::string& what) {
+  if (!(std::isfinite(deviation) && deviation > 0.0))
+    throw InputError("mesh stock " + what + ": the deviation must be positive");
+  if (mesh.triangles.empty()) throw InputError("mesh stock " + what + " has no triangles");
+  // The coarsest grid: half a cell's diagonal within the deviation, grid·√3/2 <= deviation. The
+  // finest that keeps every plane within 53 bits is taken, from 2^-20 mm up: a fine grid moves
+  // the vertices less and leaves small triangles whole.
+  const int coarsest = static_cast<int>(std::floor(std::log2(2.0 * deviation / std::sqrt(3.0))));
+  for (int e = std::min(-20, coarsest); e <= coarsest; ++e) {
+    MeshStock out;
+    out.grid = std::ldexp(1.0, e);
+    if (build_on_grid(mesh, what, out)) return out;
+  }
+  throw InputError("mesh stock " + what + ": its planes need more than 53 bits on every grid within " +
+                   std::to_string(deviation) +
+                   " mm (coordinates too large for the tolerance; move the part "
+                   "nearer the origin or raise the tolerance)");
 }
 
 }  // namespace morph

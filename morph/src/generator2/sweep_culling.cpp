@@ -101,9 +101,7 @@ SweepCulling::SweepCulling(const SweepPolytopeBuilder& sweeps, std::vector<Move>
   bounds_ = tool_bounds(tool);
   // Clusters: a grid of cells of half the inscribed radius (at least a fiftieth of the tool).
   const AlignedBox3d tool_box = tool.bounds();
-  facets_at_vertex_.resize(tool.vertices.size());
-  for (std::size_t f = 0; f < tool.facets.size(); ++f)
-    for (int v : tool.facets[f].loop) facets_at_vertex_[v].push_back(static_cast<int>(f));
+  facets_at_vertex_ = facets_at_vertices(tool);
   const double cell = std::max(0.5 * bounds_.inner_radius, 0.02 * tool_box.diagonal().norm());
   for (const PolytopeFacet& f : tool.facets) {
     AlignedBox3d box;
@@ -373,23 +371,7 @@ std::vector<KeptFacet> SweepCulling::cull(std::size_t i, CullingCounts& counts, 
     std::optional<Vector3d> previous, next;
     if (after) previous = moves_[i - 1].end - moves_[i - 1].start;
     if (before) next = moves_[i + 1].end - moves_[i + 1].start;
-    joint = joint_verdicts(tool, move.end - move.start, previous, next);
-    // The verdicts hold for the exact tool, but the planes are rounded: a facet with a vertex on
-    // the neighbour's boundary (the neighbour's rim there) is inside it, or shares its planes,
-    // only up to that rounding and the tie order, so it may keep a sliver the exact clipping
-    // finds. Such a facet stays, with the neighbour among its cutters. A facet whose every vertex
-    // has all its facets on its own side of both motions is decided by a real margin.
-    for (std::size_t f = 0; f < tool.facets.size(); ++f) {
-      if (!culled(joint[f])) continue;
-      const bool owned = joint[f] == JointVerdict::OwnedByPrevious;
-      const Vector3d& motion = joint[f] == JointVerdict::InsideNext ? *next : *previous;
-      const int side = joint[f] == JointVerdict::InsidePrevious ? -1 : 1;
-      for (int v : tool.facets[f].loop)
-        for (int g : facets_at_vertex_[v])
-          if (motion_side(tool.facets[g].normal, motion) != side ||
-              (owned && motion_side(tool.facets[g].normal, move.end - move.start) >= 0))
-            joint[f] = JointVerdict::Kept;
-    }
+    joint = joint_verdicts_off_rim(tool, facets_at_vertex_, move.end - move.start, previous, next);
   }
   std::vector<Placed> live;
   AlignedBox3d reach;
@@ -490,20 +472,10 @@ std::vector<KeptFacet> SweepCulling::cull(std::size_t i, CullingCounts& counts, 
         if (p.tool_facet >= 0 && p.placement != 0) {
           const Vector3d& at = p.placement > 0 ? b : a;
           if (at == c->a || at == c->b) {
-            const int side = c->degenerate ? -1 : motion_side(tool.facets[p.tool_facet].normal, c->b - c->a);
-            // Only when every facet around the cap's vertices is placed at `at` by both: then
-            // all the planes near it are the same bit for bit and the tie order alone decides.
-            auto placed_alike = [&] {
-              const Vector3d motion_c = c->b - c->a;
-              for (int v : tool.facets[p.tool_facet].loop)
-                for (int g : facets_at_vertex_[v]) {
-                  const Vector3d& n_g = tool.facets[g].normal;
-                  if (degenerate ? p.placement > 0 : motion_side(n_g, b - a) != p.placement) return false;
-                  if (c->degenerate ? side > 0 : motion_side(n_g, motion_c) != side) return false;
-                }
-              return true;
-            };
-            if (side != 0 && (side > 0 ? c->b : c->a) == at && placed_alike()) {
+            const Placement own{b - a, degenerate}, other{c->b - c->a, c->degenerate};
+            const int side = other.side(tool.facets[p.tool_facet].normal);
+            if (side != 0 && (side > 0 ? c->b : c->a) == at &&
+                cap_placed_alike(tool, facets_at_vertex_, p.tool_facet, own, p.placement, other, side)) {
               if (c->move < i) culled_by = Shared;
               if (culled_by != Open) break;
               continue;
