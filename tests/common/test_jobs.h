@@ -1,7 +1,7 @@
 // SPDX-License-Identifier: Apache-2.0
 #pragma once
-// Jobs as the generator tests build them: box stock, tool 1, one path through the given points
-// (move k from point k to point k+1, numbered as G-code line k + 2).
+// Jobs as the generator tests build them: tool 1, one path through the given points (move k from
+// point k to point k+1, numbered as G-code line k + 2).
 #include <morph/job.h>
 #include <morph/tool.h>
 
@@ -9,11 +9,10 @@
 
 namespace morphmill_test {
 
-inline morph::Job box_polyline_job(const Eigen::AlignedBox3d& box, const morph::Tool& tool,
-                                   const std::vector<Eigen::Vector3d>& polyline, double tolerance) {
+inline morph::Job polyline_job(const morph::Stock& stock, const morph::Tool& tool,
+                               const std::vector<Eigen::Vector3d>& polyline, double tolerance) {
   morph::Job job;
-  job.stock.type = morph::StockType::Box;
-  job.stock.box = box;
+  job.stock = stock;
   job.tools.emplace(1, tool);
   job.tolerance = tolerance;
   morph::Path path;
@@ -27,6 +26,14 @@ inline morph::Job box_polyline_job(const Eigen::AlignedBox3d& box, const morph::
   }
   job.paths.push_back(path);
   return job;
+}
+
+inline morph::Job box_polyline_job(const Eigen::AlignedBox3d& box, const morph::Tool& tool,
+                                   const std::vector<Eigen::Vector3d>& polyline, double tolerance) {
+  morph::Stock stock;
+  stock.type = morph::StockType::Box;
+  stock.box = box;
+  return polyline_job(stock, tool, polyline, tolerance);
 }
 
 }  // namespace morphmill_test

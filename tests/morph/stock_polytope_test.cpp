@@ -14,6 +14,8 @@
 
 #include <cmath>
 
+#include "common/test_jobs.h"
+
 namespace {
 
 using Eigen::Vector3d;
@@ -31,21 +33,7 @@ morph::Stock cylinder(const Vector3d& base, const Vector3d& axis, double radius,
 
 morph::Job job_of(const morph::Stock& stock, const morph::Tool& tool, const std::vector<Vector3d>& polyline,
                   double tolerance) {
-  morph::Job job;
-  job.stock = stock;
-  job.tools.emplace(1, tool);
-  job.tolerance = tolerance;
-  morph::Path path;
-  for (std::size_t k = 0; k + 1 < polyline.size(); ++k) {
-    morph::Move m;
-    m.start = polyline[k];
-    m.end = polyline[k + 1];
-    m.tool = 1;
-    m.line = static_cast<int>(k + 2);
-    path.moves.push_back(m);
-  }
-  job.paths.push_back(path);
-  return job;
+  return morphmill_test::polyline_job(stock, tool, polyline, tolerance);
 }
 
 morph::TopologyReport closed_surface(const morph::Job& job, const char* what) {

@@ -23,9 +23,12 @@ using boost::multiprecision::int512_t;
 // Bits of magnitude of each tier (the file comment of exact_determinant.h).
 constexpr int kBits128 = 127, kBits256 = 256, kBits512 = 512;
 
+// mantissa · 2^shift. The magnitude is shifted: shifting a negative value left is undefined
+// before C++20 (UBSan reports it for __int128). |mantissa| < 2^53, so its negation is safe.
 template <class Int>
 Int shifted(std::int64_t mantissa, int shift) {
-  return Int(mantissa) << shift;
+  const Int magnitude = Int(mantissa < 0 ? -mantissa : mantissa) << shift;
+  return mantissa < 0 ? Int(-magnitude) : magnitude;
 }
 
 template <class Int>
