@@ -1,5 +1,6 @@
 // SPDX-License-Identifier: Apache-2.0
-// The CAMotics projects from the command line, as a machinist runs them: `erode` says which move
+// The CAMotics projects from the command line, as a machinist runs them: by default generator 2
+// builds the tools generator 1 cannot; with --generator 1 `erode` says which move
 // and tool the generator cannot build yet (exit 2), `verify` still checks the reference against
 // the exact surface and its exit code tells the truth (1 "NOT VERIFIED" unless --reference-only),
 // and the report names every tool with its shape and sizes, the programs with the tools their
@@ -42,7 +43,8 @@ constexpr const char* kSlantTool =
     "tool 1 (tapered diameter 4, tip diameter 2, taper 10.3048 deg/side, length 5.5)";
 
 TEST_F(CamoticsCli, ErodeNamesTheMoveAndTheToolItCannotBuild) {
-  const auto r = morphmill("erode '" + project("slant_test") + "' -o '" + path("slant.ply") + "'");
+  const auto r =
+      morphmill("erode '" + project("slant_test") + "' -o '" + path("slant.ply") + "' --generator 1");
   EXPECT_EQ(r.exit_code, 2) << r.output;
   EXPECT_NE(r.output.find("the move at line 3 of " + kData + "/camotics/slant_test/slant_test.nc uses " +
                           kSlantTool + ", which the generator cannot build yet"),
@@ -52,9 +54,29 @@ TEST_F(CamoticsCli, ErodeNamesTheMoveAndTheToolItCannotBuild) {
   EXPECT_FALSE(fs::exists(path("slant.ply")));
 }
 
+// By default (--generator auto) the tapered tool goes to generator 2, and erode says so; its exit
+// code is the soundness of what it built.
+TEST_F(CamoticsCli, ErodeHandsATaperedToolToGeneratorTwo) {
+  const auto r = morphmill("erode '" + project("slant_test") + "' -o '" + path("slant.ply") + "' --json '" +
+                           path("slant.json") + "' -q");
+  const nlohmann::json json = nlohmann::json::parse(slurp(path("slant.json")));
+  EXPECT_EQ(json["generator"], 2) << r.output;
+  EXPECT_EQ(json["generator_asked"], "auto");
+  EXPECT_NE(json["generator_choice"].get<std::string>().find(
+                "generator 1 builds spheres and ball ends only, and the move at line 3 of " + kData +
+                "/camotics/slant_test/slant_test.nc uses " + kSlantTool),
+            std::string::npos)
+      << json.dump();
+  const bool sound = json["closed_manifold"].get<bool>() && json["self_intersecting_pairs"].get<int>() == 0;
+  EXPECT_EQ(r.exit_code, sound ? 0 : 1) << r.output;
+  EXPECT_EQ(fs::exists(path("slant.ply")), sound);
+  EXPECT_GT(json["triangles"].get<int>(), 1000);
+  EXPECT_EQ(json["pieces"], 1);
+}
+
 TEST_F(CamoticsCli, VerifyChecksTheReferenceAndSaysTheGeneratorWasNotRun) {
   const auto r = morphmill("verify '" + project("slant_test") + "' --output '" + path("slant") +
-                           "' --voxel 0.5 --samples 2000");
+                           "' --voxel 0.5 --samples 2000 --generator 1");
   EXPECT_EQ(r.exit_code, 1) << r.output;
   EXPECT_NE(r.output.find("verdict NOT VERIFIED"), std::string::npos) << r.output;
   EXPECT_NE(r.output.find("generator: not run (the move at line 3"), std::string::npos) << r.output;

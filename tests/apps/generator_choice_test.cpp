@@ -14,6 +14,9 @@
 #include <nlohmann/json.hpp>
 #include <string>
 
+#include <morph/erode2.h>
+#include <morphmill/job_io.h>
+
 #include "apps/command_support.h"
 #include "verify/generator_choice.h"
 
@@ -59,14 +62,15 @@ TEST(GeneratorChoice, EachGeneratorSaysWhatItCannotBuild) {
   EXPECT_EQ(morphmill::why_generator_cannot_build(job, 2), "");
   job.stock.type = morph::StockType::Mesh;
   EXPECT_EQ(morphmill::why_generator_cannot_build(job, 2), "");
+  EXPECT_EQ(morphmill::why_generator_cannot_build(job, morphmill::kAutoGenerator), "");
   EXPECT_THROW(morphmill::why_generator_cannot_build(job, 3), morph::InputError);
-  EXPECT_THROW(morphmill::check_generator(0), morph::InputError);
+  EXPECT_THROW(morphmill::check_generator(-1), morph::InputError);
 }
 
 TEST(GeneratorChoice, GeneratorTwoFlatSlotVolumeIsTheClosedForm) {
   const morph::Job job = flat_slot_job();
   morph::ErodeOptions options;
-  const morph::ErodeResult result = morphmill::run_generator(job, options, 2);
+  const morph::ErodeResult result = morphmill::run_generator(job, options, 2).result;
   // A flat end mill's level pass 1.5 deep: the slot 10 x 3 plus the two half discs, 1.5 deep.
   const double removed = (10.0 * 3.0 + M_PI * 1.5 * 1.5) * 1.5;
   // Within the tolerance everywhere: the volume within tolerance x the cut's area (floor and walls).
@@ -89,16 +93,66 @@ TEST(GeneratorChoice, VerifyRunsTheGeneratorChosen) {
   EXPECT_EQ(two.exit_code, 0) << two.output;
   const auto report = nlohmann::json::parse(slurp(dir / "g2.json"));
   EXPECT_TRUE(report.at("pieces").at("generator").is_array()) << report.dump();
-  EXPECT_EQ(report.at("provenance").at("options").at("generator"), 2);
+  EXPECT_EQ(report.at("provenance").at("options").at("generator"), "2");
+  EXPECT_EQ(report.at("generator").at("used"), 2);
   EXPECT_LE(report.at("deviation").at("generator_to_exact").at("max_abs").get<double>(), 0.05);
   // Generator 1 cannot build the flat end mill: the reference alone, and the verdict says so.
-  const auto one = morphmill_test::run_command(binary + " verify " + job.string() + " -o " +
-                                               (dir / "g1").string() + common + (dir / "g1.json").string());
+  const auto one =
+      morphmill_test::run_command(binary + " verify " + job.string() + " -o " + (dir / "g1").string() +
+                                  " --generator 1" + common + (dir / "g1.json").string());
   EXPECT_EQ(one.exit_code, 1) << one.output;
   const auto skipped = nlohmann::json::parse(slurp(dir / "g1.json"));
   EXPECT_TRUE(skipped.at("pieces").at("generator").is_null()) << skipped.dump();
+  // The default, auto, hands it to generator 2 and says why.
+  const auto chosen =
+      morphmill_test::run_command(binary + " erode " + job.string() + " -o " + (dir / "auto.ply").string() +
+                                  " --json " + (dir / "auto.json").string());
+  EXPECT_EQ(chosen.exit_code, 0) << chosen.output;
+  const auto summary = nlohmann::json::parse(slurp(dir / "auto.json"));
+  EXPECT_EQ(summary.at("generator_asked"), "auto");
+  EXPECT_EQ(summary.at("generator"), 2);
+  EXPECT_NE(summary.at("generator_choice")
+                .get<std::string>()
+                .find("generator 1 builds spheres and ball ends only, and the move at line"),
+            std::string::npos)
+      << summary.dump();
   const auto bad = morphmill_test::run_command(binary + " verify " + job.string() + " -o " +
                                                (dir / "g3").string() + " --generator 3");
   EXPECT_EQ(bad.exit_code, 2) << bad.output;
   EXPECT_NE(bad.output.find("--generator"), std::string::npos) << bad.output;
+}
+
+// Auto keeps generator 1's surface when it is sound (single_slot) and otherwise returns generator
+// 2's (through_slots: generator 1 leaves it unsound today), counted as a fallback.
+TEST(GeneratorChoice, AutoKeepsASoundSurfaceAndReplacesAnUnsoundOne) {
+  const morph::ErodeOptions options;
+  const std::string jobs = std::string(MORPHMILL_TEST_DATA) + "/jobs/";
+  const morph::Job single_slot = morphmill::load_job(jobs + "single_slot.json");
+  const morphmill::GeneratedSurface kept =
+      morphmill::run_generator(single_slot, options, morphmill::kAutoGenerator);
+  EXPECT_EQ(kept.generator, 1) << kept.choice;
+  ASSERT_TRUE(kept.soundness.has_value());
+  EXPECT_TRUE(kept.soundness->sound()) << kept.soundness->describe();
+  EXPECT_EQ(kept.soundness->crossings.pairs, morphmill::check_soundness(kept.result.mesh).crossings.pairs);
+  EXPECT_EQ(kept.result.mesh.triangle_count(), morph::erode(single_slot, options).mesh.triangle_count());
+
+  const morph::Job through_slots = morphmill::load_job(jobs + "through_slots.json");
+  const morphmill::SurfaceSoundness first =
+      morphmill::check_soundness(morph::erode(through_slots, options).mesh);
+  ASSERT_FALSE(first.sound())
+      << "generator 1 now builds through_slots soundly: pick another job for this test";
+  const morphmill::GeneratedSurface replaced =
+      morphmill::run_generator(through_slots, options, morphmill::kAutoGenerator);
+  EXPECT_EQ(replaced.generator, 2) << replaced.choice;
+  EXPECT_NE(replaced.choice.find(first.describe()), std::string::npos) << replaced.choice;
+  EXPECT_NE(replaced.choice.find("generator 2 built it instead"), std::string::npos) << replaced.choice;
+  ASSERT_FALSE(replaced.result.stats.steps.empty());
+  EXPECT_EQ(replaced.result.stats.steps.front().name, "generator_1_unsound");
+  EXPECT_TRUE(replaced.result.stats.steps.front().fallback);
+  const morphmill::SurfaceSoundness chosen = morphmill::check_soundness(replaced.result.mesh);
+  EXPECT_TRUE(chosen.sound()) << chosen.describe();
+  EXPECT_EQ(chosen.topology.components, 3u);  // the two slots cut the block into three
+  // The very surface generator 2 builds when asked for it.
+  const morph::TopologyReport exact_two = morph::topology_report(morph::erode2(through_slots, options).mesh);
+  EXPECT_DOUBLE_EQ(chosen.topology.volume, exact_two.volume);
 }

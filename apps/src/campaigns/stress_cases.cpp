@@ -11,6 +11,7 @@
 #include "campaigns/stress_cases.h"
 
 #include "campaigns/stress_builder.h"
+#include "verify/generator_choice.h"
 
 #include <fmt/format.h>
 #include <morph/exceptions.h>
@@ -916,7 +917,7 @@ StressCase make_case(std::uint64_t seed, std::size_t index, const CaseSpace& spa
       c.expected_volume ? fmt::format(", expected volume {:.9g}", *c.expected_volume) : std::string(),
       c.expected_genus >= 0 ? fmt::format(", expected genus {}", c.expected_genus) : std::string(),
       case_name(index), c.voxel_size,
-      space.generator != 1 ? fmt::format(" --generator {}", space.generator) : "");
+      space.generator != kDefaultGenerator ? " --generator " + generator_name(space.generator) : "");
   return c;
 }
 

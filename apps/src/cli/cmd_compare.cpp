@@ -92,7 +92,7 @@ void run_compare(const CompareArgs& args) {
   erode_options.memory_cap_bytes = memory_cap_bytes(args.memory_cap_gib);
   const morph::ErodeResult machined = [&] {
     try {
-      return run_generator(job, erode_options, args.generator);
+      return run_generator(job, erode_options, args.generator).result;
     } catch (const morph::LimitError& e) {
       throw morph::LimitError(args.job_path + ": " + e.what() + " (--memory-cap " +
                               describe_bytes(double(erode_options.memory_cap_bytes)) + ")");
@@ -179,7 +179,7 @@ void register_compare_command(CLI::App& app) {
                       "Directory for compare.json and machined_vs_design.ply/.vtp");
   args->json_option =
       add_json_option(*compare, args->json_path, "the summary (compare.json's content; also when exit 1)");
-  compare->add_option("--generator", args->generator, kGeneratorOptionHelp)->capture_default_str();
+  add_generator_option(*compare, args->generator);
   add_memory_cap_option(compare, args->memory_cap_gib);
   compare->callback([args] { run_compare(*args); });
 }

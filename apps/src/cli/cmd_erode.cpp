@@ -68,8 +68,9 @@ std::string describe_steps(const morph::ErodeStats& stats, bool fallbacks) {
 }
 
 nlohmann::json summary_json(const ErodeCommandOptions& options, const morph::Job& job, double tolerance,
-                            const morph::ErodeResult& result, const morph::TopologyReport& topology,
+                            const GeneratedSurface& generated, const morph::TopologyReport& topology,
                             const SelfIntersections& crossings, bool written) {
+  const morph::ErodeResult& result = generated.result;
   const morph::ErodeStats& s = result.stats;
   nlohmann::json pairs = nlohmann::json::array();
   for (const auto& [a, b] : crossings.first_pairs) pairs.push_back({a, b});
@@ -91,7 +92,9 @@ nlohmann::json summary_json(const ErodeCommandOptions& options, const morph::Job
           {"self_intersecting_pairs", crossings.pairs},
           {"first_self_intersecting_pairs", pairs},
           {"volume", topology.volume},
-          {"generator", options.generator},
+          {"generator", generated.generator},
+          {"generator_asked", generator_name(options.generator)},
+          {"generator_choice", generated.choice},
           {"fallbacks_fired", morph::fallbacks_fired(s)},
           {"fallbacks", steps_json(s, true)},
           {"exact_steps", steps_json(s, false)},
@@ -142,7 +145,7 @@ void run_erode(const ErodeCommandOptions& options) {
   erode_options.tolerance = options.tolerance;
   erode_options.progress = &progress;
   erode_options.memory_cap_bytes = memory_cap_bytes(options.memory_cap_gib);
-  const morph::ErodeResult result = [&] {
+  const GeneratedSurface generated = [&] {
     try {
       return run_generator(job, erode_options, options.generator);
     } catch (const morph::LimitError& e) {
@@ -152,13 +155,12 @@ void run_erode(const ErodeCommandOptions& options) {
   }();
   // What the surface is decides whether it is written: a surface that is not a closed, oriented
   // 2-manifold free of self-intersections is not the solid that was promised.
-  morph::TopologyReport topology;
-  SelfIntersections crossings;
-  tbb::task_group checks;
-  checks.run([&] { topology = morph::topology_report(result.mesh); });
-  checks.run([&] { crossings = find_self_intersections(result.mesh); });
-  checks.wait();
-  const bool valid = topology.closed_manifold() && crossings.pairs == 0;
+  const morph::ErodeResult& result = generated.result;
+  const SurfaceSoundness soundness =
+      generated.soundness ? *generated.soundness : check_soundness(result.mesh);
+  const morph::TopologyReport& topology = soundness.topology;
+  const SelfIntersections& crossings = soundness.crossings;
+  const bool valid = soundness.sound();
   if (valid || options.allow_open) {
     MeshWriteOptions write_options;
     write_options.binary = !options.ascii;
@@ -190,9 +192,12 @@ void run_erode(const ErodeCommandOptions& options) {
               << std::fixed << std::setprecision(2) << "  " << s.seconds_total << " s (setup "
               << s.seconds_setup << ", trim " << s.seconds_trim << ", assemble " << s.seconds_assemble
               << ") -> " << (valid || options.allow_open ? options.mesh_path : "not written") << '\n'
+              << "  generator " << generated.generator
+              << (generated.choice.empty() ? std::string() : " (auto: " + generated.choice + ")") << '\n'
               << "  memory: estimated " << describe_bytes(s.estimated_bytes) << " up front (" << s.segments
-              << " segments, " << s.patches << " patches, " << std::setprecision(0) << s.grid_cells
-              << " grid cells)\n"
+              << " segments, " << s.patches << " patches";
+    if (generated.generator == 1) std::cout << ", " << std::setprecision(0) << s.grid_cells << " grid cells";
+    std::cout << ")\n"
               << "  fallbacks fired: " << describe_steps(s, true);
     if (std::any_of(s.steps.begin(), s.steps.end(),
                     [](const morph::StepCount& step) { return !step.fallback; }))
@@ -200,8 +205,8 @@ void run_erode(const ErodeCommandOptions& options) {
     std::cout << '\n';
   }
   if (options.json_option->count() > 0)
-    write_json(summary_json(options, job, options.tolerance > 0.0 ? options.tolerance : job.tolerance, result,
-                            topology, crossings, valid || options.allow_open),
+    write_json(summary_json(options, job, options.tolerance > 0.0 ? options.tolerance : job.tolerance,
+                            generated, topology, crossings, valid || options.allow_open),
                options.json_path);
   if (!valid) {
     std::cerr << "erode: the surface is not a closed, oriented 2-manifold free of self-intersections; "
@@ -231,7 +236,7 @@ void register_erode_command(CLI::App& app) {
   command->add_option("--tolerance", options->tolerance,
                       "Largest distance from the exact surface, job units (default: the job's tolerance)");
   command->add_option("--threads", options->threads, "Worker threads (default: all cores)");
-  command->add_option("--generator", options->generator, kGeneratorOptionHelp)->capture_default_str();
+  add_generator_option(*command, options->generator);
   command->add_flag("--ascii", options->ascii, "Write ASCII instead of binary PLY/STL");
   command->add_flag("--allow-open", options->allow_open,
                     "Write the surface even when it is not a closed, oriented 2-manifold free of\n"

@@ -116,7 +116,7 @@ void register_stress_command(CLI::App& app) {
       ->expected(0, 1);
   command->add_option("--threads,-j", options->threads, "Worker threads (0: all cores)")
       ->capture_default_str();
-  command->add_option("--generator", options->generator, kGeneratorOptionHelp)->capture_default_str();
+  add_generator_option(*command, options->generator);
   command
       ->add_option("--families", options->families,
                    "Case families: classic (the default), motion (retrace, plunge_retract, reversal,\n"

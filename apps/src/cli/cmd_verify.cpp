@@ -56,7 +56,7 @@ void register_verify_command(CLI::App& app) {
       "Check only the reference against the exact surface (within sqrt(3) * voxel where resolvable);\n"
       "the generator is not run. Jobs with tools the generator cannot build yet (flat, bullnose,\n"
       "conical, tapered, ...) run this way anyway, but exit 1 unless this flag is given");
-  verify->add_option("--generator", options->generator, kGeneratorOptionHelp)->capture_default_str();
+  add_generator_option(*verify, options->generator);
   CLI::Option* json_option =
       add_json_option(*verify, *json_path, "the summary (deviation.json's content; also when exit 1)");
   add_memory_cap_option(verify, *memory_cap_gib);

@@ -4,38 +4,141 @@
 #include <morph/erode2.h>
 #include <morph/exceptions.h>
 #include <morph/tool.h>
+#include <tbb/task_group.h>
+#include <CLI/CLI.hpp>
+
+#include <chrono>
+#include <map>
+#include <sstream>
 
 namespace morphmill {
 
-const char* const kGeneratorOptionHelp =
-    "1: today's generator (default; sphere and ball-end tools); 2: generator 2, the union of exact\n"
-    "sweep polytopes (closed by construction; every tool of revolution, every stock)";
+namespace {
 
-void check_generator(int generator) {
-  if (generator != 1 && generator != 2)
-    throw morph::InputError("--generator: must be 1 (today's) or 2 (exact plane-based), got " +
-                            std::to_string(generator));
+const char* const kGeneratorOptionHelp =
+    "auto (default): generator 1's surface when it is sound (closed, oriented, no self-intersections),\n"
+    "  otherwise generator 2's (also for tools generator 1 cannot build; not tried when generator 2\n"
+    "  would sweep more than 3 million facets: pass 2 to run it anyway);\n"
+    "1: today's generator (sphere and ball-end tools);\n"
+    "2: generator 2, the union of exact sweep polytopes (closed by construction; every tool of\n"
+    "  revolution, every stock; slower)";
+
+double seconds_since(std::chrono::steady_clock::time_point start) {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 }
 
-std::string why_generator_cannot_build(const morph::Job& job, int generator) {
-  check_generator(generator);
-  if (generator == 2) {
-    return "";
-  }
+// The first move whose tool generator 1 cannot build, as "the move at line L of F uses tool T
+// (shape and sizes)"; "" when it builds every move.
+std::string first_move_beyond_generator_1(const morph::Job& job) {
   for (const morph::Path& path : job.paths)
     for (const morph::Move& move : path.moves) {
       const morph::Tool& tool = job.tool_of(move);
       if (!tool.generator_builds())
         return "the move at line " + std::to_string(move.line) + " of " + path.source + " uses tool " +
-               std::to_string(move.tool) + " (" + morph::describe(tool) +
-               "), which the generator cannot build yet (--generator 2 can)";
+               std::to_string(move.tool) + " (" + morph::describe(tool) + ")";
     }
   return "";
 }
 
-morph::ErodeResult run_generator(const morph::Job& job, const morph::ErodeOptions& options, int generator) {
+}  // namespace
+
+CLI::Option* add_generator_option(CLI::App& command, int& generator) {
+  const CLI::Validator names(
+      [](std::string& value) {
+        if (value == "auto")
+          value = std::to_string(kAutoGenerator);
+        else if (value != "1" && value != "2")
+          return "must be auto, 1 or 2, not '" + value + "'";
+        return std::string();
+      },
+      "", "generator name");
+  return command.add_option("--generator", generator, kGeneratorOptionHelp)
+      ->transform(names)
+      ->type_name("auto|1|2")
+      ->default_str(generator_name(generator));
+}
+
+void check_generator(int generator) {
+  if (generator != kAutoGenerator && generator != 1 && generator != 2)
+    throw morph::InputError("--generator: must be auto, 1 (today's) or 2 (exact plane-based), got " +
+                            std::to_string(generator));
+}
+
+std::string generator_name(int generator) {
+  return generator == kAutoGenerator ? "auto" : std::to_string(generator);
+}
+
+std::string why_generator_cannot_build(const morph::Job& job, int generator) {
   check_generator(generator);
-  return generator == 2 ? morph::erode2(job, options) : morph::erode(job, options);
+  if (generator != 1) return "";
+  const std::string move = first_move_beyond_generator_1(job);
+  return move.empty() ? "" : move + ", which the generator cannot build yet (--generator 2 can)";
+}
+
+std::string SurfaceSoundness::describe() const {
+  if (sound()) return "sound";
+  std::ostringstream text;
+  if (!topology.closed_manifold())
+    text << "not a closed manifold (" << topology.boundary_edges << " boundary, "
+         << topology.non_manifold_edges << " non-manifold edges, " << topology.non_manifold_vertices
+         << " non-manifold vertices)";
+  if (crossings.pairs > 0)
+    text << (topology.closed_manifold() ? "" : " and ") << crossings.pairs << " intersecting triangle pairs";
+  return text.str();
+}
+
+SurfaceSoundness check_soundness(const morph::TriangleMesh& mesh) {
+  SurfaceSoundness soundness;
+  tbb::task_group checks;
+  checks.run([&] { soundness.topology = morph::topology_report(mesh); });
+  checks.run([&] { soundness.crossings = find_self_intersections(mesh); });
+  checks.wait();
+  return soundness;
+}
+
+GeneratedSurface run_generator(const morph::Job& job, const morph::ErodeOptions& options, int generator) {
+  check_generator(generator);
+  GeneratedSurface out;
+  if (generator != kAutoGenerator) {
+    out.generator = generator;
+    out.result = generator == 2 ? morph::erode2(job, options) : morph::erode(job, options);
+    return out;
+  }
+  const std::string beyond = first_move_beyond_generator_1(job);
+  if (!beyond.empty()) {
+    out.generator = 2;
+    out.choice = "generator 1 builds spheres and ball ends only, and " + beyond;
+    out.result = morph::erode2(job, options);
+    return out;
+  }
+  const auto start = std::chrono::steady_clock::now();
+  out.generator = 1;
+  out.result = morph::erode(job, options);
+  out.soundness = check_soundness(out.result.mesh);
+  if (out.soundness->sound()) {
+    out.choice = "its surface is sound";
+    return out;
+  }
+  const double tolerance = options.tolerance > 0.0 ? options.tolerance : job.tolerance;
+  const morph::Erode2Estimate estimate = morph::estimate_erode2(job, tolerance);
+  std::ostringstream choice;
+  choice << "generator 1's surface is " << out.soundness->describe();
+  if (estimate.sweep_facets > kAutoRetryFacets) {
+    choice << "; generator 2 was not tried: it would sweep about "
+           << static_cast<long long>(estimate.sweep_facets) << " facets, over auto's limit of "
+           << static_cast<long long>(kAutoRetryFacets) << " (--generator 2 runs it anyway)";
+    out.choice = choice.str();
+    return out;
+  }
+  choice << "; generator 2 built it instead";
+  const double first_seconds = seconds_since(start);
+  out.generator = 2;
+  out.result = morph::erode2(job, options);
+  out.result.stats.steps.insert(out.result.stats.steps.begin(), {"generator_1_unsound", 1, true});
+  out.result.stats.seconds_total += first_seconds;
+  out.soundness.reset();
+  out.choice = choice.str();
+  return out;
 }
 
 }  // namespace morphmill

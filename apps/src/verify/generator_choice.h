@@ -1,30 +1,76 @@
 // SPDX-License-Identifier: Apache-2.0
 #pragma once
 // Which surface generator a command runs (`--generator`): 1, today's sweep-patch generator
-// (morph::erode: sphere and ball-end tools, every stock), or 2, generator 2 (morph::erode2: the
-// union of exact sweep polytopes, closed by construction; every tool of revolution, every stock).
-// One place decides what each can build, so erode, verify, compare, stress and study agree.
+// (morph::erode: sphere and ball-end tools, every stock); 2, generator 2 (morph::erode2: the
+// union of exact sweep polytopes, closed by construction; every tool of revolution, every stock);
+// or auto (the default), which takes generator 1's surface when it is sound and generator 2's
+// otherwise. One place decides what each can build, so erode, verify, compare, stress and study agree.
 #include <morph/erode.h>
 #include <morph/job.h>
+#include <morph/topology.h>
+#include <morphmill/self_intersections.h>
 
+#include <optional>
 #include <string>
+
+namespace CLI {
+class App;
+class Option;
+}  // namespace CLI
 
 namespace morphmill {
 
+/// `--generator auto`: generator 1 where it builds a sound surface, generator 2 where it does not.
+constexpr int kAutoGenerator = 0;
+
 /// The generator commands run when --generator is not given.
-constexpr int kDefaultGenerator = 1;
+constexpr int kDefaultGenerator = kAutoGenerator;
 
-/// The text of every command's --generator option.
-extern const char* const kGeneratorOptionHelp;
+/// Generator 2's estimated sweep facets (morph::estimate_erode2) up to which `auto` hands a job
+/// whose generator-1 surface is unsound to generator 2: about a minute of generator 2 on this
+/// project's 2-core machine at today's speed (bear.nc at 0.01 has 12 million and takes minutes).
+constexpr double kAutoRetryFacets = 3e6;
 
-/// Throws morph::InputError unless `generator` is 1 or 2.
+/// Adds `--generator auto|1|2` to `command`, stored as kAutoGenerator, 1 or 2.
+CLI::Option* add_generator_option(CLI::App& command, int& generator);
+
+/// Throws morph::InputError unless `generator` is kAutoGenerator, 1 or 2.
 void check_generator(int generator);
 
+/// "auto", "1" or "2".
+std::string generator_name(int generator);
+
 /// Why `generator` cannot build `job`, as a sentence naming the move and tool or the stock ("" if
-/// it can build it all).
+/// it can build it all; auto builds every job).
 std::string why_generator_cannot_build(const morph::Job& job, int generator);
 
-/// Runs the generator chosen (checked with check_generator).
-morph::ErodeResult run_generator(const morph::Job& job, const morph::ErodeOptions& options, int generator);
+/// Whether a surface is what erode promises: a closed, oriented 2-manifold free of
+/// self-intersections (exact predicates).
+struct SurfaceSoundness {
+  morph::TopologyReport topology;
+  SelfIntersections crossings;
+  bool sound() const { return topology.closed_manifold() && crossings.pairs == 0; }
+  /// What is wrong, e.g. "open (12 boundary edges) with 3 intersecting pairs" ("sound" if nothing).
+  std::string describe() const;
+};
+
+/// Checks `mesh` (topology and exact self-intersections, side by side on all cores).
+SurfaceSoundness check_soundness(const morph::TriangleMesh& mesh);
+
+/// A generator's surface and which generator built it.
+struct GeneratedSurface {
+  morph::ErodeResult result;
+  int generator = 1;  ///< 1 or 2: the generator whose surface `result` is
+  /// How auto chose, as a sentence ("" when the generator was given).
+  std::string choice;
+  /// The soundness of `result.mesh`, when auto checked it (the caller need not check again).
+  std::optional<SurfaceSoundness> soundness;
+};
+
+/// Runs the generator chosen (checked with check_generator). Auto runs generator 2 for a job
+/// generator 1 cannot build; otherwise generator 1, and when its surface is unsound and generator
+/// 2's estimate is within kAutoRetryFacets, generator 2, whose surface is then returned with a
+/// fallback step `generator_1_unsound` counted in its stats.
+GeneratedSurface run_generator(const morph::Job& job, const morph::ErodeOptions& options, int generator);
 
 }  // namespace morphmill

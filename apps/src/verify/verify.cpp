@@ -392,8 +392,11 @@ Evaluation evaluate_job(const morph::Job& job, const EvaluateOptions& options) {
   erode_options.tolerance = out.tolerance;
   erode_options.progress = options.progress;
   erode_options.memory_cap_bytes = options.generator_memory_cap_bytes;
-  morph::ErodeResult eroded =
+  GeneratedSurface generated =
       clock.run("generator (morph)", [&] { return run_generator(job, erode_options, options.generator); });
+  morph::ErodeResult& eroded = generated.result;
+  out.generator_used = generated.generator;
+  out.generator_choice = generated.choice;
   vdb_ref::ReferenceResult reference =
       clock.run("reference (OpenVDB)", [&] { return vdb_ref::compute_reference(job, reference_options); });
 
@@ -533,7 +536,7 @@ VerifyOutcome run_verify(const VerifyOptions& options) {
                                                  {"seed", options.seed},
                                                  {"image_size", {options.image_width, options.image_height}},
                                                  {"reference_only", options.reference_only},
-                                                 {"generator", options.generator}},
+                                                 {"generator", generator_name(options.generator)}},
                                                 unit);
   const std::vector<std::string> provenance_comments = provenance_lines(provenance);
 

@@ -103,6 +103,10 @@ struct VerifyOutcome {
   /// Why the generator was not run ("" when it was): --reference-only, or the first move whose
   /// tool it cannot build yet, named with the tool.
   std::string generator_skipped;
+  /// The generator whose surface was checked (1 or 2; 0 when none ran), and how `auto` chose it
+  /// ("" when the generator was given).
+  int generator_used = 0;
+  std::string generator_choice;
   /// What the generator counted (morph::ErodeStats::steps): its fallbacks and exact steps.
   std::vector<morph::StepCount> generator_steps;
   bool reference_only_requested = false;

@@ -18,4 +18,17 @@ namespace morph {
 /// (not a closed 2-manifold, degenerate on its grid, coordinates too large; stock_mesh.h).
 ErodeResult erode2(const Job& job, const ErodeOptions& options = {});
 
+/// Generator 2's up-front estimate, from the job alone, made before anything large is built: the
+/// sweeps' facets dominate (each kept facet is carved, conformed and emitted; every facet is culled).
+struct Erode2Estimate {
+  double segments = 0.0;         ///< straight pieces after splitting arcs into chords
+  double sweep_facets = 0.0;     ///< facets of all the sweep polytopes
+  double stock_triangles = 0.0;  ///< of a mesh stock
+  double bytes = 0.0;            ///< estimated peak resident memory of the process
+};
+
+/// The estimate at `tolerance` (job units; the tool polytopes and arc chords within 0.4 of it,
+/// as erode2 builds them). Throws LimitError when a tool polytope alone would be too large.
+Erode2Estimate estimate_erode2(const Job& job, double tolerance);
+
 }  // namespace morph
