@@ -237,7 +237,7 @@ class Carving {
         std::vector<ExactPlane> planes;
         for (int h : c.planes)
           planes.push_back(ExactPlane{found->second[h].normal, found->second[h].offset,
-                                      sweep_rank(j, static_cast<std::uint32_t>(h)), 1});
+                                      sweep_rank(j, static_cast<std::uint32_t>(h)), 1, found->second[h].exact});
         cutters.emplace_back(j, std::move(planes));
       }
       if (groups_.size() > 1)

@@ -4,6 +4,7 @@
 #include <morph/degenerate_collapse.h>
 #include <morph/emit.h>
 #include <morph/erode2.h>
+#include <morph/quantize.h>
 #include <morph/exceptions.h>
 #include <morph/sweep_polytope.h>
 #include <morph/tool_polytope.h>
@@ -79,7 +80,12 @@ ErodeResult erode2(const Job& job, const ErodeOptions& options) {
                        std::to_string(std::llround(estimate.sweep_facets)) + " sweep facets, " +
                        std::to_string(std::llround(estimate.stock_triangles)) + " stock triangles");
   stats.moves = job.move_count();
-  const std::vector<Segment> segments = segments_of(job, 0.4 * tolerance);
+  // Ends on the tools' grid (quantize.h), so the sweeps' planes are exact there.
+  std::vector<Segment> segments = segments_of(job, 0.4 * tolerance);
+  for (Segment& s : segments) {
+    s.from = snap_to_grid(s.from, grid_exponent_for(0.4 * tolerance));
+    s.to = snap_to_grid(s.to, grid_exponent_for(0.4 * tolerance));
+  }
   stats.segments = segments.size();
 
   // One polytope per tool, within 0.4 of the tolerance of the exact tool.

@@ -71,12 +71,13 @@ Width checked(Width asked, int needed) {
 
 }  // namespace
 
-ExactRows::ExactRows(const std::array<Row, 4>& rows, int count) : count_(count) {
+ExactRows::ExactRows(const std::array<Row, 4>& rows, int count, const std::array<double, 4>& offset_low)
+    : count_(count) {
   for (int r = 0; r < count; ++r) {
-    std::array<int, 4> exponent{};
+    std::array<int, 5> exponent{};
     int lowest = INT32_MAX;
-    for (int c = 0; c < 4; ++c) {
-      const double v = rows[r][c];
+    for (int c = 0; c < 5; ++c) {
+      const double v = c < 4 ? rows[r][c] : offset_low[r];
       if (v == 0) continue;
       int e = 0;
       const double fraction = std::frexp(v, &e);  // v = fraction·2^e, 0.5 <= |fraction| < 1
@@ -87,13 +88,14 @@ ExactRows::ExactRows(const std::array<Row, 4>& rows, int count) : count_(count) 
       exponent[c] = e + zeros;
       lowest = std::min(lowest, exponent[c]);
     }
-    for (int c = 0; c < 4; ++c) {
+    for (int c = 0; c < 5; ++c) {
       if (mantissa_[r][c] == 0) continue;
       shift_[r][c] = exponent[c] - lowest;
       const auto magnitude = static_cast<unsigned long long>(std::llabs(mantissa_[r][c]));
       const int bits = 64 - __builtin_clzll(magnitude);
       width_[r] = std::max(width_[r], bits + shift_[r][c]);
     }
+    if (mantissa_[r][4] != 0) ++width_[r];  // the offset's two parts sum below 2^(W+1)
   }
 }
 
@@ -103,7 +105,7 @@ int ExactRows::det4_sign_in() const {
   std::array<Int, 4> offset;
   for (int r = 0; r < 4; ++r) {
     for (int c = 0; c < 3; ++c) normal[r][c] = shifted<Int>(mantissa_[r][c], shift_[r][c]);
-    offset[r] = shifted<Int>(mantissa_[r][3], shift_[r][3]);
+    offset[r] = shifted<Int>(mantissa_[r][3], shift_[r][3]) + shifted<Int>(mantissa_[r][4], shift_[r][4]);
   }
   // Expansion along the offset column: Σ (-1)^(r+3)·offset_r·minor_r.
   Int det =

@@ -16,6 +16,10 @@
 /// therefore evaluates the determinant without overflow when ΣW + 5 ≤ B (k = 4) or ΣW + 3 ≤ B
 /// (k = 3). The tiers: __int128 (B = 127), Boost's fixed int256_t and int512_t (unchecked,
 /// signed magnitude: B = 256, 512; no allocation), and cpp_int (unbounded, allocating) beyond.
+/// An offset may come as two doubles whose sum is the exact offset (an IntegerPlane's, quantize.h):
+/// both parts are scaled with the row, and the row's width is one more than its largest entry's,
+/// since their sum is below 2^(W+1).
+///
 /// Unquantized unit normals have W ≈ 53–120 (int256/int512); quantized planes (integer normals
 /// and offsets on a grid, quantize.h) have W ≤ 53 and mostly fit __int128 or int256.
 #include <array>
@@ -32,8 +36,9 @@ enum class Width { Auto, Bits128, Bits256, Bits512, Unbounded };
 /// Up to four rows as exact integers (see the file comment).
 class ExactRows {
  public:
-  /// The first `count` (3 or 4) of `rows`; entries must be finite.
-  explicit ExactRows(const std::array<Row, 4>& rows, int count = 4);
+  /// The first `count` (3 or 4) of `rows`, row r's offset being rows[r][3] + offset_low[r]
+  /// exactly; entries must be finite.
+  explicit ExactRows(const std::array<Row, 4>& rows, int count = 4, const std::array<double, 4>& offset_low = {});
 
   /// Sign of det[rows 0..3] (all four columns).
   int det4_sign(Width width = Width::Auto) const;
@@ -44,8 +49,9 @@ class ExactRows {
   int width(int r) const { return width_[r]; }
 
  private:
-  std::array<std::array<std::int64_t, 4>, 4> mantissa_{};  // odd or zero
-  std::array<std::array<int, 4>, 4> shift_{};              // left shift of the mantissa
+  // Columns: normal x, y, z, offset, offset's low part.
+  std::array<std::array<std::int64_t, 5>, 4> mantissa_{};  // odd or zero
+  std::array<std::array<int, 5>, 4> shift_{};              // left shift of the mantissa
   std::array<int, 4> width_{};
   int count_ = 4;
 
