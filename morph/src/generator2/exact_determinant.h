@@ -22,6 +22,8 @@
 ///
 /// Unquantized unit normals have W ≈ 53–120 (int256/int512); quantized planes (integer normals
 /// and offsets on a grid, quantize.h) have W ≤ 53 and mostly fit __int128 or int256.
+#include <morph/quantize.h>
+
 #include <array>
 #include <cstdint>
 
@@ -60,5 +62,16 @@ class ExactRows {
   template <class Int>
   int minor_sign_in(int a, int b, int c) const;
 };
+
+/// Sign of det[n_i | offset_i] of four planes exactly on one grid (IntegerPlane, quantize.h),
+/// straight from their integers: the offset column in grid units is the doubles' column times
+/// 2^-g for every row, a positive scaling that keeps the sign. Bound: with every normal component
+/// below 2^Wn and every offset below 2^Wo, each of the 24 terms is below 2^(3Wn+Wo) and so is
+/// every partial sum below 2^(3Wn+Wo+5); the narrowest tier with that many bits evaluates it
+/// (normals ≤ 52 bits and offsets ≤ 101 bits: at most 262 bits, int512).
+int integer_det4_sign(const std::array<const IntegerPlane*, 4>& planes, Width width = Width::Auto);
+/// Sign of det[normals of a, b, c] of integer planes (bound 3Wn+3 bits).
+int integer_minor_sign(const IntegerPlane& a, const IntegerPlane& b, const IntegerPlane& c,
+                       Width width = Width::Auto);
 
 }  // namespace morph::exact

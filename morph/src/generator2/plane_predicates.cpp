@@ -8,6 +8,7 @@
 #include <array>
 #include <cfloat>
 #include <cmath>
+#include <cstring>
 #include <optional>
 #include <stdexcept>
 
@@ -36,14 +37,34 @@ struct ExactRow {
   double offset_low = 0.0;
 };
 
+// 2^e for a normal exponent (the grid's), without ldexp's generality.
+double power_of_two(int e) {
+  const std::uint64_t bits = static_cast<std::uint64_t>(e + 1023) << 52;
+  double v;
+  std::memcpy(&v, &bits, sizeof v);
+  return v;
+}
+
 ExactRow row_of(const ExactPlane& p) {
   if (!p.exact.set()) return {{p.normal.x(), p.normal.y(), p.normal.z(), p.offset}, 0.0};
   const IntegerPlane& q = p.exact;
+  const double scale = power_of_two(q.grid_exponent);
+  const Eigen::Vector3d n(static_cast<double>(q.normal[0]), static_cast<double>(q.normal[1]),
+                          static_cast<double>(q.normal[2]));
+  constexpr std::int64_t kExactDouble = std::int64_t{1} << 53;
+  if (q.offset < kExactDouble && q.offset > -kExactDouble)
+    return {{n.x(), n.y(), n.z(), static_cast<double>(static_cast<std::int64_t>(q.offset)) * scale}, 0.0};
   const auto high = static_cast<double>(q.offset);
   const auto low = static_cast<double>(q.offset - static_cast<__int128>(high));
-  return {{static_cast<double>(q.normal[0]), static_cast<double>(q.normal[1]), static_cast<double>(q.normal[2]),
-           std::ldexp(high, q.grid_exponent)},
-          std::ldexp(low, q.grid_exponent)};
+  return {{n.x(), n.y(), n.z(), high * scale}, low * scale};
+}
+
+// The planes' integer forms when all are exact on one grid (then the integers decide directly).
+template <std::size_t N>
+bool on_one_grid(const std::array<const ExactPlane*, N>& planes) {
+  for (const ExactPlane* p : planes)
+    if (!p->exact.set() || p->exact.grid_exponent != planes[0]->exact.grid_exponent) return false;
+  return true;
 }
 
 int sign(double v) {
@@ -73,7 +94,11 @@ Filtered det3(const Row& a, const Row& b, const Row& c) {
 // determinant, and their exact forms on demand.
 class FourPlanes {
  public:
-  explicit FourPlanes(const std::array<ExactRow, 4>& rows) {
+  explicit FourPlanes(const std::array<const ExactPlane*, 4>& planes) {
+    std::array<ExactRow, 4> rows;
+    for (int i = 0; i < 4; ++i) rows[i] = row_of(*planes[i]);
+    if (on_one_grid(planes))
+      for (int i = 0; i < 4; ++i) integer_[i] = &planes[i]->exact;
     for (int i = 0; i < 4; ++i) {
       rows_[i] = rows[i].row;
       low_[i] = rows[i].offset_low;
@@ -103,14 +128,18 @@ class FourPlanes {
       return s;
     }
     ++predicate_counts().exact;
+    if (integer_[0]) return exact::integer_det4_sign(integer_);
     return exact().det4_sign();
   }
   // Sign of the cofactor of row i's offset.
   int cofactor_sign(int i) {
     if (int s = cofactor_[i].certain()) return s;
     const auto [a, b, c] = others(i);
-    int minor = exact::double_double_minor_sign(rows_[a], rows_[b], rows_[c]);
-    if (minor != 0) {
+    int minor = 0;
+    if (integer_[0]) {
+      ++predicate_counts().exact;
+      minor = exact::integer_minor_sign(*integer_[a], *integer_[b], *integer_[c]);
+    } else if ((minor = exact::double_double_minor_sign(rows_[a], rows_[b], rows_[c])) != 0) {
       ++predicate_counts().refined;
     } else {
       ++predicate_counts().exact;
@@ -132,6 +161,7 @@ class FourPlanes {
   }
 
   std::array<Row, 4> rows_;
+  std::array<const IntegerPlane*, 4> integer_{};  // all set when the four are on one grid
   std::array<double, 4> low_{};
   bool has_low_ = false;
   std::array<Filtered, 4> cofactor_{};
@@ -157,6 +187,10 @@ PredicateCounts& predicate_counts() {
 int normals_orientation(const ExactPlane& a, const ExactPlane& b, const ExactPlane& c) {
   const Row ra = row_of(a).row, rb = row_of(b).row, rc = row_of(c).row;
   if (int s = det3(ra, rb, rc).certain()) return s;
+  if (on_one_grid(std::array<const ExactPlane*, 3>{&a, &b, &c})) {
+    ++predicate_counts().exact;
+    return exact::integer_minor_sign(a.exact, b.exact, c.exact);
+  }
   return exact_normals_orientation(ra, rb, rc);
 }
 
@@ -167,7 +201,7 @@ int side_at_vertex(const ExactPlane& a, const ExactPlane& b, const ExactPlane& c
     throw std::invalid_argument("side_at_vertex: the three planes have no single common point");
   if (d.rank == a.rank || d.rank == b.rank || d.rank == c.rank) return 0;
   // det[n|o] = -det3(a,b,c)·(d.normal·x - d.offset), x the vertex (Schur complement).
-  FourPlanes four({row_of(a), row_of(b), row_of(c), row_of(d)});
+  FourPlanes four({&a, &b, &c, &d});
   int det = four.determinant_sign();
   if (det == 0) {
     // Offsets o_i + direction_i·ε_rank_i: det[n|o+δ] = Σ δ_i·cofactor_i, decided by the
@@ -191,7 +225,7 @@ int limit_side_at_vertex(const ExactPlane& a, const ExactPlane& b, const ExactPl
   if (orientation == 0)
     throw std::invalid_argument("limit_side_at_vertex: the three planes have no single common point");
   if (d.rank == a.rank || d.rank == b.rank || d.rank == c.rank) return 0;
-  FourPlanes four({row_of(a), row_of(b), row_of(c), row_of(d)});
+  FourPlanes four({&a, &b, &c, &d});
   return -four.determinant_sign() * orientation;
 }
 
