@@ -13,7 +13,8 @@
 /// Exact planes (quantize.h): when the tool's facets carry exact planes and both ends lie on the
 /// tool's grid, every facet of the sweep carries one too: the tool's, translated by the end it is
 /// placed at, and on silhouette edge e the plane of normal e × (b - a) (both reduced to coprime
-/// integers) exactly through both ends of e at both placements. Other ends give the doubles alone.
+/// integers) exactly through both ends of e at both placements. A sweep with an end off the grid
+/// has the doubles alone, every facet (one sweep is exact or not as a whole).
 ///
 /// Facet order (later stages name facets by it): facet f < tool.facets.size() is the tool's facet
 /// f, placed at the start, at the end or swept by motion_side(); then one parallelogram per
@@ -80,8 +81,8 @@ class SweepPolytopeBuilder {
   Halfspace silhouette_plane(const Edge& e, const Eigen::Vector3d& a, const Eigen::Vector3d& motion) const;
 
  private:
-  // The tool's facet f placed at `at` (its exact plane when `at` is on the grid).
-  Halfspace placed(int f, const Eigen::Vector3d& at) const;
+  // The tool's facet f placed at `at`, with its exact plane when `exact` and `at` is on the grid.
+  Halfspace placed(int f, const Eigen::Vector3d& at, bool exact) const;
   std::optional<GridPoint> on_grid(const Eigen::Vector3d& x) const;
 
   ConvexPolytope tool_;

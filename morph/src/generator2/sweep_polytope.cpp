@@ -115,9 +115,10 @@ std::optional<GridPoint> SweepPolytopeBuilder::on_grid(const Vector3d& x) const 
   return grid_point(x, *grid_);
 }
 
-Halfspace SweepPolytopeBuilder::placed(int f, const Vector3d& at) const {
+Halfspace SweepPolytopeBuilder::placed(int f, const Vector3d& at, bool exact) const {
   const PolytopeFacet& facet = tool_.facets[f];
   Halfspace h{facet.normal, facet.offset + facet.normal.dot(at)};
+  if (!exact) return h;
   if (const std::optional<GridPoint> p = on_grid(at)) h.exact = bounded(facet.exact.translated(*p));
   return h;
 }
@@ -138,7 +139,7 @@ Halfspace SweepPolytopeBuilder::silhouette_plane(const Edge& e, const Vector3d& 
   if (normal.dot(tool_.facets[e.left].normal + tool_.facets[e.right].normal) < 0.0) normal = -normal;
   Halfspace h{normal, normal.dot(tool_.vertices[e.from] + a)};
   const std::optional<GridPoint> start = on_grid(a), step = on_grid(motion);
-  if (!start || !step) return h;
+  if (!start || !step || !on_grid(a + motion)) return h;
   // Exactly through both ends of the edge at both placements: the edge and the motion reduced to
   // coprime integers keep the normal small (an axis move's motion is a unit vector).
   GridPoint edge{};
@@ -157,16 +158,17 @@ std::vector<Halfspace> SweepPolytopeBuilder::halfspaces(const Vector3d& start, c
   std::vector<Halfspace> planes;
   planes.reserve(tool_.facets.size() + 128);
   if (degenerate(start, end)) {
-    for (std::size_t f = 0; f < tool_.facets.size(); ++f) planes.push_back(placed(static_cast<int>(f), start));
+    for (std::size_t f = 0; f < tool_.facets.size(); ++f) planes.push_back(placed(static_cast<int>(f), start, true));
     return planes;
   }
   const auto [a, b] = ordered(start, end);
   const Vector3d motion = b - a;
+  const bool exact = on_grid(a).has_value() && on_grid(b).has_value();
   std::vector<int> side(tool_.facets.size());
   for (std::size_t f = 0; f < side.size(); ++f) {
     const PolytopeFacet& facet = tool_.facets[f];
     side[f] = motion_side(facet.normal, motion);
-    planes.push_back(placed(static_cast<int>(f), side[f] > 0 ? b : a));
+    planes.push_back(placed(static_cast<int>(f), side[f] > 0 ? b : a, exact));
   }
   for (const Edge& e : edges_)
     if (side[e.left] * side[e.right] < 0) planes.push_back(silhouette_plane(e, a, motion));
@@ -177,6 +179,7 @@ ConvexPolytope SweepPolytopeBuilder::operator()(const Vector3d& start, const Vec
   if (degenerate(start, end)) return tool_.translated(start);  // exact planes kept on the grid
   const auto [a, b] = ordered(start, end);
   const Vector3d motion = b - a;
+  const bool exact = on_grid(a).has_value() && on_grid(b).has_value();
 
   // Side of each tool facet: -1 back (kept at a), +1 forward (kept at b), 0 swept whole.
   std::vector<int> side(tool_.facets.size());
@@ -201,7 +204,7 @@ ConvexPolytope SweepPolytopeBuilder::operator()(const Vector3d& start, const Vec
   };
   for (std::size_t f = 0; f < side.size(); ++f) {
     const PolytopeFacet& facet = tool_.facets[f];
-    const Halfspace plane = placed(static_cast<int>(f), side[f] > 0 ? b : a);
+    const Halfspace plane = placed(static_cast<int>(f), side[f] > 0 ? b : a, exact);
     if (side[f] == 0) {
       add(swept_face(tool_, facet, motion), plane);
       continue;
