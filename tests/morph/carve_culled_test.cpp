@@ -4,11 +4,11 @@
 // erode2_test jobs and on random small jobs for every tool shape, one and several tools, on one
 // thread and on TBB.
 #include <morph/carve_culled.h>
-#include <morph/quantize.h>
 #include <morph/conform.h>
 #include <morph/emit.h>
 #include <morph/exceptions.h>
 #include <morph/progress.h>
+#include <morph/quantize.h>
 #include <morph/tool.h>
 #include <morph/tool_polytope.h>
 
@@ -210,7 +210,8 @@ TEST(CarveCulled, SameAsAllPairsOnTheErode2Jobs) {
     add_tool(c, job.tool, tol);
     // The ends on the tool's grid, as erode2 puts them (every sweep then exact, quantize.h).
     std::vector<Vector3d> path;
-    for (const Vector3d& p : job.path) path.push_back(morph::snap_to_grid(p, morph::grid_exponent_for(0.4 * tol)));
+    for (const Vector3d& p : job.path)
+      path.push_back(morph::snap_to_grid(p, morph::grid_exponent_for(0.4 * tol)));
     add_path(c, 0, path);
     expect_same(c, job.name);
   }

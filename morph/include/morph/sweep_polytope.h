@@ -88,7 +88,7 @@ class SweepPolytopeBuilder {
   ConvexPolytope tool_;
   std::vector<Edge> edges_;
   double size_ = 0.0;
-  std::optional<int> grid_;           // when every tool facet has an exact plane on this grid
+  std::optional<int> grid_;               // when every tool facet has an exact plane on this grid
   std::vector<GridPoint> grid_vertices_;  // the tool's vertices on it
 };
 

@@ -4,8 +4,8 @@
 #include <morph/degenerate_collapse.h>
 #include <morph/emit.h>
 #include <morph/erode2.h>
-#include <morph/quantize.h>
 #include <morph/exceptions.h>
+#include <morph/quantize.h>
 #include <morph/sweep_polytope.h>
 #include <morph/tool_polytope.h>
 
@@ -82,9 +82,10 @@ ErodeResult erode2(const Job& job, const ErodeOptions& options) {
   stats.moves = job.move_count();
   // Ends on the tools' grid (quantize.h), so the sweeps' planes are exact there.
   std::vector<Segment> segments = segments_of(job, 0.4 * tolerance);
+  const int grid = grid_exponent_for(0.4 * tolerance);  // the tool polytopes' (tool_polytope.h)
   for (Segment& s : segments) {
-    s.from = snap_to_grid(s.from, grid_exponent_for(0.4 * tolerance));
-    s.to = snap_to_grid(s.to, grid_exponent_for(0.4 * tolerance));
+    s.from = snap_to_grid(s.from, grid);
+    s.to = snap_to_grid(s.to, grid);
   }
   stats.segments = segments.size();
 

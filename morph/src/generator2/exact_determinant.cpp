@@ -211,7 +211,8 @@ int integer_det4_sign(const std::array<const IntegerPlane*, 4>& planes, Width wi
   for (int r = 0; r < 4; ++r) normal[r] = normal_bits(*planes[r]);
   const int normals = normal[0] + normal[1] + normal[2] + normal[3];
   int needed = 0;
-  for (int r = 0; r < 4; ++r) needed = std::max(needed, bit_length(planes[r]->offset) + normals - normal[r] + 5);
+  for (int r = 0; r < 4; ++r)
+    needed = std::max(needed, bit_length(planes[r]->offset) + normals - normal[r] + 5);
   switch (checked(width, needed)) {
     case Width::Bits128:
       return integer_det4_in<Int128>(planes);

@@ -40,7 +40,8 @@ class ExactRows {
  public:
   /// The first `count` (3 or 4) of `rows`, row r's offset being rows[r][3] + offset_low[r]
   /// exactly; entries must be finite.
-  explicit ExactRows(const std::array<Row, 4>& rows, int count = 4, const std::array<double, 4>& offset_low = {});
+  explicit ExactRows(const std::array<Row, 4>& rows, int count = 4,
+                     const std::array<double, 4>& offset_low = {});
 
   /// Sign of det[rows 0..3] (all four columns).
   int det4_sign(Width width = Width::Auto) const;

@@ -51,7 +51,8 @@ int grid_exponent_for(double max_deviation) {
 
 Eigen::Vector3d snap_to_grid(const Eigen::Vector3d& x, int grid_exponent) {
   Eigen::Vector3d snapped;
-  for (int i = 0; i < 3; ++i) snapped[i] = std::ldexp(std::nearbyint(std::ldexp(x[i], -grid_exponent)), grid_exponent);
+  for (int i = 0; i < 3; ++i)
+    snapped[i] = std::ldexp(std::nearbyint(std::ldexp(x[i], -grid_exponent)), grid_exponent);
   return snapped;
 }
 

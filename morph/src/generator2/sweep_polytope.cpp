@@ -146,7 +146,8 @@ Halfspace SweepPolytopeBuilder::silhouette_plane(const Edge& e, const Vector3d& 
   for (int i = 0; i < 3; ++i) edge[i] = grid_vertices_[e.to][i] - grid_vertices_[e.from][i];
   GridPoint through = grid_vertices_[e.from];
   for (int i = 0; i < 3; ++i) through[i] += (*start)[i];
-  std::optional<IntegerPlane> exact = plane_through(integer_cross(reduced(edge), reduced(*step)), through, *grid_);
+  std::optional<IntegerPlane> exact =
+      plane_through(integer_cross(reduced(edge), reduced(*step)), through, *grid_);
   if (!exact) return h;
   const double look = double(exact->normal[0]) * normal.x() + double(exact->normal[1]) * normal.y() +
                       double(exact->normal[2]) * normal.z();
@@ -158,7 +159,8 @@ std::vector<Halfspace> SweepPolytopeBuilder::halfspaces(const Vector3d& start, c
   std::vector<Halfspace> planes;
   planes.reserve(tool_.facets.size() + 128);
   if (degenerate(start, end)) {
-    for (std::size_t f = 0; f < tool_.facets.size(); ++f) planes.push_back(placed(static_cast<int>(f), start, true));
+    for (std::size_t f = 0; f < tool_.facets.size(); ++f)
+      planes.push_back(placed(static_cast<int>(f), start, true));
     return planes;
   }
   const auto [a, b] = ordered(start, end);

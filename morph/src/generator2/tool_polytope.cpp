@@ -114,7 +114,8 @@ std::vector<Vector2d> straddling_meridian(const std::vector<Chord>& chords) {
 
 // The exact plane of a loop of grid points: the integer Newell normal (twice the area vector,
 // exact), through the first point; unset if the loop is not exactly planar (it always is here).
-IntegerPlane exact_plane(const std::vector<GridPoint>& points, const std::vector<int>& loop, int grid_exponent) {
+IntegerPlane exact_plane(const std::vector<GridPoint>& points, const std::vector<int>& loop,
+                         int grid_exponent) {
   std::array<__int128, 3> normal{};
   for (std::size_t i = 0; i < loop.size(); ++i) {
     const std::array<__int128, 3> c = integer_cross(points[loop[i]], points[loop[(i + 1) % loop.size()]]);
@@ -127,8 +128,8 @@ IntegerPlane exact_plane(const std::vector<GridPoint>& points, const std::vector
   return *plane;
 }
 
-PolytopeFacet make_facet(const std::vector<Vector3d>& vertices, const std::vector<GridPoint>& points, std::vector<int> loop,
-                    int grid_exponent) {
+PolytopeFacet make_facet(const std::vector<Vector3d>& vertices, const std::vector<GridPoint>& points,
+                         std::vector<int> loop, int grid_exponent) {
   PolytopeFacet f;
   f.loop = std::move(loop);
   f.normal = loop_area_vector(vertices, f.loop).normalized();
@@ -159,7 +160,8 @@ std::vector<std::array<std::int64_t, 2>> ring_directions(int sectors) {
       for (std::int64_t dy = -2; dy <= 2; ++dy) {
         const double x = double(x0 + dx), y = double(y0 + dy);
         // radial error first; the angular one (≤ 3/M rad) only breaks ties
-        const double error = std::fabs(std::hypot(x, y) - length) + 1e-6 * std::hypot(x - length * std::cos(angle), y - length * std::sin(angle));
+        const double error = std::fabs(std::hypot(x, y) - length) +
+                             1e-6 * std::hypot(x - length * std::cos(angle), y - length * std::sin(angle));
         if (k == 0 && dy != 0) continue;  // keep the first direction on the x axis
         if (error < best) {
           best = error;
