@@ -37,6 +37,7 @@
 namespace morph {
 
 class AabbTree;
+class ToolFacetGroups;
 
 /// A move whose polytope may cut a kept facet, and the indices of its halfspaces (in
 /// SweepPolytopeBuilder::halfspaces() order) that cross the facet: the facet's part inside the
@@ -124,11 +125,12 @@ class SweepCulling {
   std::vector<Eigen::Vector3d> tool_facet_centres_;
   std::vector<double> tool_facet_radii_;
   std::vector<std::vector<int>> facets_at_vertex_;  ///< the tool facets around each tool vertex
-  std::vector<std::int64_t> tool_facet_cell_;  ///< cluster of each tool facet (a grid cell of its centre)
-  double rounding_ = 0.0;                      ///< plane values within this of zero are undecided
-  std::unique_ptr<AabbTree> tree_;             ///< the sweeps' boxes
-  std::unique_ptr<AabbTree> tool_facet_tree_;  ///< the tool facets' boxes (grown by the rounding)
-  std::unique_ptr<AabbTree> tool_edge_tree_;   ///< the tool edges' boxes (grown by the rounding)
+  std::vector<std::int64_t> tool_facet_cell_;      ///< cluster of each tool facet (a grid cell of its centre)
+  double rounding_ = 0.0;                          ///< plane values within this of zero are undecided
+  std::unique_ptr<AabbTree> tree_;                 ///< the sweeps' boxes
+  std::unique_ptr<AabbTree> tool_facet_tree_;      ///< the tool facets' boxes (grown by the rounding)
+  std::unique_ptr<AabbTree> tool_edge_tree_;       ///< the tool edges' boxes (grown by the rounding)
+  std::unique_ptr<ToolFacetGroups> facet_groups_;  ///< which faces can reach a point (all-face loops)
 };
 
 }  // namespace morph

@@ -4,6 +4,8 @@
 #include <morph/joint_culling.h>
 #include <morph/sweep_culling.h>
 
+#include "generator2/tool_facet_groups.h"
+
 #include <algorithm>
 #include <cmath>
 #include <optional>
@@ -149,6 +151,7 @@ SweepCulling::SweepCulling(const SweepPolytopeBuilder& sweeps, std::vector<Move>
   }
   tool_facet_tree_ = std::make_unique<AabbTree>(std::move(facet_boxes));
   tool_edge_tree_ = std::make_unique<AabbTree>(std::move(edge_boxes));
+  facet_groups_ = std::make_unique<ToolFacetGroups>(tool);
 }
 
 SweepCulling::~SweepCulling() = default;
@@ -286,10 +289,17 @@ SweepCulling::Against SweepCulling::against(const Placed& p, std::size_t i, std:
     if (hi > -rounding_) planes.push_back(h);
     return false;
   };
+  // The faces' loops below skip the tool facets' groups that cannot reach the threshold
+  // (tool_facet_groups.h): the silhouette faces, from index `first_silhouette` on, go one by one.
+  const auto first_silhouette = static_cast<int>(sweeps_.tool().facets.size());
   auto inside = [&](const Vector3d& x) {
     // The inner bounds first: deeper than the slack inside the tool's inscribed ball or cylinder.
     if (ball_inside_sweep(bounds_, candidate.a, candidate.b, x, 0.0)) return true;
-    for (int h = 0; h < static_cast<int>(faces.size()); ++h)
+    if (!facet_groups_->for_each_reaching(x, 0.0, candidate.a, candidate.b, -rounding_, [&](int h) {
+          return tie(h) || value(faces[h].plane, x) <= -rounding_;
+        }))
+      return false;
+    for (int h = first_silhouette; h < static_cast<int>(faces.size()); ++h)
       if (!tie(h) && value(faces[h].plane, x) > -rounding_) return false;
     return true;
   };
@@ -336,8 +346,11 @@ SweepCulling::Against SweepCulling::against(const Placed& p, std::size_t i, std:
   const Vector3d& centroid = points.back();
   if (planes.empty()) {
     if (inside(centroid)) return Against::Inside;
-    for (const Face& f : faces)
-      if (value(f.plane, centroid) >= rounding_) return Against::Apart;
+    if (!facet_groups_->for_each_reaching(centroid, 0.0, candidate.a, candidate.b, rounding_,
+                                          [&](int h) { return value(faces[h].plane, centroid) < rounding_; }))
+      return Against::Apart;
+    for (int h = first_silhouette; h < static_cast<int>(faces.size()); ++h)
+      if (value(faces[h].plane, centroid) >= rounding_) return Against::Apart;
   } else {
     // With a point of the facet inside the candidate, the facet's part inside it is its part
     // below the crossing planes (a segment from that point leaves the candidate through a face
@@ -350,10 +363,16 @@ SweepCulling::Against SweepCulling::against(const Placed& p, std::size_t i, std:
   // Undecided within the rounding: every plane that crosses the facet.
   ++counts.without_witness;
   planes.clear();
-  for (int h = 0; h < static_cast<int>(faces.size()); ++h) {
+  double radius = 0.0;
+  for (const Vector3d& x : points) radius = std::max(radius, (x - centroid).norm());
+  if (!facet_groups_->for_each_reaching(centroid, radius, candidate.a, candidate.b, -rounding_,
+                                        [&](int h) { return tie(h) || !separates_or_crosses(h); }))
+    return Against::Apart;
+  for (int h = first_silhouette; h < static_cast<int>(faces.size()); ++h) {
     if (tie(h)) continue;
     if (separates_or_crosses(h)) return Against::Apart;
   }
+  std::sort(planes.begin(), planes.end());  // in face order, as the cutter lists them
   return planes.empty() ? Against::Inside : Against::Cuts;
 }
 
