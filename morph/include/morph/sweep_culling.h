@@ -68,6 +68,8 @@ struct CullingCounts {
 };
 
 class SweepCulling {
+  struct Candidate;
+
  public:
   /// A facet of a candidate sweep as the plane tests need it: its halfspace and its box.
   struct Face {
@@ -89,6 +91,7 @@ class SweepCulling {
     std::vector<std::pair<std::uint32_t, Faces>> recent_;
     std::size_t next_ = 0;
     std::vector<int> near_faces_;
+    std::vector<const Candidate*> open_;  ///< decide()'s candidates left for the halfspaces
   };
 
   /// `moves`: straight moves of the one tool of `sweeps`, in job order (the tie order), paths
@@ -112,6 +115,14 @@ class SweepCulling {
   void place(std::size_t i, std::vector<Placed>& facets) const;
   const Faces& faces(std::uint32_t j, Scratch& scratch, CullingCounts& counts) const;
   enum class Against { Apart, Inside, Cuts };
+  enum class Culled { Open, Bound, Shared, Planes };
+  struct Ends {
+    Eigen::Vector3d a, b;  ///< ordered (both the start for a degenerate move)
+    bool degenerate;
+  };
+  Culled decide(const Placed& p, std::size_t i, const Ends& own, const std::vector<const Candidate*>& near,
+                std::vector<Eigen::Vector3d>& vertices, KeptFacet& keep, CullingCounts& counts,
+                Scratch& scratch) const;
   Against against(const Placed& p, std::size_t i, std::uint32_t j, const std::vector<Eigen::Vector3d>& points,
                   const Faces& faces, std::vector<int>& near_faces, std::vector<int>& planes,
                   CullingCounts& counts) const;

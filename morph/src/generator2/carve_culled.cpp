@@ -49,10 +49,17 @@ struct ToolGroup {
   std::unique_ptr<ToolFacetGroups> facet_groups;
 };
 
+// own_facet()'s working memory, one per thread.
+struct OwnFacetScratch {
+  std::vector<char> marks;  ///< flags of the planes reached, all clear between calls
+  std::vector<double> lengths;
+  std::vector<ExactPlane> near, reaching;
+};
+
 // Per thread: the culling's scratch per tool, the counts and the CPU seconds.
 struct Worker {
   std::vector<SweepCulling::Scratch> scratch;
-  std::vector<int> planes;  ///< own_facet()'s list of plane indices
+  OwnFacetScratch own_facet;
   CarveStages stages;
 };
 using Workers = tbb::enumerable_thread_specific<Worker>;
@@ -99,17 +106,24 @@ struct OwnPlanes {
 };
 
 // Calls f(k), in increasing k, for every own plane that may have a value of at least
-// `threshold` in the ball (centre, radius): the others certainly do not.
+// `threshold` in the ball (centre, radius): the others certainly do not. `marks`: one flag per
+// tool facet, all clear before and after (sorting the reached ones would cost more).
 template <class F>
 void for_each_plane_reaching(const OwnPlanes& own, const Vector3d& centre, double radius, double threshold,
-                             std::vector<int>& scratch, F&& f) {
-  scratch.clear();
+                             std::vector<char>& marks, F&& f) {
+  marks.resize(own.tool_facets, 0);
+  int lowest = static_cast<int>(own.tool_facets), highest = -1;
   own.groups->for_each_reaching(centre, radius, own.a, own.b, threshold, [&](int k) {
-    scratch.push_back(k);
+    marks[k] = 1;
+    lowest = std::min(lowest, k);
+    highest = std::max(highest, k);
     return true;
   });
-  std::sort(scratch.begin(), scratch.end());
-  for (int k : scratch) f(static_cast<std::size_t>(k));
+  for (int k = lowest; k <= highest; ++k)
+    if (marks[k]) {
+      marks[k] = 0;
+      f(static_cast<std::size_t>(k));
+    }
   for (std::size_t k = own.tool_facets; k < own.planes.size(); ++k) f(k);
 }
 
@@ -151,15 +165,17 @@ std::optional<std::pair<Vector3d, double>> corner_ball(const ConvexPiece& piece)
 // the near test would fail for them, and they hold every corner strictly inside, so clipping by
 // them would give the piece unchanged.
 ConvexPiece own_facet(const OwnPlanes& own, int f, const std::vector<Vector3d>& points,
-                      const StockPolytope& stock, std::vector<int>& scratch) {
-  std::vector<double> lengths;
+                      const StockPolytope& stock, OwnFacetScratch& scratch) {
+  std::vector<double>& lengths = scratch.lengths;
+  lengths.clear();
   for (const Vector3d& x : points) lengths.push_back(x.norm());
   const auto [centre, radius] = ball_of(points);
   const double largest = *std::max_element(lengths.begin(), lengths.end());
-  std::vector<ExactPlane> near;
+  std::vector<ExactPlane>& near = scratch.near;
+  near.clear();
   // Every plane's margin below is at most this, so a plane below -reach in the ball is not near.
   const double reach = 1e-9 * (1 + own.max_offset) * (1 + largest);
-  for_each_plane_reaching(own, centre, radius, -reach, scratch, [&](std::size_t k) {
+  for_each_plane_reaching(own, centre, radius, -reach, scratch.marks, [&](std::size_t k) {
     if (static_cast<int>(k) == f) return;
     const ExactPlane& h = own.planes[k];
     const double margin = 1e-9 * (1 + std::fabs(h.offset));
@@ -173,8 +189,9 @@ ConvexPiece own_facet(const OwnPlanes& own, int f, const std::vector<Vector3d>& 
   if (piece.empty()) return piece;
   const auto ball = corner_ball(piece);
   if (!ball) return intersect(std::move(piece), own.planes);
-  std::vector<ExactPlane> reaching;
-  for_each_plane_reaching(own, ball->first, ball->second, 0.0, scratch,
+  std::vector<ExactPlane>& reaching = scratch.reaching;
+  reaching.clear();
+  for_each_plane_reaching(own, ball->first, ball->second, 0.0, scratch.marks,
                           [&](std::size_t k) { reaching.push_back(own.planes[k]); });
   return intersect(std::move(piece), reaching);
 }
@@ -304,7 +321,7 @@ class Carving {
       const double facet_start = thread_seconds();
       const PredicateCounts before = predicate_counts();
       const ConvexPiece facet =
-          own_facet(own, k.facet, facet_points(*group.builder, sweeps_[g], k.facet), stock_, w.planes);
+          own_facet(own, k.facet, facet_points(*group.builder, sweeps_[g], k.facet), stock_, w.own_facet);
       w.stages.seconds_own_facets += thread_seconds() - facet_start;
       w.stages.predicates_own += static_cast<double>(predicate_counts().calls - before.calls);
       w.stages.exact_own += static_cast<double>(predicate_counts().exact - before.exact);
