@@ -11,6 +11,7 @@
 #include <morph/conform.h>
 #include <morph/degenerate_collapse.h>
 #include <morph/emit.h>
+#include <morph/quantize.h>
 #include <morph/sweep_polytope.h>
 #include <morph/tool.h>
 #include <morph/tool_polytope.h>
@@ -60,8 +61,12 @@ std::vector<std::vector<morph::Halfspace>> sweeps_of(const morph::Tool& tool,
                                                      const std::vector<Vector3d>& path,
                                                      double tolerance = 0.05) {
   const morph::SweepPolytopeBuilder builder(morph::tool_polytope(tool.profile, 0.4 * tolerance).polytope);
+  // The ends on the tool's grid, as erode2 puts them (quantize.h).
+  const int grid = morph::grid_exponent_for(0.4 * tolerance);
   std::vector<std::vector<morph::Halfspace>> out;
-  for (std::size_t k = 0; k + 1 < path.size(); ++k) out.push_back(builder.halfspaces(path[k], path[k + 1]));
+  for (std::size_t k = 0; k + 1 < path.size(); ++k)
+    out.push_back(
+        builder.halfspaces(morph::snap_to_grid(path[k], grid), morph::snap_to_grid(path[k + 1], grid)));
   return out;
 }
 

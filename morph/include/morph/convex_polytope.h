@@ -6,6 +6,8 @@
 /// normal and offset (the facet's plane is normal·x = offset; the polytope is where every
 /// normal·x <= offset). Tool polytopes and sweep polytopes (tool ⊕ segment) are both of this
 /// kind. Lengths in job units.
+#include <morph/quantize.h>
+
 #include <Eigen/Core>
 #include <Eigen/Geometry>
 #include <cstddef>
@@ -17,6 +19,9 @@ struct PolytopeFacet {
   std::vector<int> loop;                             ///< vertex indices, counter-clockwise seen from outside
   Eigen::Vector3d normal = Eigen::Vector3d::Zero();  ///< outward, unit
   double offset = 0.0;                               ///< normal·x = offset on the facet's plane
+  /// The plane exactly, when the vertices are on a grid (quantize.h); normal and offset above
+  /// are then its rounded look.
+  IntegerPlane exact;
 };
 
 struct ConvexPolytope {
@@ -34,7 +39,8 @@ struct ConvexPolytope {
   /// lower bound of the distance there), and minus the distance to the boundary inside.
   double plane_value(const Eigen::Vector3d& p) const;
   Eigen::AlignedBox3d bounds() const;
-  /// The same polytope moved by `shift`.
+  /// The same polytope moved by `shift` (the facets' exact planes kept when `shift` is on their
+  /// grid, else dropped).
   ConvexPolytope translated(const Eigen::Vector3d& shift) const;
   /// Number of directed facet edges without their reverse in another facet, plus those used
   /// twice: 0 for a closed, oriented surface.

@@ -14,6 +14,12 @@
 /// moves in job order (sweep_rank()), so the earlier move owns a shared facet, as in
 /// joint_culling.h. The normals are never perturbed, so three planes whose normals are dependent
 /// have no vertex (vertex_exists() says so) in the perturbed arrangement either.
+///
+/// A plane with an exact form (ExactPlane::exact, quantize.h) enters as the rows [n | offset·2^g],
+/// integers times powers of two, the offset as two doubles whose sum is exact; the double filter
+/// charges the low part to its bound and the integer stage holds both (exact_determinant.h).
+#include <morph/quantize.h>
+
 #include <Eigen/Core>
 
 #include <array>
@@ -29,6 +35,10 @@ struct ExactPlane {
   std::uint64_t rank = 0;
   /// +1: the perturbation expands the halfspace (sweeps); -1: contracts it (stock).
   int direction = 1;
+  /// When set, the plane the predicates decide on (exact on the grid of quantize.h, e.g. a
+  /// silhouette plane exactly through both ends of its tool edge); normal and offset are then
+  /// its rounded look, used for looks only (vertex_point() also reads the exact form).
+  IntegerPlane exact{};
 };
 
 /// Rank of a stock plane (stock planes come before every sweep).

@@ -37,6 +37,7 @@
 namespace morph {
 
 class AabbTree;
+class ToolFacetGroups;
 
 /// A move whose polytope may cut a kept facet, and the indices of its halfspaces (in
 /// SweepPolytopeBuilder::halfspaces() order) that cross the facet: the facet's part inside the
@@ -67,6 +68,8 @@ struct CullingCounts {
 };
 
 class SweepCulling {
+  struct Candidate;
+
  public:
   /// A facet of a candidate sweep as the plane tests need it: its halfspace and its box.
   struct Face {
@@ -88,6 +91,7 @@ class SweepCulling {
     std::vector<std::pair<std::uint32_t, Faces>> recent_;
     std::size_t next_ = 0;
     std::vector<int> near_faces_;
+    std::vector<const Candidate*> open_;  ///< decide()'s candidates left for the halfspaces
   };
 
   /// `moves`: straight moves of the one tool of `sweeps`, in job order (the tie order), paths
@@ -111,6 +115,14 @@ class SweepCulling {
   void place(std::size_t i, std::vector<Placed>& facets) const;
   const Faces& faces(std::uint32_t j, Scratch& scratch, CullingCounts& counts) const;
   enum class Against { Apart, Inside, Cuts };
+  enum class Culled { Open, Bound, Shared, Planes };
+  struct Ends {
+    Eigen::Vector3d a, b;  ///< ordered (both the start for a degenerate move)
+    bool degenerate;
+  };
+  Culled decide(const Placed& p, std::size_t i, const Ends& own, const std::vector<const Candidate*>& near,
+                std::vector<Eigen::Vector3d>& vertices, KeptFacet& keep, CullingCounts& counts,
+                Scratch& scratch) const;
   Against against(const Placed& p, std::size_t i, std::uint32_t j, const std::vector<Eigen::Vector3d>& points,
                   const Faces& faces, std::vector<int>& near_faces, std::vector<int>& planes,
                   CullingCounts& counts) const;
@@ -124,11 +136,12 @@ class SweepCulling {
   std::vector<Eigen::Vector3d> tool_facet_centres_;
   std::vector<double> tool_facet_radii_;
   std::vector<std::vector<int>> facets_at_vertex_;  ///< the tool facets around each tool vertex
-  std::vector<std::int64_t> tool_facet_cell_;  ///< cluster of each tool facet (a grid cell of its centre)
-  double rounding_ = 0.0;                      ///< plane values within this of zero are undecided
-  std::unique_ptr<AabbTree> tree_;             ///< the sweeps' boxes
-  std::unique_ptr<AabbTree> tool_facet_tree_;  ///< the tool facets' boxes (grown by the rounding)
-  std::unique_ptr<AabbTree> tool_edge_tree_;   ///< the tool edges' boxes (grown by the rounding)
+  std::vector<std::int64_t> tool_facet_cell_;      ///< cluster of each tool facet (a grid cell of its centre)
+  double rounding_ = 0.0;                          ///< plane values within this of zero are undecided
+  std::unique_ptr<AabbTree> tree_;                 ///< the sweeps' boxes
+  std::unique_ptr<AabbTree> tool_facet_tree_;      ///< the tool facets' boxes (grown by the rounding)
+  std::unique_ptr<AabbTree> tool_edge_tree_;       ///< the tool edges' boxes (grown by the rounding)
+  std::unique_ptr<ToolFacetGroups> facet_groups_;  ///< which faces can reach a point (all-face loops)
 };
 
 }  // namespace morph

@@ -10,6 +10,12 @@
 /// The segment is taken unordered (its ends sorted), so a move and its retrace give the same
 /// polytope, bit for bit.
 ///
+/// Exact planes (quantize.h): when the tool's facets carry exact planes and both ends lie on the
+/// tool's grid, every facet of the sweep carries one too: the tool's, translated by the end it is
+/// placed at, and on silhouette edge e the plane of normal e × (b - a) (both reduced to coprime
+/// integers) exactly through both ends of e at both placements. A sweep with an end off the grid
+/// has the doubles alone, every facet (one sweep is exact or not as a whole).
+///
 /// Facet order (later stages name facets by it): facet f < tool.facets.size() is the tool's facet
 /// f, placed at the start, at the end or swept by motion_side(); then one parallelogram per
 /// silhouette edge, in the order of edges().
@@ -17,6 +23,7 @@
 
 #include <Eigen/Core>
 #include <cstdint>
+#include <optional>
 #include <utility>
 #include <vector>
 
@@ -29,9 +36,12 @@ namespace morph {
 int motion_side(const Eigen::Vector3d& normal, const Eigen::Vector3d& motion);
 
 /// A halfspace normal·x <= offset.
+/// `exact`, when set, is the same plane on the grid (quantize.h): the predicates decide on it,
+/// normal (unit) and offset are its rounded look.
 struct Halfspace {
   Eigen::Vector3d normal;
   double offset;
+  IntegerPlane exact{};
 };
 
 /// Builds sweeps of one tool polytope; the tool's edge adjacency is found once.
@@ -66,13 +76,20 @@ class SweepPolytopeBuilder {
                                                              const Eigen::Vector3d& end);
 
   /// The halfspace of the parallelogram on silhouette edge `e` along `motion` from the ordered
-  /// start `a` (as operator() computes it).
+  /// start `a` (as operator() computes it), with its exact plane when `a` and `motion` are on the
+  /// grid.
   Halfspace silhouette_plane(const Edge& e, const Eigen::Vector3d& a, const Eigen::Vector3d& motion) const;
 
  private:
+  // The tool's facet f placed at `at`, with its exact plane when `exact` and `at` is on the grid.
+  Halfspace placed(int f, const Eigen::Vector3d& at, bool exact) const;
+  std::optional<GridPoint> on_grid(const Eigen::Vector3d& x) const;
+
   ConvexPolytope tool_;
   std::vector<Edge> edges_;
   double size_ = 0.0;
+  std::optional<int> grid_;               // when every tool facet has an exact plane on this grid
+  std::vector<GridPoint> grid_vertices_;  // the tool's vertices on it
 };
 
 /// One-off form of SweepPolytopeBuilder.

@@ -12,6 +12,9 @@
 /// The inscribed polytope lies inside the tool; it is pushed out by half its own sagitta (each
 /// chord's line offset by half the chord's sagitta, ring radii scaled by 2 / (1 + cos(π/N))), so
 /// it straddles the exact surface and its error is about half the sagitta both ways.
+/// The vertices are then moved onto a power-of-two grid (quantize.h) with the rings kept
+/// homothetic, so every facet is exactly planar on it; that moves the surface by at most an
+/// eighth of the budget more.
 #include <morph/convex_polytope.h>
 #include <morph/tool_profile.h>
 
@@ -24,6 +27,9 @@ struct ToolPolytope {
   /// The polytope with the tool point at the origin (tool axis +z).
   ConvexPolytope polytope;
   int sectors = 0;  ///< N: vertices per ring
+  /// Every vertex lies on the grid of this exponent (quantize.h) and every facet carries its
+  /// exact plane there: rings homothetic about the axis, of one set of integer directions.
+  int grid_exponent = 0;
   /// The straddling meridian polygon (r, z above the tool point), from the axis at the bottom
   /// to the axis at the top, before the rings' radial scaling.
   std::vector<Eigen::Vector2d> meridian;

@@ -50,7 +50,7 @@ std::vector<ExactPlane> sweep_planes(const std::vector<Halfspace>& halfspaces, s
   planes.reserve(halfspaces.size());
   for (std::size_t k = 0; k < halfspaces.size(); ++k)
     planes.push_back(ExactPlane{halfspaces[k].normal, halfspaces[k].offset,
-                                sweep_rank(move, static_cast<std::uint32_t>(k)), 1});
+                                sweep_rank(move, static_cast<std::uint32_t>(k)), 1, halfspaces[k].exact});
   return planes;
 }
 

@@ -4,12 +4,16 @@
 #include <morph/exceptions.h>
 #include <morph/joint_culling.h>
 
+#include "generator2/tool_facet_groups.h"
+
 #include <tbb/enumerable_thread_specific.h>
 
 #include <algorithm>
 #include <ctime>
 #include <map>
 #include <memory>
+#include <optional>
+#include <tuple>
 
 namespace morph {
 namespace {
@@ -42,11 +46,20 @@ struct ToolGroup {
   const SweepPolytopeBuilder* builder = nullptr;
   std::vector<std::uint32_t> global;  ///< local move index -> index in the job's sweeps
   std::unique_ptr<SweepCulling> culling;
+  std::unique_ptr<ToolFacetGroups> facet_groups;
+};
+
+// own_facet()'s working memory, one per thread.
+struct OwnFacetScratch {
+  std::vector<char> marks;  ///< flags of the planes reached, all clear between calls
+  std::vector<double> lengths;
+  std::vector<ExactPlane> near, reaching;
 };
 
 // Per thread: the culling's scratch per tool, the counts and the CPU seconds.
 struct Worker {
   std::vector<SweepCulling::Scratch> scratch;
+  OwnFacetScratch own_facet;
   CarveStages stages;
 };
 using Workers = tbb::enumerable_thread_specific<Worker>;
@@ -82,25 +95,105 @@ std::vector<Vector3d> facet_points(const SweepPolytopeBuilder& builder, const Ca
   return points;
 }
 
+// A sweep's own planes (sweep_planes() of its halfspaces) with what finds the ones that reach a
+// region without testing them all: the tool's facet groups and the sweep's ordered ends.
+struct OwnPlanes {
+  std::vector<ExactPlane> planes;
+  const ToolFacetGroups* groups = nullptr;
+  Vector3d a, b;
+  std::size_t tool_facets = 0;  ///< planes[k] for k below this is tool facet k placed at a or b
+  double max_offset = 0.0;
+};
+
+// Calls f(k), in increasing k, for every own plane that may have a value of at least
+// `threshold` in the ball (centre, radius): the others certainly do not. `marks`: one flag per
+// tool facet, all clear before and after (sorting the reached ones would cost more).
+template <class F>
+void for_each_plane_reaching(const OwnPlanes& own, const Vector3d& centre, double radius, double threshold,
+                             std::vector<char>& marks, F&& f) {
+  marks.resize(own.tool_facets, 0);
+  int lowest = static_cast<int>(own.tool_facets), highest = -1;
+  own.groups->for_each_reaching(centre, radius, own.a, own.b, threshold, [&](int k) {
+    marks[k] = 1;
+    lowest = std::min(lowest, k);
+    highest = std::max(highest, k);
+    return true;
+  });
+  for (int k = lowest; k <= highest; ++k)
+    if (marks[k]) {
+      marks[k] = 0;
+      f(static_cast<std::size_t>(k));
+    }
+  for (std::size_t k = own.tool_facets; k < own.planes.size(); ++k) f(k);
+}
+
+// The smallest ball about the points' mean holding them.
+std::pair<Vector3d, double> ball_of(const std::vector<Vector3d>& points) {
+  Vector3d centre = Vector3d::Zero();
+  for (const Vector3d& x : points) centre += x;
+  centre /= static_cast<double>(points.size());
+  double radius = 0.0;
+  for (const Vector3d& x : points) radius = std::max(radius, (x - centre).norm());
+  return {centre, radius};
+}
+
+// A ball holding the exact corners of `piece`, from the rounded ones when every corner is well
+// conditioned (the float look's condition in facet_clipping.cpp: then a rounded corner is within
+// about 1e-11·(|offset| + |corner|) of the exact one); none otherwise.
+std::optional<std::pair<Vector3d, double>> corner_ball(const ConvexPiece& piece) {
+  const std::size_t n = piece.edges.size();
+  std::vector<Vector3d> points;
+  double largest = 0.0, max_offset = std::fabs(piece.support.offset);
+  for (const ExactPlane& e : piece.edges) max_offset = std::max(max_offset, std::fabs(e.offset));
+  for (std::size_t k = 0; k < n; ++k) {
+    const ExactPlane& a = piece.edges[(k + n - 1) % n];
+    const ExactPlane& b = piece.edges[k];
+    const double det = std::fabs(piece.support.normal.dot(a.normal.cross(b.normal)));
+    const double scale = piece.support.normal.norm() * a.normal.norm() * b.normal.norm();
+    if (!(det > 1e-7 * scale)) return std::nullopt;
+    points.push_back(vertex_point(piece.support, a, b));
+    largest = std::max(largest, points.back().norm());
+  }
+  auto [centre, radius] = ball_of(points);
+  return std::pair{centre, radius + 1e-9 * (1.0 + max_offset + largest)};
+}
+
 // Facet f of a sweep within the stock and its own polytope: first by the planes passing near
 // the facet's points (which makes the piece small), then by all of them (the float look of
-// intersect() skips the planes clearly apart, so this adds little and decides exactly).
-ConvexPiece own_facet(const std::vector<ExactPlane>& own, int f, const std::vector<Vector3d>& points,
-                      const StockPolytope& stock) {
-  std::vector<ExactPlane> near;
-  for (std::size_t k = 0; k < own.size(); ++k) {
-    if (static_cast<int>(k) == f) continue;
-    const ExactPlane& h = own[k];
+// intersect() skips the planes clearly apart, so this adds little and decides exactly). Planes
+// that cannot reach the points' (then the piece's corners') ball are left out of both loops:
+// the near test would fail for them, and they hold every corner strictly inside, so clipping by
+// them would give the piece unchanged.
+ConvexPiece own_facet(const OwnPlanes& own, int f, const std::vector<Vector3d>& points,
+                      const StockPolytope& stock, OwnFacetScratch& scratch) {
+  std::vector<double>& lengths = scratch.lengths;
+  lengths.clear();
+  for (const Vector3d& x : points) lengths.push_back(x.norm());
+  const auto [centre, radius] = ball_of(points);
+  const double largest = *std::max_element(lengths.begin(), lengths.end());
+  std::vector<ExactPlane>& near = scratch.near;
+  near.clear();
+  // Every plane's margin below is at most this, so a plane below -reach in the ball is not near.
+  const double reach = 1e-9 * (1 + own.max_offset) * (1 + largest);
+  for_each_plane_reaching(own, centre, radius, -reach, scratch.marks, [&](std::size_t k) {
+    if (static_cast<int>(k) == f) return;
+    const ExactPlane& h = own.planes[k];
     const double margin = 1e-9 * (1 + std::fabs(h.offset));
-    for (const Vector3d& x : points)
-      if (h.normal.dot(x) - h.offset > -margin * (1 + x.norm())) {
+    for (std::size_t i = 0; i < points.size(); ++i)
+      if (h.normal.dot(points[i]) - h.offset > -margin * (1 + lengths[i])) {
         near.push_back(h);
         break;
       }
-  }
-  ConvexPiece piece = intersect(piece_in_stock(own[f], stock), near);
+  });
+  ConvexPiece piece = intersect(piece_in_stock(own.planes[f], stock), near);
   if (piece.empty()) return piece;
-  return intersect(std::move(piece), own);
+  const auto ball = corner_ball(piece);
+  if (!ball) return intersect(std::move(piece), own.planes);
+  std::vector<ExactPlane>& reaching = scratch.reaching;
+  reaching.clear();
+  for_each_plane_reaching(own, ball->first, ball->second, 0.0, scratch.marks,
+                          [&](std::size_t k) { reaching.push_back(own.planes[k]); });
+  return intersect(std::move(piece), reaching);
 }
 
 // `pieces` minus each cutter in turn (the order of carve_box()).
@@ -124,7 +217,9 @@ class Carving {
     local_of_.resize(sweeps.size());
     for (std::size_t g = 0; g < sweeps.size(); ++g) {
       auto [it, added] = group_index.emplace(sweeps[g].tool, groups_.size());
-      if (added) groups_.push_back(ToolGroup{sweeps[g].tool, {}, nullptr});
+      if (added)
+        groups_.push_back(ToolGroup{
+            sweeps[g].tool, {}, nullptr, std::make_unique<ToolFacetGroups>(sweeps[g].tool->tool())});
       group_of_[g] = it->second;
       local_of_[g] = groups_[it->second].global.size();
       groups_[it->second].global.push_back(static_cast<std::uint32_t>(g));
@@ -211,14 +306,22 @@ class Carving {
     w.stages.seconds_cull += culled - start;
     std::vector<std::pair<int, std::vector<ConvexPiece>>> out;
     if (kept.empty()) return out;
-    const std::vector<ExactPlane> own = planes_of(g);
+    OwnPlanes own;
+    own.planes = planes_of(g);
+    own.groups = group.facet_groups.get();
+    const CarveSweep& s = sweeps_[g];
+    std::tie(own.a, own.b) = group.builder->degenerate(s.from, s.to)
+                                 ? std::pair{s.from, s.from}
+                                 : SweepPolytopeBuilder::ordered(s.from, s.to);
+    own.tool_facets = group.builder->tool().facets.size();
+    for (const ExactPlane& h : own.planes) own.max_offset = std::max(own.max_offset, std::fabs(h.offset));
     std::map<std::uint32_t, std::vector<Halfspace>> cutter_halfspaces;  // of this move's cutters
     for (const KeptFacet& k : kept) {
       ++w.stages.carve.facets;
       const double facet_start = thread_seconds();
       const PredicateCounts before = predicate_counts();
       const ConvexPiece facet =
-          own_facet(own, k.facet, facet_points(*group.builder, sweeps_[g], k.facet), stock_);
+          own_facet(own, k.facet, facet_points(*group.builder, sweeps_[g], k.facet), stock_, w.own_facet);
       w.stages.seconds_own_facets += thread_seconds() - facet_start;
       w.stages.predicates_own += static_cast<double>(predicate_counts().calls - before.calls);
       w.stages.exact_own += static_cast<double>(predicate_counts().exact - before.exact);
@@ -237,7 +340,7 @@ class Carving {
         std::vector<ExactPlane> planes;
         for (int h : c.planes)
           planes.push_back(ExactPlane{found->second[h].normal, found->second[h].offset,
-                                      sweep_rank(j, static_cast<std::uint32_t>(h)), 1});
+                                      sweep_rank(j, static_cast<std::uint32_t>(h)), 1, found->second[h].exact});
         cutters.emplace_back(j, std::move(planes));
       }
       if (groups_.size() > 1)

@@ -79,7 +79,12 @@ Eigen::AlignedBox3d ConvexPolytope::bounds() const {
 ConvexPolytope ConvexPolytope::translated(const Vector3d& shift) const {
   ConvexPolytope moved = *this;
   for (Vector3d& v : moved.vertices) v += shift;
-  for (PolytopeFacet& facet : moved.facets) facet.offset += facet.normal.dot(shift);
+  for (PolytopeFacet& facet : moved.facets) {
+    facet.offset += facet.normal.dot(shift);
+    if (!facet.exact.set()) continue;
+    const std::optional<GridPoint> on_grid = grid_point(shift, facet.exact.grid_exponent);
+    facet.exact = on_grid ? facet.exact.translated(*on_grid) : IntegerPlane{};
+  }
   return moved;
 }
 

@@ -5,6 +5,7 @@
 #include <morph/emit.h>
 #include <morph/erode2.h>
 #include <morph/exceptions.h>
+#include <morph/quantize.h>
 #include <morph/sweep_polytope.h>
 #include <morph/tool_polytope.h>
 
@@ -79,7 +80,13 @@ ErodeResult erode2(const Job& job, const ErodeOptions& options) {
                        std::to_string(std::llround(estimate.sweep_facets)) + " sweep facets, " +
                        std::to_string(std::llround(estimate.stock_triangles)) + " stock triangles");
   stats.moves = job.move_count();
-  const std::vector<Segment> segments = segments_of(job, 0.4 * tolerance);
+  // Ends on the tools' grid (quantize.h), so the sweeps' planes are exact there.
+  std::vector<Segment> segments = segments_of(job, 0.4 * tolerance);
+  const int grid = grid_exponent_for(0.4 * tolerance);  // the tool polytopes' (tool_polytope.h)
+  for (Segment& s : segments) {
+    s.from = snap_to_grid(s.from, grid);
+    s.to = snap_to_grid(s.to, grid);
+  }
   stats.segments = segments.size();
 
   // One polytope per tool, within 0.4 of the tolerance of the exact tool.

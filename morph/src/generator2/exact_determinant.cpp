@@ -11,6 +11,7 @@
 #include <cfloat>
 #include <cmath>
 #include <stdexcept>
+#include <type_traits>
 
 namespace morph::exact {
 namespace {
@@ -71,12 +72,13 @@ Width checked(Width asked, int needed) {
 
 }  // namespace
 
-ExactRows::ExactRows(const std::array<Row, 4>& rows, int count) : count_(count) {
+ExactRows::ExactRows(const std::array<Row, 4>& rows, int count, const std::array<double, 4>& offset_low)
+    : count_(count) {
   for (int r = 0; r < count; ++r) {
-    std::array<int, 4> exponent{};
+    std::array<int, 5> exponent{};
     int lowest = INT32_MAX;
-    for (int c = 0; c < 4; ++c) {
-      const double v = rows[r][c];
+    for (int c = 0; c < 5; ++c) {
+      const double v = c < 4 ? rows[r][c] : offset_low[r];
       if (v == 0) continue;
       int e = 0;
       const double fraction = std::frexp(v, &e);  // v = fraction·2^e, 0.5 <= |fraction| < 1
@@ -87,13 +89,14 @@ ExactRows::ExactRows(const std::array<Row, 4>& rows, int count) : count_(count) 
       exponent[c] = e + zeros;
       lowest = std::min(lowest, exponent[c]);
     }
-    for (int c = 0; c < 4; ++c) {
+    for (int c = 0; c < 5; ++c) {
       if (mantissa_[r][c] == 0) continue;
       shift_[r][c] = exponent[c] - lowest;
       const auto magnitude = static_cast<unsigned long long>(std::llabs(mantissa_[r][c]));
       const int bits = 64 - __builtin_clzll(magnitude);
       width_[r] = std::max(width_[r], bits + shift_[r][c]);
     }
+    if (mantissa_[r][4] != 0) ++width_[r];  // the offset's two parts sum below 2^(W+1)
   }
 }
 
@@ -103,7 +106,7 @@ int ExactRows::det4_sign_in() const {
   std::array<Int, 4> offset;
   for (int r = 0; r < 4; ++r) {
     for (int c = 0; c < 3; ++c) normal[r][c] = shifted<Int>(mantissa_[r][c], shift_[r][c]);
-    offset[r] = shifted<Int>(mantissa_[r][3], shift_[r][3]);
+    offset[r] = shifted<Int>(mantissa_[r][3], shift_[r][3]) + shifted<Int>(mantissa_[r][4], shift_[r][4]);
   }
   // Expansion along the offset column: Σ (-1)^(r+3)·offset_r·minor_r.
   Int det =
@@ -149,6 +152,88 @@ int ExactRows::minor_sign(int a, int b, int c, Width width) const {
       return minor_sign_in<int512_t>(a, b, c);
     default:
       return minor_sign_in<cpp_int>(a, b, c);
+  }
+}
+
+}  // namespace morph::exact
+
+namespace morph::exact {
+namespace {
+
+int bit_length(__int128 v) {
+  const auto u = static_cast<unsigned __int128>(v < 0 ? -v : v);
+  const auto high = static_cast<std::uint64_t>(u >> 64), low = static_cast<std::uint64_t>(u);
+  if (high != 0) return 128 - __builtin_clzll(high);
+  return low != 0 ? 64 - __builtin_clzll(low) : 0;
+}
+
+int normal_bits(const IntegerPlane& p) {
+  int bits = 0;
+  for (std::int64_t n : p.normal) bits = std::max(bits, bit_length(n));
+  return bits;
+}
+
+template <class Int>
+Int from_int128(__int128 v) {
+  if constexpr (std::is_same_v<Int, Int128>) {
+    return v;
+  } else {
+    const auto magnitude = static_cast<unsigned __int128>(v < 0 ? -v : v);
+    Int value = Int(static_cast<std::uint64_t>(magnitude >> 64));
+    value <<= 64;
+    value += Int(static_cast<std::uint64_t>(magnitude));
+    return v < 0 ? Int(-value) : value;
+  }
+}
+
+template <class Int>
+std::array<Int, 3> normal_of(const IntegerPlane& p) {
+  return {Int(p.normal[0]), Int(p.normal[1]), Int(p.normal[2])};
+}
+
+template <class Int>
+int integer_det4_in(const std::array<const IntegerPlane*, 4>& p) {
+  std::array<std::array<Int, 3>, 4> n;
+  for (int r = 0; r < 4; ++r) n[r] = normal_of<Int>(*p[r]);
+  Int det = from_int128<Int>(p[1]->offset) * det3(n[0], n[2], n[3]) +
+            from_int128<Int>(p[3]->offset) * det3(n[0], n[1], n[2]);
+  det -= from_int128<Int>(p[0]->offset) * det3(n[1], n[2], n[3]);
+  det -= from_int128<Int>(p[2]->offset) * det3(n[0], n[1], n[3]);
+  return sign_of(det);
+}
+
+}  // namespace
+
+int integer_det4_sign(const std::array<const IntegerPlane*, 4>& planes, Width width) {
+  // Term by term: offset_i times the minor of the other three rows' normals (each product of
+  // three normal components below 2^(their widths' sum)); 24 terms in all.
+  std::array<int, 4> normal{};
+  for (int r = 0; r < 4; ++r) normal[r] = normal_bits(*planes[r]);
+  const int normals = normal[0] + normal[1] + normal[2] + normal[3];
+  int needed = 0;
+  for (int r = 0; r < 4; ++r)
+    needed = std::max(needed, bit_length(planes[r]->offset) + normals - normal[r] + 5);
+  switch (checked(width, needed)) {
+    case Width::Bits128:
+      return integer_det4_in<Int128>(planes);
+    case Width::Bits256:
+      return integer_det4_in<int256_t>(planes);
+    case Width::Bits512:
+      return integer_det4_in<int512_t>(planes);
+    default:
+      return integer_det4_in<cpp_int>(planes);
+  }
+}
+
+int integer_minor_sign(const IntegerPlane& a, const IntegerPlane& b, const IntegerPlane& c, Width width) {
+  const int normal = std::max({normal_bits(a), normal_bits(b), normal_bits(c)});
+  switch (checked(width, 3 * normal + 3)) {
+    case Width::Bits128:
+      return sign_of(det3(normal_of<Int128>(a), normal_of<Int128>(b), normal_of<Int128>(c)));
+    case Width::Bits256:
+      return sign_of(det3(normal_of<int256_t>(a), normal_of<int256_t>(b), normal_of<int256_t>(c)));
+    default:
+      return sign_of(det3(normal_of<int512_t>(a), normal_of<int512_t>(b), normal_of<int512_t>(c)));
   }
 }
 

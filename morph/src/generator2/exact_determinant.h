@@ -16,8 +16,14 @@
 /// therefore evaluates the determinant without overflow when ΣW + 5 ≤ B (k = 4) or ΣW + 3 ≤ B
 /// (k = 3). The tiers: __int128 (B = 127), Boost's fixed int256_t and int512_t (unchecked,
 /// signed magnitude: B = 256, 512; no allocation), and cpp_int (unbounded, allocating) beyond.
+/// An offset may come as two doubles whose sum is the exact offset (an IntegerPlane's, quantize.h):
+/// both parts are scaled with the row, and the row's width is one more than its largest entry's,
+/// since their sum is below 2^(W+1).
+///
 /// Unquantized unit normals have W ≈ 53–120 (int256/int512); quantized planes (integer normals
 /// and offsets on a grid, quantize.h) have W ≤ 53 and mostly fit __int128 or int256.
+#include <morph/quantize.h>
+
 #include <array>
 #include <cstdint>
 
@@ -32,8 +38,10 @@ enum class Width { Auto, Bits128, Bits256, Bits512, Unbounded };
 /// Up to four rows as exact integers (see the file comment).
 class ExactRows {
  public:
-  /// The first `count` (3 or 4) of `rows`; entries must be finite.
-  explicit ExactRows(const std::array<Row, 4>& rows, int count = 4);
+  /// The first `count` (3 or 4) of `rows`, row r's offset being rows[r][3] + offset_low[r]
+  /// exactly; entries must be finite.
+  explicit ExactRows(const std::array<Row, 4>& rows, int count = 4,
+                     const std::array<double, 4>& offset_low = {});
 
   /// Sign of det[rows 0..3] (all four columns).
   int det4_sign(Width width = Width::Auto) const;
@@ -44,8 +52,9 @@ class ExactRows {
   int width(int r) const { return width_[r]; }
 
  private:
-  std::array<std::array<std::int64_t, 4>, 4> mantissa_{};  // odd or zero
-  std::array<std::array<int, 4>, 4> shift_{};              // left shift of the mantissa
+  // Columns: normal x, y, z, offset, offset's low part.
+  std::array<std::array<std::int64_t, 5>, 4> mantissa_{};  // odd or zero
+  std::array<std::array<int, 5>, 4> shift_{};              // left shift of the mantissa
   std::array<int, 4> width_{};
   int count_ = 4;
 
@@ -54,5 +63,16 @@ class ExactRows {
   template <class Int>
   int minor_sign_in(int a, int b, int c) const;
 };
+
+/// Sign of det[n_i | offset_i] of four planes exactly on one grid (IntegerPlane, quantize.h),
+/// straight from their integers: the offset column in grid units is the doubles' column times
+/// 2^-g for every row, a positive scaling that keeps the sign. Bound: with every normal component
+/// below 2^Wn and every offset below 2^Wo, each of the 24 terms is below 2^(3Wn+Wo) and so is
+/// every partial sum below 2^(3Wn+Wo+5); the narrowest tier with that many bits evaluates it
+/// (normals ≤ 52 bits and offsets ≤ 101 bits: at most 262 bits, int512).
+int integer_det4_sign(const std::array<const IntegerPlane*, 4>& planes, Width width = Width::Auto);
+/// Sign of det[normals of a, b, c] of integer planes (bound 3Wn+3 bits).
+int integer_minor_sign(const IntegerPlane& a, const IntegerPlane& b, const IntegerPlane& c,
+                       Width width = Width::Auto);
 
 }  // namespace morph::exact

@@ -64,7 +64,7 @@ ExactPlane box_plane(int axis, bool upper, double offset, std::uint32_t index) {
 }  // namespace
 
 ExactPlane flipped(const ExactPlane& p) {
-  return ExactPlane{-p.normal, -p.offset, p.rank, -p.direction};
+  return ExactPlane{-p.normal, -p.offset, p.rank, -p.direction, p.exact.set() ? p.exact.negated() : p.exact};
 }
 
 std::array<ExactPlane, 6> box_planes(const Eigen::AlignedBox3d& box) {

@@ -8,6 +8,7 @@
 #include <array>
 #include <cfloat>
 #include <cmath>
+#include <cstring>
 #include <optional>
 #include <stdexcept>
 
@@ -28,8 +29,42 @@ constexpr double kDet4Bound = 8 * kUnit;
 // Below this the bounds could underflow: such inputs go to exact arithmetic.
 constexpr double kTiny = DBL_MIN * 1e20;
 
-Row row_of(const ExactPlane& p) {
-  return {p.normal.x(), p.normal.y(), p.normal.z(), p.offset};
+// The row the predicates decide on, and the low part of its offset (0 unless exact): an exact
+// plane's normal components are integers below 2^52 (exact doubles) and its offset·2^g is split
+// into the nearest double and the remainder, exact because |offset| < 2^106 (quantize.h).
+struct ExactRow {
+  Row row;
+  double offset_low = 0.0;
+};
+
+// 2^e for a normal exponent (the grid's), without ldexp's generality.
+double power_of_two(int e) {
+  const std::uint64_t bits = static_cast<std::uint64_t>(e + 1023) << 52;
+  double v;
+  std::memcpy(&v, &bits, sizeof v);
+  return v;
+}
+
+ExactRow row_of(const ExactPlane& p) {
+  if (!p.exact.set()) return {{p.normal.x(), p.normal.y(), p.normal.z(), p.offset}, 0.0};
+  const IntegerPlane& q = p.exact;
+  const double scale = power_of_two(q.grid_exponent);
+  const Eigen::Vector3d n(static_cast<double>(q.normal[0]), static_cast<double>(q.normal[1]),
+                          static_cast<double>(q.normal[2]));
+  constexpr std::int64_t kExactDouble = std::int64_t{1} << 53;
+  if (q.offset < kExactDouble && q.offset > -kExactDouble)
+    return {{n.x(), n.y(), n.z(), static_cast<double>(static_cast<std::int64_t>(q.offset)) * scale}, 0.0};
+  const auto high = static_cast<double>(q.offset);
+  const auto low = static_cast<double>(q.offset - static_cast<__int128>(high));
+  return {{n.x(), n.y(), n.z(), high * scale}, low * scale};
+}
+
+// The planes' integer forms when all are exact on one grid (then the integers decide directly).
+template <std::size_t N>
+bool on_one_grid(const std::array<const ExactPlane*, N>& planes) {
+  for (const ExactPlane* p : planes)
+    if (!p->exact.set() || p->exact.grid_exponent != planes[0]->exact.grid_exponent) return false;
+  return true;
 }
 
 int sign(double v) {
@@ -59,7 +94,16 @@ Filtered det3(const Row& a, const Row& b, const Row& c) {
 // determinant, and their exact forms on demand.
 class FourPlanes {
  public:
-  explicit FourPlanes(const std::array<Row, 4>& rows) : rows_(rows) {
+  explicit FourPlanes(const std::array<const ExactPlane*, 4>& planes) {
+    std::array<ExactRow, 4> rows;
+    for (int i = 0; i < 4; ++i) rows[i] = row_of(*planes[i]);
+    if (on_one_grid(planes))
+      for (int i = 0; i < 4; ++i) integer_[i] = &planes[i]->exact;
+    for (int i = 0; i < 4; ++i) {
+      rows_[i] = rows[i].row;
+      low_[i] = rows[i].offset_low;
+      has_low_ = has_low_ || low_[i] != 0.0;
+    }
     for (int i = 0; i < 4; ++i) {
       const auto [a, b, c] = others(i);
       Filtered m = det3(rows_[a], rows_[b], rows_[c]);
@@ -74,21 +118,28 @@ class FourPlanes {
       value += rows_[i][3] * cofactor_[i].value;
       // the cofactor's own error, carried through, and the rounding of the product and sums
       bound += std::fabs(rows_[i][3]) * (cofactor_[i].bound + kDet4Bound * std::fabs(cofactor_[i].value));
+      // an exact plane's low offset part, left out of the value (|low| ≤ u·|offset|)
+      bound += 1.01 * std::fabs(low_[i]) * (std::fabs(cofactor_[i].value) + cofactor_[i].bound);
     }
     if (int s = Filtered{value, bound}.certain()) return s;
-    if (int s = exact::double_double_det4_sign(rows_)) {
+    // The double-word filter reads one double per offset: rows with a low part go to the integers.
+    if (int s = has_low_ ? 0 : exact::double_double_det4_sign(rows_)) {
       ++predicate_counts().refined;
       return s;
     }
     ++predicate_counts().exact;
+    if (integer_[0]) return exact::integer_det4_sign(integer_);
     return exact().det4_sign();
   }
   // Sign of the cofactor of row i's offset.
   int cofactor_sign(int i) {
     if (int s = cofactor_[i].certain()) return s;
     const auto [a, b, c] = others(i);
-    int minor = exact::double_double_minor_sign(rows_[a], rows_[b], rows_[c]);
-    if (minor != 0) {
+    int minor = 0;
+    if (integer_[0]) {
+      ++predicate_counts().exact;
+      minor = exact::integer_minor_sign(*integer_[a], *integer_[b], *integer_[c]);
+    } else if ((minor = exact::double_double_minor_sign(rows_[a], rows_[b], rows_[c])) != 0) {
       ++predicate_counts().refined;
     } else {
       ++predicate_counts().exact;
@@ -105,11 +156,14 @@ class FourPlanes {
     return o;
   }
   const ExactRows& exact() {
-    if (!exact_) exact_.emplace(rows_);
+    if (!exact_) exact_.emplace(rows_, 4, low_);
     return *exact_;
   }
 
   std::array<Row, 4> rows_;
+  std::array<const IntegerPlane*, 4> integer_{};  // all set when the four are on one grid
+  std::array<double, 4> low_{};
+  bool has_low_ = false;
   std::array<Filtered, 4> cofactor_{};
   std::optional<ExactRows> exact_;
 };
@@ -131,8 +185,12 @@ PredicateCounts& predicate_counts() {
 }
 
 int normals_orientation(const ExactPlane& a, const ExactPlane& b, const ExactPlane& c) {
-  const Row ra = row_of(a), rb = row_of(b), rc = row_of(c);
+  const Row ra = row_of(a).row, rb = row_of(b).row, rc = row_of(c).row;
   if (int s = det3(ra, rb, rc).certain()) return s;
+  if (on_one_grid(std::array<const ExactPlane*, 3>{&a, &b, &c})) {
+    ++predicate_counts().exact;
+    return exact::integer_minor_sign(a.exact, b.exact, c.exact);
+  }
   return exact_normals_orientation(ra, rb, rc);
 }
 
@@ -143,7 +201,7 @@ int side_at_vertex(const ExactPlane& a, const ExactPlane& b, const ExactPlane& c
     throw std::invalid_argument("side_at_vertex: the three planes have no single common point");
   if (d.rank == a.rank || d.rank == b.rank || d.rank == c.rank) return 0;
   // det[n|o] = -det3(a,b,c)·(d.normal·x - d.offset), x the vertex (Schur complement).
-  FourPlanes four({row_of(a), row_of(b), row_of(c), row_of(d)});
+  FourPlanes four({&a, &b, &c, &d});
   int det = four.determinant_sign();
   if (det == 0) {
     // Offsets o_i + direction_i·ε_rank_i: det[n|o+δ] = Σ δ_i·cofactor_i, decided by the
@@ -167,7 +225,7 @@ int limit_side_at_vertex(const ExactPlane& a, const ExactPlane& b, const ExactPl
   if (orientation == 0)
     throw std::invalid_argument("limit_side_at_vertex: the three planes have no single common point");
   if (d.rank == a.rank || d.rank == b.rank || d.rank == c.rank) return 0;
-  FourPlanes four({row_of(a), row_of(b), row_of(c), row_of(d)});
+  FourPlanes four({&a, &b, &c, &d});
   return -four.determinant_sign() * orientation;
 }
 
@@ -180,11 +238,15 @@ bool same_limit_point(const std::array<ExactPlane, 3>& u, const std::array<Exact
 Eigen::Vector3d vertex_point(const ExactPlane& a, const ExactPlane& b, const ExactPlane& c) {
   if (!vertex_exists(a, b, c))
     throw std::invalid_argument("vertex_point: the three planes have no single common point");
+  // From the exact forms where there are (integer normals are exact in long double; the offset
+  // rounds once), so vertices of different triples at one exact point round alike.
   using L = long double;
-  const L n[3][3] = {{a.normal.x(), a.normal.y(), a.normal.z()},
-                     {b.normal.x(), b.normal.y(), b.normal.z()},
-                     {c.normal.x(), c.normal.y(), c.normal.z()}};
-  const L o[3] = {a.offset, b.offset, c.offset};
+  const std::array<ExactRow, 3> rows{row_of(a), row_of(b), row_of(c)};
+  L n[3][3], o[3];
+  for (int r = 0; r < 3; ++r) {
+    for (int k = 0; k < 3; ++k) n[r][k] = rows[r].row[k];
+    o[r] = static_cast<L>(rows[r].row[3]) + static_cast<L>(rows[r].offset_low);
+  }
   auto det = [](const L m[3][3]) {
     return m[0][0] * (m[1][1] * m[2][2] - m[1][2] * m[2][1]) -
            m[0][1] * (m[1][0] * m[2][2] - m[1][2] * m[2][0]) +

@@ -4,6 +4,8 @@
 #include <morph/joint_culling.h>
 #include <morph/sweep_culling.h>
 
+#include "generator2/tool_facet_groups.h"
+
 #include <algorithm>
 #include <cmath>
 #include <optional>
@@ -80,6 +82,13 @@ CullingCounts& CullingCounts::operator+=(const CullingCounts& o) {
   return *this;
 }
 
+// A candidate sweep of a move: its ordered ends.
+struct SweepCulling::Candidate {
+  std::uint32_t move;
+  Vector3d a, b;
+  bool degenerate;
+};
+
 // A facet of a sweep as placed from the tool: a tool facet at one end (placement -1 at the
 // ordered start, +1 at the ordered end) or swept whole (0), or a silhouette edge (0).
 struct SweepCulling::Placed {
@@ -149,6 +158,7 @@ SweepCulling::SweepCulling(const SweepPolytopeBuilder& sweeps, std::vector<Move>
   }
   tool_facet_tree_ = std::make_unique<AabbTree>(std::move(facet_boxes));
   tool_edge_tree_ = std::make_unique<AabbTree>(std::move(edge_boxes));
+  facet_groups_ = std::make_unique<ToolFacetGroups>(tool);
 }
 
 SweepCulling::~SweepCulling() = default;
@@ -286,10 +296,17 @@ SweepCulling::Against SweepCulling::against(const Placed& p, std::size_t i, std:
     if (hi > -rounding_) planes.push_back(h);
     return false;
   };
+  // The faces' loops below skip the tool facets' groups that cannot reach the threshold
+  // (tool_facet_groups.h): the silhouette faces, from index `first_silhouette` on, go one by one.
+  const auto first_silhouette = static_cast<int>(sweeps_.tool().facets.size());
   auto inside = [&](const Vector3d& x) {
     // The inner bounds first: deeper than the slack inside the tool's inscribed ball or cylinder.
     if (ball_inside_sweep(bounds_, candidate.a, candidate.b, x, 0.0)) return true;
-    for (int h = 0; h < static_cast<int>(faces.size()); ++h)
+    if (!facet_groups_->for_each_reaching(x, 0.0, candidate.a, candidate.b, -rounding_, [&](int h) {
+          return tie(h) || value(faces[h].plane, x) <= -rounding_;
+        }))
+      return false;
+    for (int h = first_silhouette; h < static_cast<int>(faces.size()); ++h)
       if (!tie(h) && value(faces[h].plane, x) > -rounding_) return false;
     return true;
   };
@@ -336,8 +353,11 @@ SweepCulling::Against SweepCulling::against(const Placed& p, std::size_t i, std:
   const Vector3d& centroid = points.back();
   if (planes.empty()) {
     if (inside(centroid)) return Against::Inside;
-    for (const Face& f : faces)
-      if (value(f.plane, centroid) >= rounding_) return Against::Apart;
+    if (!facet_groups_->for_each_reaching(centroid, 0.0, candidate.a, candidate.b, rounding_,
+                                          [&](int h) { return value(faces[h].plane, centroid) < rounding_; }))
+      return Against::Apart;
+    for (int h = first_silhouette; h < static_cast<int>(faces.size()); ++h)
+      if (value(faces[h].plane, centroid) >= rounding_) return Against::Apart;
   } else {
     // With a point of the facet inside the candidate, the facet's part inside it is its part
     // below the crossing planes (a segment from that point leaves the candidate through a face
@@ -350,11 +370,90 @@ SweepCulling::Against SweepCulling::against(const Placed& p, std::size_t i, std:
   // Undecided within the rounding: every plane that crosses the facet.
   ++counts.without_witness;
   planes.clear();
-  for (int h = 0; h < static_cast<int>(faces.size()); ++h) {
+  double radius = 0.0;
+  for (const Vector3d& x : points) radius = std::max(radius, (x - centroid).norm());
+  if (!facet_groups_->for_each_reaching(centroid, radius, candidate.a, candidate.b, -rounding_,
+                                        [&](int h) { return tie(h) || !separates_or_crosses(h); }))
+    return Against::Apart;
+  for (int h = first_silhouette; h < static_cast<int>(faces.size()); ++h) {
     if (tie(h)) continue;
     if (separates_or_crosses(h)) return Against::Apart;
   }
+  std::sort(planes.begin(), planes.end());  // in face order, as the cutter lists them
   return planes.empty() ? Against::Inside : Against::Cuts;
+}
+
+// Facet p of move i (ordered ends `own`) against the candidates near its cluster: culled, or kept
+// with its cutters in `keep`. Cheapest proofs first: the support functions, the shared cap and
+// the inner bounds over every candidate (any of them culls the facet, whichever comes first),
+// and only then the halfspaces, which are the cost.
+SweepCulling::Culled SweepCulling::decide(const Placed& p, std::size_t i, const Ends& own,
+                                          const std::vector<const Candidate*>& near,
+                                          std::vector<Vector3d>& vertices, KeptFacet& keep,
+                                          CullingCounts& counts, Scratch& scratch) const {
+  const ConvexPolytope& tool = sweeps_.tool();
+  const Vector3d &a = own.a, &b = own.b;
+  vertices.clear();
+  const Vector3d& n = p.plane.normal;
+  // A swept face's plane holds a, and b only to within 1e-12·|b - a| (motion_side()).
+  const double reach_i = p.tool_facet >= 0 && p.placement == 0 ? n.dot(a) : std::max(n.dot(a), n.dot(b));
+  std::vector<const Candidate*>& open = scratch.open_;
+  open.clear();
+  for (const Candidate* c : near) {
+    // The candidate wholly below the facet's plane: both sweeps' support in the normal n is
+    // the tool's plus the larger of n·a, n·b, so two dot products compare them exactly.
+    if (std::max(n.dot(c->a), n.dot(c->b)) <= reach_i - rounding_) {
+      ++counts.apart_by_support;
+      continue;
+    }
+    // A cap placed at an end of the candidate, where the candidate places the same cap: one
+    // facet of two polytopes, owned by the earlier move.
+    if (p.tool_facet >= 0 && p.placement != 0) {
+      const Vector3d& at = p.placement > 0 ? b : a;
+      if (at == c->a || at == c->b) {
+        const Placement mine{b - a, own.degenerate}, other{c->b - c->a, c->degenerate};
+        const int side = other.side(tool.facets[p.tool_facet].normal);
+        if (side != 0 && (side > 0 ? c->b : c->a) == at &&
+            cap_placed_alike(tool, facets_at_vertex_, p.tool_facet, mine, p.placement, other, side)) {
+          if (c->move < i) return Culled::Shared;
+          continue;
+        }
+      }
+    }
+    if (vertices.empty()) {
+      auto add = [&](int v) {
+        if (p.placement <= 0) vertices.push_back(tool.vertices[v] + a);
+        if (p.placement >= 0) vertices.push_back(tool.vertices[v] + b);
+      };
+      if (p.tool_facet >= 0) {
+        for (int v : tool.facets[p.tool_facet].loop) add(v);
+      } else {
+        add(sweeps_.edges()[p.edge].from);
+        add(sweeps_.edges()[p.edge].to);
+      }
+      Vector3d centroid = Vector3d::Zero();
+      for (const Vector3d& x : vertices) centroid += x;
+      vertices.push_back(centroid / static_cast<double>(vertices.size()));  // inside the facet
+    }
+    ++counts.bound_tests;
+    if (ball_inside_sweep(bounds_, c->a, c->b, p.centre, p.radius) ||
+        points_inside_sweep(bounds_, c->a, c->b, vertices))
+      return Culled::Bound;
+    if (ball_misses_sweep(bounds_, c->a, c->b, p.centre, p.radius) ||
+        (p.placement == 0 && capsule_misses_sweep(bounds_, c->a, c->b, p.from, p.to, p.thickness)))
+      continue;
+    open.push_back(c);
+  }
+  for (const Candidate* c : open) {
+    ++counts.plane_tests;
+    FacetCutter cutter{c->move, {}};
+    const Against verdict = against(p, i, c->move, vertices, faces(c->move, scratch, counts),
+                                    scratch.near_faces_, cutter.planes, counts);
+    if (verdict == Against::Apart) continue;
+    if (verdict == Against::Inside) return Culled::Planes;
+    keep.cutters.push_back(std::move(cutter));
+  }
+  return Culled::Open;
 }
 
 std::vector<KeptFacet> SweepCulling::cull(std::size_t i, CullingCounts& counts, Scratch& scratch) const {
@@ -395,11 +494,6 @@ std::vector<KeptFacet> SweepCulling::cull(std::size_t i, CullingCounts& counts, 
   const std::pair<Vector3d, Vector3d> ends =
       degenerate ? std::pair{move.start, move.start} : SweepPolytopeBuilder::ordered(move.start, move.end);
   const Vector3d &a = ends.first, &b = ends.second;
-  struct Candidate {
-    std::uint32_t move;
-    Vector3d a, b;
-    bool degenerate;
-  };
   std::vector<Candidate> candidates;
   bool retraced = false;
   tree_->for_each_overlapping(reach, [&](std::size_t j) {
@@ -429,6 +523,7 @@ std::vector<KeptFacet> SweepCulling::cull(std::size_t i, CullingCounts& counts, 
   });
   std::vector<KeptFacet> kept;
   std::vector<const Candidate*> near;
+  const Candidate* last_hider = nullptr;
   std::vector<Vector3d> vertices;
   for (std::size_t begin = 0, end; begin < live.size(); begin = end) {
     for (end = begin + 1; end < live.size() && live[end].cluster == live[begin].cluster;) ++end;
@@ -439,11 +534,14 @@ std::vector<KeptFacet> SweepCulling::cull(std::size_t i, CullingCounts& counts, 
     for (std::size_t k = begin; k < end; ++k)
       radius = std::max(radius, (live[k].centre - centre).norm() + live[k].radius);
     near.clear();
-    bool hidden = false;
+    // The candidate that hid the last cluster first: neighbouring clusters are often hidden by it.
+    bool hidden = last_hider && ball_inside_sweep(bounds_, last_hider->a, last_hider->b, centre, radius);
     for (const Candidate& c : candidates) {
+      if (hidden) break;
       ++counts.bound_tests;
       if (ball_inside_sweep(bounds_, c.a, c.b, centre, radius)) {
         hidden = true;
+        last_hider = &c;
         break;
       }
       if (!ball_misses_sweep(bounds_, c.a, c.b, centre, radius)) near.push_back(&c);
@@ -455,79 +553,18 @@ std::vector<KeptFacet> SweepCulling::cull(std::size_t i, CullingCounts& counts, 
     for (std::size_t k = begin; k < end; ++k) {
       const Placed& p = live[k];
       KeptFacet keep{p.facet, {}};
-      enum { Open, Bound, Shared, Planes } culled_by = Open;
-      vertices.clear();
-      const Vector3d& n = p.plane.normal;
-      // A swept face's plane holds a, and b only to within 1e-12·|b - a| (motion_side()).
-      const double reach_i = p.tool_facet >= 0 && p.placement == 0 ? n.dot(a) : std::max(n.dot(a), n.dot(b));
-      for (const Candidate* c : near) {
-        // The candidate wholly below the facet's plane: both sweeps' support in the normal n is
-        // the tool's plus the larger of n·a, n·b, so two dot products compare them exactly.
-        if (std::max(n.dot(c->a), n.dot(c->b)) <= reach_i - rounding_) {
-          ++counts.apart_by_support;
-          continue;
-        }
-        // A cap placed at an end of the candidate, where the candidate places the same cap: one
-        // facet of two polytopes, owned by the earlier move.
-        if (p.tool_facet >= 0 && p.placement != 0) {
-          const Vector3d& at = p.placement > 0 ? b : a;
-          if (at == c->a || at == c->b) {
-            const Placement own{b - a, degenerate}, other{c->b - c->a, c->degenerate};
-            const int side = other.side(tool.facets[p.tool_facet].normal);
-            if (side != 0 && (side > 0 ? c->b : c->a) == at &&
-                cap_placed_alike(tool, facets_at_vertex_, p.tool_facet, own, p.placement, other, side)) {
-              if (c->move < i) culled_by = Shared;
-              if (culled_by != Open) break;
-              continue;
-            }
-          }
-        }
-        if (vertices.empty()) {
-          auto add = [&](int v) {
-            if (p.placement <= 0) vertices.push_back(tool.vertices[v] + a);
-            if (p.placement >= 0) vertices.push_back(tool.vertices[v] + b);
-          };
-          if (p.tool_facet >= 0) {
-            for (int v : tool.facets[p.tool_facet].loop) add(v);
-          } else {
-            add(sweeps_.edges()[p.edge].from);
-            add(sweeps_.edges()[p.edge].to);
-          }
-          Vector3d centroid = Vector3d::Zero();
-          for (const Vector3d& x : vertices) centroid += x;
-          vertices.push_back(centroid / static_cast<double>(vertices.size()));  // inside the facet
-        }
-        ++counts.bound_tests;
-        if (ball_inside_sweep(bounds_, c->a, c->b, p.centre, p.radius) ||
-            points_inside_sweep(bounds_, c->a, c->b, vertices)) {
-          culled_by = Bound;
-          break;
-        }
-        if (ball_misses_sweep(bounds_, c->a, c->b, p.centre, p.radius) ||
-            (p.placement == 0 && capsule_misses_sweep(bounds_, c->a, c->b, p.from, p.to, p.thickness)))
-          continue;
-        ++counts.plane_tests;
-        FacetCutter cutter{c->move, {}};
-        const Against verdict = against(p, i, c->move, vertices, faces(c->move, scratch, counts),
-                                        scratch.near_faces_, cutter.planes, counts);
-        if (verdict == Against::Apart) continue;
-        if (verdict == Against::Inside) {
-          culled_by = Planes;
-          break;
-        }
-        keep.cutters.push_back(std::move(cutter));
-      }
+      const Culled culled_by = decide(p, i, Ends{a, b, degenerate}, near, vertices, keep, counts, scratch);
       switch (culled_by) {
-        case Bound:
+        case Culled::Bound:
           ++counts.by_facet_bound;
           break;
-        case Shared:
+        case Culled::Shared:
           ++counts.by_shared_cap;
           break;
-        case Planes:
+        case Culled::Planes:
           ++counts.by_planes;
           break;
-        case Open:
+        case Culled::Open:
           ++counts.kept;
           counts.cutters += static_cast<double>(keep.cutters.size());
           for (const FacetCutter& c : keep.cutters)

@@ -88,6 +88,39 @@ SweepPolytopeBuilder::SweepPolytopeBuilder(ConvexPolytope tool) : tool_(std::mov
     return a.from < b.from || (a.from == b.from && a.to < b.to);
   });
   size_ = tool_.bounds().diagonal().norm();
+  const int grid = tool_.facets.front().exact.grid_exponent;
+  bool exact = true;
+  for (const PolytopeFacet& f : tool_.facets) exact = exact && f.exact.set() && f.exact.grid_exponent == grid;
+  for (const Vector3d& v : tool_.vertices) {
+    if (!exact) break;
+    const std::optional<GridPoint> p = grid_point(v, grid);
+    if (p) grid_vertices_.push_back(*p);
+    exact = exact && p.has_value();
+  }
+  if (exact) grid_ = grid;
+}
+
+namespace {
+
+// Offsets of the sweeps' exact planes stay far below the 2^106 the predicates read exactly.
+IntegerPlane bounded(const IntegerPlane& plane) {
+  const __int128 limit = static_cast<__int128>(1) << 100;
+  return plane.offset < limit && plane.offset > -limit ? plane : IntegerPlane{};
+}
+
+}  // namespace
+
+std::optional<GridPoint> SweepPolytopeBuilder::on_grid(const Vector3d& x) const {
+  if (!grid_) return std::nullopt;
+  return grid_point(x, *grid_);
+}
+
+Halfspace SweepPolytopeBuilder::placed(int f, const Vector3d& at, bool exact) const {
+  const PolytopeFacet& facet = tool_.facets[f];
+  Halfspace h{facet.normal, facet.offset + facet.normal.dot(at)};
+  if (!exact) return h;
+  if (const std::optional<GridPoint> p = on_grid(at)) h.exact = bounded(facet.exact.translated(*p));
+  return h;
 }
 
 std::pair<Vector3d, Vector3d> SweepPolytopeBuilder::ordered(const Vector3d& start, const Vector3d& end) {
@@ -104,23 +137,40 @@ Halfspace SweepPolytopeBuilder::silhouette_plane(const Edge& e, const Vector3d& 
                                                  const Vector3d& motion) const {
   Vector3d normal = (tool_.vertices[e.to] - tool_.vertices[e.from]).cross(motion).normalized();
   if (normal.dot(tool_.facets[e.left].normal + tool_.facets[e.right].normal) < 0.0) normal = -normal;
-  return {normal, normal.dot(tool_.vertices[e.from] + a)};
+  Halfspace h{normal, normal.dot(tool_.vertices[e.from] + a)};
+  const std::optional<GridPoint> start = on_grid(a), step = on_grid(motion);
+  if (!start || !step || !on_grid(a + motion)) return h;
+  // Exactly through both ends of the edge at both placements: the edge and the motion reduced to
+  // coprime integers keep the normal small (an axis move's motion is a unit vector).
+  GridPoint edge{};
+  for (int i = 0; i < 3; ++i) edge[i] = grid_vertices_[e.to][i] - grid_vertices_[e.from][i];
+  GridPoint through = grid_vertices_[e.from];
+  for (int i = 0; i < 3; ++i) through[i] += (*start)[i];
+  std::optional<IntegerPlane> exact =
+      plane_through(integer_cross(reduced(edge), reduced(*step)), through, *grid_);
+  if (!exact) return h;
+  const double look = double(exact->normal[0]) * normal.x() + double(exact->normal[1]) * normal.y() +
+                      double(exact->normal[2]) * normal.z();
+  h.exact = bounded(look < 0.0 ? exact->negated() : *exact);
+  return h;
 }
 
 std::vector<Halfspace> SweepPolytopeBuilder::halfspaces(const Vector3d& start, const Vector3d& end) const {
   std::vector<Halfspace> planes;
   planes.reserve(tool_.facets.size() + 128);
   if (degenerate(start, end)) {
-    for (const PolytopeFacet& f : tool_.facets) planes.push_back({f.normal, f.offset + f.normal.dot(start)});
+    for (std::size_t f = 0; f < tool_.facets.size(); ++f)
+      planes.push_back(placed(static_cast<int>(f), start, true));
     return planes;
   }
   const auto [a, b] = ordered(start, end);
   const Vector3d motion = b - a;
+  const bool exact = on_grid(a).has_value() && on_grid(b).has_value();
   std::vector<int> side(tool_.facets.size());
   for (std::size_t f = 0; f < side.size(); ++f) {
     const PolytopeFacet& facet = tool_.facets[f];
     side[f] = motion_side(facet.normal, motion);
-    planes.push_back({facet.normal, facet.offset + facet.normal.dot(side[f] > 0 ? b : a)});
+    planes.push_back(placed(static_cast<int>(f), side[f] > 0 ? b : a, exact));
   }
   for (const Edge& e : edges_)
     if (side[e.left] * side[e.right] < 0) planes.push_back(silhouette_plane(e, a, motion));
@@ -128,9 +178,10 @@ std::vector<Halfspace> SweepPolytopeBuilder::halfspaces(const Vector3d& start, c
 }
 
 ConvexPolytope SweepPolytopeBuilder::operator()(const Vector3d& start, const Vector3d& end) const {
-  if (degenerate(start, end)) return tool_.translated(start);
+  if (degenerate(start, end)) return tool_.translated(start);  // exact planes kept on the grid
   const auto [a, b] = ordered(start, end);
   const Vector3d motion = b - a;
+  const bool exact = on_grid(a).has_value() && on_grid(b).has_value();
 
   // Side of each tool facet: -1 back (kept at a), +1 forward (kept at b), 0 swept whole.
   std::vector<int> side(tool_.facets.size());
@@ -145,33 +196,34 @@ ConvexPolytope SweepPolytopeBuilder::operator()(const Vector3d& start, const Vec
     }
     return used[id];
   };
-  auto add = [&](const std::vector<int>& ids, const Vector3d& normal, double offset) {
+  auto add = [&](const std::vector<int>& ids, const Halfspace& plane) {
     PolytopeFacet facet;
     for (int id : ids) facet.loop.push_back(vertex(id));
-    facet.normal = normal;
-    facet.offset = offset;
+    facet.normal = plane.normal;
+    facet.offset = plane.offset;
+    facet.exact = plane.exact;
     sweep.facets.push_back(std::move(facet));
   };
   for (std::size_t f = 0; f < side.size(); ++f) {
     const PolytopeFacet& facet = tool_.facets[f];
-    const Vector3d& at = side[f] > 0 ? b : a;
+    const Halfspace plane = placed(static_cast<int>(f), side[f] > 0 ? b : a, exact);
     if (side[f] == 0) {
-      add(swept_face(tool_, facet, motion), facet.normal, facet.offset + facet.normal.dot(a));
+      add(swept_face(tool_, facet, motion), plane);
       continue;
     }
     std::vector<int> ids = facet.loop;
     if (side[f] > 0)
       for (int& id : ids) id += n;
-    add(ids, facet.normal, facet.offset + facet.normal.dot(at));
+    add(ids, plane);
   }
   for (const Edge& e : edges_) {
     const int s_left = side[e.left], s_right = side[e.right];
     if (s_left * s_right >= 0) continue;  // not a silhouette edge (or a swept face holds it)
     const Halfspace plane = silhouette_plane(e, a, motion);
     if (s_left < 0)
-      add({e.to, e.from, e.from + n, e.to + n}, plane.normal, plane.offset);
+      add({e.to, e.from, e.from + n, e.to + n}, plane);
     else
-      add({e.from, e.to, e.to + n, e.from + n}, plane.normal, plane.offset);
+      add({e.from, e.to, e.to + n, e.from + n}, plane);
   }
   return sweep;
 }

@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <optional>
 #include <string>
 
 namespace morph {
@@ -111,14 +112,68 @@ std::vector<Vector2d> straddling_meridian(const std::vector<Chord>& chords) {
   return points;
 }
 
-PolytopeFacet facet(const std::vector<Vector3d>& vertices, std::vector<int> loop) {
+// The exact plane of a loop of grid points: the integer Newell normal (twice the area vector,
+// exact), through the first point; unset if the loop is not exactly planar (it always is here).
+IntegerPlane exact_plane(const std::vector<GridPoint>& points, const std::vector<int>& loop,
+                         int grid_exponent) {
+  std::array<__int128, 3> normal{};
+  for (std::size_t i = 0; i < loop.size(); ++i) {
+    const std::array<__int128, 3> c = integer_cross(points[loop[i]], points[loop[(i + 1) % loop.size()]]);
+    for (int k = 0; k < 3; ++k) normal[k] += c[k];
+  }
+  const std::optional<IntegerPlane> plane = plane_through(normal, points[loop.front()], grid_exponent);
+  if (!plane) return {};
+  for (int v : loop)
+    if (plane->value_at(points[v]) != 0) return {};
+  return *plane;
+}
+
+PolytopeFacet make_facet(const std::vector<Vector3d>& vertices, const std::vector<GridPoint>& points,
+                         std::vector<int> loop, int grid_exponent) {
   PolytopeFacet f;
   f.loop = std::move(loop);
   f.normal = loop_area_vector(vertices, f.loop).normalized();
   Vector3d centre = Vector3d::Zero();
   for (int v : f.loop) centre += vertices[v];
   f.offset = f.normal.dot(centre / static_cast<double>(f.loop.size()));
+  f.exact = exact_plane(points, f.loop, grid_exponent);
   return f;
+}
+
+// Length of the rings' integer directions: a ring of radius ρ has its vertices at s·d_k grid
+// steps, s = round(ρ / (M·step)); the radius is then within M·step/2 ≤ max_deviation/8 (with
+// grid_exponent_for's step) and |d_k| within ~0.1 of M (the best of a small window), a relative
+// 2.5e-5 of the radius.
+constexpr std::int64_t kDirectionLength = 4096;
+
+// Integer directions of length about kDirectionLength at angles 2πk/N (N a multiple of 4): the
+// first quadrant searched, the others its exact quarter turns (the tool's quarter symmetry).
+std::vector<std::array<std::int64_t, 2>> ring_directions(int sectors) {
+  const int quarter = sectors / 4;
+  const double length = static_cast<double>(kDirectionLength);
+  std::vector<std::array<std::int64_t, 2>> d(sectors);
+  for (int k = 0; k < quarter; ++k) {
+    const double angle = 2.0 * M_PI * k / sectors;
+    const auto x0 = std::llround(length * std::cos(angle)), y0 = std::llround(length * std::sin(angle));
+    double best = 1e300;
+    for (std::int64_t dx = -2; dx <= 2; ++dx)
+      for (std::int64_t dy = -2; dy <= 2; ++dy) {
+        const double x = double(x0 + dx), y = double(y0 + dy);
+        // radial error first; the angular one (≤ 3/M rad) only breaks ties
+        const double error = std::fabs(std::hypot(x, y) - length) +
+                             1e-6 * std::hypot(x - length * std::cos(angle), y - length * std::sin(angle));
+        if (k == 0 && dy != 0) continue;  // keep the first direction on the x axis
+        if (error < best) {
+          best = error;
+          d[k] = {x0 + dx, y0 + dy};
+        }
+      }
+    for (int q = 1; q < 4; ++q) {
+      const auto& p = d[k + (q - 1) * quarter];
+      d[k + q * quarter] = {-p[1], p[0]};
+    }
+  }
+  return d;
 }
 
 // Half the budget each to the meridian's chords and the rings' sides; straddling halves both.
@@ -169,6 +224,18 @@ ToolPolytope tool_polytope(const ToolProfile& profile, double max_deviation) {
   const int sectors = sector_count(profile, max_deviation);
   result.sectors = sectors;
   const double radial_scale = 2.0 / (1.0 + std::cos(M_PI / sectors));
+  // Every vertex on the grid, the rings homothetic (one set of integer directions): each
+  // trapezoid is exactly planar and its exact plane holds its four vertices (quantize.h).
+  const int grid = grid_exponent_for(max_deviation);
+  result.grid_exponent = grid;
+  const std::vector<std::array<std::int64_t, 2>> directions = ring_directions(sectors);
+  auto grid_steps = [&](double length) { return std::llround(std::ldexp(length, -grid)); };
+  std::vector<GridPoint> points;
+  auto add_vertex = [&](const GridPoint& p) {
+    points.push_back(p);
+    result.polytope.vertices.emplace_back(std::ldexp(double(p[0]), grid), std::ldexp(double(p[1]), grid),
+                                          std::ldexp(double(p[2]), grid));
+  };
 
   // A flat end (first or last chord level) is one N-gon facet; otherwise the axis point is an apex.
   const std::size_t last = meridian.size() - 1;
@@ -178,37 +245,38 @@ ToolPolytope tool_polytope(const ToolProfile& profile, double max_deviation) {
   std::vector<int> ring_start(meridian.size(), -1);
   for (std::size_t j = 1; j < last; ++j) {
     ring_start[j] = static_cast<int>(polytope.vertices.size());
-    for (int k = 0; k < sectors; ++k) {
-      const double angle = 2.0 * M_PI * k / sectors, r = radial_scale * meridian[j].x();
-      polytope.vertices.emplace_back(r * std::cos(angle), r * std::sin(angle), meridian[j].y());
-    }
+    const std::int64_t scale = std::max<std::int64_t>(
+        1, std::llround(std::ldexp(radial_scale * meridian[j].x(), -grid) / double(kDirectionLength)));
+    const std::int64_t z = grid_steps(meridian[j].y());
+    for (int k = 0; k < sectors; ++k) add_vertex({scale * directions[k][0], scale * directions[k][1], z});
   }
   auto ring = [&](std::size_t j, int k) { return ring_start[j] + (k % sectors); };
   int bottom_apex = -1, top_apex = -1;
   if (!flat_bottom) {
     bottom_apex = static_cast<int>(polytope.vertices.size());
-    polytope.vertices.emplace_back(0.0, 0.0, meridian[0].y());
+    add_vertex({0, 0, grid_steps(meridian[0].y())});
   }
   if (!flat_top) {
     top_apex = static_cast<int>(polytope.vertices.size());
-    polytope.vertices.emplace_back(0.0, 0.0, meridian[last].y());
+    add_vertex({0, 0, grid_steps(meridian[last].y())});
   }
   const std::vector<Vector3d>& v = polytope.vertices;
+  auto facet = [&](std::vector<int> loop) { return make_facet(v, points, std::move(loop), grid); };
   if (flat_bottom) {
     std::vector<int> loop;
     for (int k = sectors - 1; k >= 0; --k) loop.push_back(ring(1, k));
-    polytope.facets.push_back(facet(v, loop));
+    polytope.facets.push_back(facet(loop));
   }
   for (int k = 0; k < sectors; ++k) {
-    if (!flat_bottom) polytope.facets.push_back(facet(v, {bottom_apex, ring(1, k + 1), ring(1, k)}));
+    if (!flat_bottom) polytope.facets.push_back(facet({bottom_apex, ring(1, k + 1), ring(1, k)}));
     for (std::size_t j = 1; j + 1 < last; ++j)
-      polytope.facets.push_back(facet(v, {ring(j, k), ring(j, k + 1), ring(j + 1, k + 1), ring(j + 1, k)}));
-    if (!flat_top) polytope.facets.push_back(facet(v, {ring(last - 1, k), ring(last - 1, k + 1), top_apex}));
+      polytope.facets.push_back(facet({ring(j, k), ring(j, k + 1), ring(j + 1, k + 1), ring(j + 1, k)}));
+    if (!flat_top) polytope.facets.push_back(facet({ring(last - 1, k), ring(last - 1, k + 1), top_apex}));
   }
   if (flat_top) {
     std::vector<int> loop;
     for (int k = 0; k < sectors; ++k) loop.push_back(ring(last - 1, k));
-    polytope.facets.push_back(facet(v, loop));
+    polytope.facets.push_back(facet(loop));
   }
   return result;
 }
