@@ -23,6 +23,7 @@ const std::string kData = MORPHMILL_TEST_DATA;
 class ErodeEstimate : public ::testing::TestWithParam<const char*> {};
 
 void expect_estimate_within_two_of_the_peak(const std::string& job, const std::string& options) {
+  if (!morphmill_test::kPeakMemoryIsTheProgramsOwn) GTEST_SKIP() << "peak memory under AddressSanitizer";
   const auto dir = morphmill_test::scratch_dir("erode_estimate", job + options);
   const Measured m = run_measured("erode '" + kData + "/jobs/" + job + ".json' -o '" +
                                       (dir / "out.ply").string() + "' --allow-open" + options,
@@ -40,7 +41,7 @@ void expect_estimate_within_two_of_the_peak(const std::string& job, const std::s
 }
 
 TEST_P(ErodeEstimate, IsWithinAFactorOfTwoOfTheMeasuredPeak) {
-  expect_estimate_within_two_of_the_peak(GetParam(), "");
+  expect_estimate_within_two_of_the_peak(GetParam(), " --generator 1");
 }
 
 INSTANTIATE_TEST_SUITE_P(BundledJobs, ErodeEstimate,
@@ -69,7 +70,7 @@ TEST_F(ErodeRefusal, Generator2RefusesATinyToleranceBeforeBuildingAnything) {
   EXPECT_NE(r.err.find("sweep facets"), std::string::npos) << r.err;
   EXPECT_NE(r.err.find("over the memory cap"), std::string::npos) << r.err;
   EXPECT_FALSE(std::filesystem::exists(path("out.ply")));
-  EXPECT_LT(r.peak_bytes, 200.0 * (1 << 20));
+  if (morphmill_test::kPeakMemoryIsTheProgramsOwn) EXPECT_LT(r.peak_bytes, 200.0 * (1 << 20));
 }
 
 TEST_F(ErodeRefusal, ACapBelowTheEstimateRefusesBeforeComputing) {
@@ -80,7 +81,7 @@ TEST_F(ErodeRefusal, ACapBelowTheEstimateRefusesBeforeComputing) {
   EXPECT_NE(r.err.find("over the memory cap"), std::string::npos) << r.err;
   EXPECT_NE(r.err.find("raise the tolerance"), std::string::npos) << r.err;
   EXPECT_FALSE(std::filesystem::exists(path("out.ply")));
-  EXPECT_LT(r.peak_bytes, 200.0 * (1 << 20));
+  if (morphmill_test::kPeakMemoryIsTheProgramsOwn) EXPECT_LT(r.peak_bytes, 200.0 * (1 << 20));
 }
 
 TEST_F(ErodeRefusal, ATinyToleranceIsRefusedByTheEstimate) {
@@ -91,7 +92,7 @@ TEST_F(ErodeRefusal, ATinyToleranceIsRefusedByTheEstimate) {
   EXPECT_EQ(r.exit_code, 2) << r.err;
   EXPECT_NE(r.err.find("slots.json"), std::string::npos) << r.err;
   EXPECT_NE(r.err.find("MiB"), std::string::npos) << r.err;
-  EXPECT_LT(r.peak_bytes, 500.0 * (1 << 20));
+  if (morphmill_test::kPeakMemoryIsTheProgramsOwn) EXPECT_LT(r.peak_bytes, 500.0 * (1 << 20));
 }
 
 TEST_F(ErodeRefusal, VerifyAndCompareRefuseATinyToleranceBeforeTheGeneratorRuns) {
@@ -104,7 +105,7 @@ TEST_F(ErodeRefusal, VerifyAndCompareRefuseATinyToleranceBeforeTheGeneratorRuns)
     EXPECT_NE(r.err.find(".json: erode: at tolerance 1e-06"), std::string::npos) << r.err;
     EXPECT_NE(r.err.find("over the memory cap"), std::string::npos) << r.err;
     EXPECT_NE(r.err.find("--memory-cap 8192 MiB"), std::string::npos) << r.err;
-    EXPECT_LT(r.peak_bytes, 500.0 * (1 << 20)) << command;
+    if (morphmill_test::kPeakMemoryIsTheProgramsOwn) EXPECT_LT(r.peak_bytes, 500.0 * (1 << 20)) << command;
   }
 }
 
@@ -120,7 +121,7 @@ TEST_F(ErodeRefusal, ALargeMeshStockIsRefusedBeforeItsStructuresAreBuilt) {
   EXPECT_NE(r.err.find("torus.json"), std::string::npos) << r.err;
   EXPECT_NE(r.err.find("200000 stock triangles"), std::string::npos) << r.err;
   EXPECT_NE(r.err.find("over the memory cap"), std::string::npos) << r.err;
-  EXPECT_LT(r.peak_bytes, 150.0 * (1 << 20));
+  if (morphmill_test::kPeakMemoryIsTheProgramsOwn) EXPECT_LT(r.peak_bytes, 150.0 * (1 << 20));
 }
 
 TEST_F(ErodeRefusal, AMillionTurnCircleIsRefused) {

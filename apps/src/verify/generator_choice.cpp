@@ -133,6 +133,7 @@ GeneratedSurface run_generator(const morph::Job& job, const morph::ErodeOptions&
   choice << "; generator 2 built it instead";
   const double first_seconds = seconds_since(start);
   out.generator = 2;
+  out.result = {};  // generator 1's surface goes before generator 2 builds its own
   out.result = morph::erode2(job, options);
   out.result.stats.steps.insert(out.result.stats.steps.begin(), {"generator_1_unsound", 1, true});
   out.result.stats.seconds_total += first_seconds;
