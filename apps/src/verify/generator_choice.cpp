@@ -122,7 +122,7 @@ GeneratedSurface run_generator(const morph::Job& job, const morph::ErodeOptions&
   const double tolerance = options.tolerance > 0.0 ? options.tolerance : job.tolerance;
   const morph::Erode2Estimate estimate = morph::estimate_erode2(job, tolerance);
   std::ostringstream choice;
-  choice << "generator 1's surface is " << out.soundness->describe();
+  choice << "generator 1's surface is unsound (" << out.soundness->describe() << ")";
   if (estimate.sweep_facets > kAutoRetryFacets) {
     choice << "; generator 2 was not tried: it would sweep about "
            << static_cast<long long>(estimate.sweep_facets) << " facets, over auto's limit of "
