@@ -53,6 +53,8 @@ struct ToolGroup {
 struct OwnFacetScratch {
   std::vector<char> marks;  ///< flags of the planes reached, all clear between calls
   std::vector<double> lengths;
+  std::vector<char> applied;  ///< per own plane: clipped by in the first loop
+  std::vector<std::size_t> applied_index;
   std::vector<ExactPlane> near, reaching;
 };
 
@@ -102,23 +104,34 @@ struct OwnPlanes {
   const ToolFacetGroups* groups = nullptr;
   Vector3d a, b;
   std::size_t tool_facets = 0;  ///< planes[k] for k below this is tool facet k placed at a or b
+  std::vector<bool> at_b;       ///< per tool facet: placed at b (motion_side() > 0)
   double max_offset = 0.0;
 };
 
+using Ball = std::pair<Vector3d, double>;  ///< centre, radius
+
 // Calls f(k), in increasing k, for every own plane that may have a value of at least
-// `threshold` in the ball (centre, radius): the others certainly do not. `marks`: one flag per
+// `threshold` somewhere in one of the balls: the others certainly do not. `marks`: one flag per
 // tool facet, all clear before and after (sorting the reached ones would cost more).
 template <class F>
-void for_each_plane_reaching(const OwnPlanes& own, const Vector3d& centre, double radius, double threshold,
+void for_each_plane_reaching(const OwnPlanes& own, const std::vector<Ball>& balls, double threshold,
                              std::vector<char>& marks, F&& f) {
   marks.resize(own.tool_facets, 0);
   int lowest = static_cast<int>(own.tool_facets), highest = -1;
-  own.groups->for_each_reaching(centre, radius, own.a, own.b, threshold, [&](int k) {
-    marks[k] = 1;
-    lowest = std::min(lowest, k);
-    highest = std::max(highest, k);
-    return true;
-  });
+  // Each end by itself: a group's bound taken at both ends holds for its members placed at
+  // either, and a front facet's plane placed at a would reach far beyond the tool at b.
+  for (const bool at_b : {false, true}) {
+    if (at_b && own.a == own.b) break;
+    const Vector3d& at = at_b ? own.b : own.a;
+    for (const auto& [centre, radius] : balls)
+      own.groups->for_each_reaching(centre, radius, at, at, threshold, [&](int k) {
+        if (own.at_b[k] != at_b) return true;
+        marks[k] = 1;
+        lowest = std::min(lowest, k);
+        highest = std::max(highest, k);
+        return true;
+      });
+  }
   for (int k = lowest; k <= highest; ++k)
     if (marks[k]) {
       marks[k] = 0;
@@ -128,7 +141,7 @@ void for_each_plane_reaching(const OwnPlanes& own, const Vector3d& centre, doubl
 }
 
 // The smallest ball about the points' mean holding them.
-std::pair<Vector3d, double> ball_of(const std::vector<Vector3d>& points) {
+Ball ball_of(const std::vector<Vector3d>& points) {
   Vector3d centre = Vector3d::Zero();
   for (const Vector3d& x : points) centre += x;
   centre /= static_cast<double>(points.size());
@@ -137,10 +150,31 @@ std::pair<Vector3d, double> ball_of(const std::vector<Vector3d>& points) {
   return {centre, radius};
 }
 
-// A ball holding the exact corners of `piece`, from the rounded ones when every corner is well
-// conditioned (the float look's condition in facet_clipping.cpp: then a rounded corner is within
-// about 1e-11·(|offset| + |corner|) of the exact one); none otherwise.
-std::optional<std::pair<Vector3d, double>> corner_ball(const ConvexPiece& piece) {
+// Balls that together hold `points`, each grown by `margin`. A plane's value is linear, so a
+// plane below a threshold in every ball is below it on the points' convex hull: any cover will
+// do. A sweep facet's points lie at one end of the move or at both, and one ball about a long
+// move's two ends reaches almost every plane of the sweep; so the points are split at the middle
+// of the move when that gives balls much smaller than the one about them all.
+std::vector<Ball> covering_balls(const std::vector<Vector3d>& points, const OwnPlanes& own, double margin) {
+  Ball all = ball_of(points);
+  all.second += margin;
+  const Vector3d motion = own.b - own.a;
+  if (motion.squaredNorm() == 0.0) return {all};
+  const double middle = motion.dot(own.a + own.b) / 2;
+  std::vector<Vector3d> first, second;
+  for (const Vector3d& x : points) (motion.dot(x) <= middle ? first : second).push_back(x);
+  if (first.empty() || second.empty()) return {all};
+  Ball one = ball_of(first), two = ball_of(second);
+  one.second += margin;
+  two.second += margin;
+  if (std::max(one.second, two.second) > 0.5 * all.second) return {all};
+  return {one, two};
+}
+
+// The exact corners of `piece` lie within `margin` of these rounded ones when every corner is
+// well conditioned (the float look's condition in facet_clipping.cpp: then a rounded corner is
+// within about 1e-11·(|offset| + |corner|) of the exact one); none otherwise.
+std::optional<std::pair<std::vector<Vector3d>, double>> rounded_corners(const ConvexPiece& piece) {
   const std::size_t n = piece.edges.size();
   std::vector<Vector3d> points;
   double largest = 0.0, max_offset = std::fabs(piece.support.offset);
@@ -154,45 +188,59 @@ std::optional<std::pair<Vector3d, double>> corner_ball(const ConvexPiece& piece)
     points.push_back(vertex_point(piece.support, a, b));
     largest = std::max(largest, points.back().norm());
   }
-  auto [centre, radius] = ball_of(points);
-  return std::pair{centre, radius + 1e-9 * (1.0 + max_offset + largest)};
+  return std::pair{std::move(points), 1e-9 * (1.0 + max_offset + largest)};
 }
 
 // Facet f of a sweep within the stock and its own polytope: first by the planes passing near
-// the facet's points (which makes the piece small), then by all of them (the float look of
+// the facet's points (which makes the piece small), then by the others (the float look of
 // intersect() skips the planes clearly apart, so this adds little and decides exactly). Planes
-// that cannot reach the points' (then the piece's corners') ball are left out of both loops:
+// that cannot reach the points' (then the piece's corners') balls are left out of both loops:
 // the near test would fail for them, and they hold every corner strictly inside, so clipping by
-// them would give the piece unchanged.
+// them would give the piece unchanged. Nor does the second loop clip by a near plane again: the
+// piece lies inside it, so its corners are strictly inside or on it as an edge (clip() would
+// return the piece unchanged).
 ConvexPiece own_facet(const OwnPlanes& own, int f, const std::vector<Vector3d>& points,
                       const StockPolytope& stock, OwnFacetScratch& scratch) {
   std::vector<double>& lengths = scratch.lengths;
   lengths.clear();
   for (const Vector3d& x : points) lengths.push_back(x.norm());
-  const auto [centre, radius] = ball_of(points);
   const double largest = *std::max_element(lengths.begin(), lengths.end());
   std::vector<ExactPlane>& near = scratch.near;
   near.clear();
-  // Every plane's margin below is at most this, so a plane below -reach in the ball is not near.
+  scratch.applied_index.clear();
+  std::vector<char>& applied = scratch.applied;  // all clear between calls
+  applied.resize(own.planes.size(), 0);
+  // Every plane's margin below is at most this, so a plane below -reach in the balls is not near.
   const double reach = 1e-9 * (1 + own.max_offset) * (1 + largest);
-  for_each_plane_reaching(own, centre, radius, -reach, scratch.marks, [&](std::size_t k) {
+  for_each_plane_reaching(own, covering_balls(points, own, 0.0), -reach, scratch.marks, [&](std::size_t k) {
     if (static_cast<int>(k) == f) return;
     const ExactPlane& h = own.planes[k];
     const double margin = 1e-9 * (1 + std::fabs(h.offset));
     for (std::size_t i = 0; i < points.size(); ++i)
       if (h.normal.dot(points[i]) - h.offset > -margin * (1 + lengths[i])) {
         near.push_back(h);
+        applied[k] = 1;
+        scratch.applied_index.push_back(k);
         break;
       }
   });
   ConvexPiece piece = intersect(piece_in_stock(own.planes[f], stock), near);
-  if (piece.empty()) return piece;
-  const auto ball = corner_ball(piece);
-  if (!ball) return intersect(std::move(piece), own.planes);
   std::vector<ExactPlane>& reaching = scratch.reaching;
   reaching.clear();
-  for_each_plane_reaching(own, ball->first, ball->second, 0.0, scratch.marks,
-                          [&](std::size_t k) { reaching.push_back(own.planes[k]); });
+  if (!piece.empty()) {
+    const auto rounded = rounded_corners(piece);
+    if (!rounded) {
+      for (std::size_t k = 0; k < own.planes.size(); ++k)
+        if (!applied[k]) reaching.push_back(own.planes[k]);
+    } else {
+      for_each_plane_reaching(own, covering_balls(rounded->first, own, rounded->second), 0.0, scratch.marks,
+                              [&](std::size_t k) {
+                                if (!applied[k]) reaching.push_back(own.planes[k]);
+                              });
+    }
+  }
+  for (std::size_t k : scratch.applied_index) applied[k] = 0;
+  if (piece.empty()) return piece;
   return intersect(std::move(piece), reaching);
 }
 
@@ -314,6 +362,9 @@ class Carving {
                                  ? std::pair{s.from, s.from}
                                  : SweepPolytopeBuilder::ordered(s.from, s.to);
     own.tool_facets = group.builder->tool().facets.size();
+    own.at_b.resize(own.tool_facets);
+    for (std::size_t k = 0; k < own.tool_facets; ++k)
+      own.at_b[k] = own.a != own.b && motion_side(group.builder->tool().facets[k].normal, own.b - own.a) > 0;
     for (const ExactPlane& h : own.planes) own.max_offset = std::max(own.max_offset, std::fabs(h.offset));
     std::map<std::uint32_t, std::vector<Halfspace>> cutter_halfspaces;  // of this move's cutters
     for (const KeptFacet& k : kept) {
@@ -340,7 +391,8 @@ class Carving {
         std::vector<ExactPlane> planes;
         for (int h : c.planes)
           planes.push_back(ExactPlane{found->second[h].normal, found->second[h].offset,
-                                      sweep_rank(j, static_cast<std::uint32_t>(h)), 1, found->second[h].exact});
+                                      sweep_rank(j, static_cast<std::uint32_t>(h)), 1,
+                                      found->second[h].exact});
         cutters.emplace_back(j, std::move(planes));
       }
       if (groups_.size() > 1)

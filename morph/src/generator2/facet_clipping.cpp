@@ -20,6 +20,7 @@ class RoughCorners {
   explicit RoughCorners(const ConvexPiece& piece) {
     const std::size_t n = piece.edges.size();
     points_.reserve(n);
+    lengths_.reserve(n);
     for (std::size_t k = 0; k < n; ++k) {
       const ExactPlane& a = piece.edges[(k + n - 1) % n];
       const ExactPlane& b = piece.edges[k];
@@ -30,15 +31,17 @@ class RoughCorners {
         return;
       }
       points_.push_back(vertex_point(piece.support, a, b));
+      lengths_.push_back(points_.back().norm());
     }
   }
   // -1: every corner clearly inside `plane`; +1: every corner clearly outside; 0: undecided.
   int side(const ExactPlane& plane) const {
     if (!usable_) return 0;
     int below = 0, above = 0;
-    for (const Eigen::Vector3d& p : points_) {
-      const double value = plane.normal.dot(p) - plane.offset;
-      const double margin = 1e-9 * (1 + std::fabs(plane.offset) + plane.normal.norm() * p.norm());
+    const double length = plane.normal.norm();
+    for (std::size_t k = 0; k < points_.size(); ++k) {
+      const double value = plane.normal.dot(points_[k]) - plane.offset;
+      const double margin = 1e-9 * (1 + std::fabs(plane.offset) + length * lengths_[k]);
       if (value < -margin)
         ++below;
       else if (value > margin)
@@ -52,6 +55,7 @@ class RoughCorners {
 
  private:
   std::vector<Eigen::Vector3d> points_;
+  std::vector<double> lengths_;  // of points_
   bool usable_ = true;
 };
 
