@@ -47,6 +47,7 @@ struct ToolGroup {
   std::vector<std::uint32_t> global;  ///< local move index -> index in the job's sweeps
   std::unique_ptr<SweepCulling> culling;
   std::unique_ptr<ToolFacetGroups> facet_groups;
+  std::vector<std::vector<int>> facet_members;  ///< of each facet group
 };
 
 // own_facet()'s working memory, one per thread.
@@ -103,8 +104,9 @@ struct OwnPlanes {
   std::vector<ExactPlane> planes;
   const ToolFacetGroups* groups = nullptr;
   Vector3d a, b;
-  std::size_t tool_facets = 0;  ///< planes[k] for k below this is tool facet k placed at a or b
-  std::vector<bool> at_b;       ///< per tool facet: placed at b (motion_side() > 0)
+  std::size_t tool_facets = 0;   ///< planes[k] for k below this is tool facet k placed at a or b
+  std::vector<bool> at_b;        ///< per tool facet: placed at b (motion_side() > 0)
+  std::vector<char> group_ends;  ///< per facet group: 1 if a member is placed at a, 2 at b, 3 both
   double max_offset = 0.0;
 };
 
@@ -123,14 +125,17 @@ void for_each_plane_reaching(const OwnPlanes& own, const std::vector<Ball>& ball
   for (const bool at_b : {false, true}) {
     if (at_b && own.a == own.b) break;
     const Vector3d& at = at_b ? own.b : own.a;
+    const char end = at_b ? 2 : 1;
     for (const auto& [centre, radius] : balls)
-      own.groups->for_each_reaching(centre, radius, at, at, threshold, [&](int k) {
-        if (own.at_b[k] != at_b) return true;
-        marks[k] = 1;
-        lowest = std::min(lowest, k);
-        highest = std::max(highest, k);
-        return true;
-      });
+      own.groups->for_each_reaching(
+          centre, radius, at, at, threshold, [&](std::size_t g) { return (own.group_ends[g] & end) != 0; },
+          [&](int k) {
+            if (own.at_b[k] != at_b) return true;
+            marks[k] = 1;
+            lowest = std::min(lowest, k);
+            highest = std::max(highest, k);
+            return true;
+          });
   }
   for (int k = lowest; k <= highest; ++k)
     if (marks[k]) {
@@ -267,7 +272,7 @@ class Carving {
       auto [it, added] = group_index.emplace(sweeps[g].tool, groups_.size());
       if (added)
         groups_.push_back(ToolGroup{
-            sweeps[g].tool, {}, nullptr, std::make_unique<ToolFacetGroups>(sweeps[g].tool->tool())});
+            sweeps[g].tool, {}, nullptr, std::make_unique<ToolFacetGroups>(sweeps[g].tool->tool()), {}});
       group_of_[g] = it->second;
       local_of_[g] = groups_[it->second].global.size();
       groups_[it->second].global.push_back(static_cast<std::uint32_t>(g));
@@ -286,6 +291,8 @@ class Carving {
                          joined_at_joint(*group.builder, moves.back(), m));
         moves.push_back(m);
       }
+      for (std::size_t i = 0; i < group.facet_groups->size(); ++i)
+        group.facet_members.push_back(group.facet_groups->members(i));
       group.culling =
           std::make_unique<SweepCulling>(*group.builder, std::move(moves), std::move(joined), stock.bounds);
     }
@@ -365,6 +372,9 @@ class Carving {
     own.at_b.resize(own.tool_facets);
     for (std::size_t k = 0; k < own.tool_facets; ++k)
       own.at_b[k] = own.a != own.b && motion_side(group.builder->tool().facets[k].normal, own.b - own.a) > 0;
+    own.group_ends.assign(own.groups->size(), 0);
+    for (std::size_t i = 0; i < own.groups->size(); ++i)
+      for (int k : group.facet_members[i]) own.group_ends[i] |= own.at_b[k] ? 2 : 1;
     for (const ExactPlane& h : own.planes) own.max_offset = std::max(own.max_offset, std::fabs(h.offset));
     std::map<std::uint32_t, std::vector<Halfspace>> cutter_halfspaces;  // of this move's cutters
     for (const KeptFacet& k : kept) {

@@ -32,9 +32,17 @@ class ToolFacetGroups {
   template <class F>
   bool for_each_reaching(const Eigen::Vector3d& centre, double radius, const Eigen::Vector3d& a,
                          const Eigen::Vector3d& b, double threshold, F&& f) const {
+    return for_each_reaching(
+        centre, radius, a, b, threshold, [](std::size_t) { return true; }, f);
+  }
+  /// The same over the groups g with asked(g) only.
+  template <class A, class F>
+  bool for_each_reaching(const Eigen::Vector3d& centre, double radius, const Eigen::Vector3d& a,
+                         const Eigen::Vector3d& b, double threshold, A&& asked, F&& f) const {
     const Eigen::Vector3d wa = centre - a, wb = centre - b;
     const double cut = threshold - slack(centre, radius, a, b) - max_norm_ * radius;
     for (std::size_t g = 0; g < groups_.size(); ++g) {
+      if (!asked(g)) continue;
       const Group& group = groups_[g];
       // m·u + δ|u| < cut at both ends, without a square root: cut - m·u > 0 and δ²|u|² below its square.
       const Eigen::Vector3d ua = wa - group.reference, ub = wb - group.reference;
@@ -49,6 +57,11 @@ class ToolFacetGroups {
   }
 
   std::size_t size() const { return groups_.size(); }
+  /// The tool facets of group g.
+  std::vector<int> members(std::size_t g) const {
+    return {members_.begin() + static_cast<std::ptrdiff_t>(groups_[g].begin),
+            members_.begin() + static_cast<std::ptrdiff_t>(groups_[g].end)};
+  }
 
  private:
   struct Group {
