@@ -11,6 +11,7 @@
 #include <cstring>
 #include <optional>
 #include <stdexcept>
+#include <utility>
 
 namespace morph {
 namespace {
@@ -45,18 +46,40 @@ double power_of_two(int e) {
   return v;
 }
 
+// The nearest double to v (ties to even) and the remainder v - high, exact for |v| < 2^106:
+// what static_cast<double>(v) and the difference give, by shifts instead of the library's
+// 128-bit conversions (a tenth of the predicates' time).
+std::pair<double, double> split(__int128 v) {
+  const bool negative = v < 0;
+  const auto magnitude =
+      negative ? static_cast<unsigned __int128>(-(v + 1)) + 1 : static_cast<unsigned __int128>(v);
+  const auto top = static_cast<std::uint64_t>(magnitude >> 64);
+  const int length =
+      top != 0 ? 128 - __builtin_clzll(top) : 64 - __builtin_clzll(static_cast<std::uint64_t>(magnitude) | 1);
+  if (length <= 53) return {static_cast<double>(static_cast<std::int64_t>(v)), 0.0};
+  if (length > 106) {
+    const auto high = static_cast<double>(v);
+    return {high, static_cast<double>(v - static_cast<__int128>(high))};
+  }
+  const int shift = length - 53;
+  auto kept = magnitude >> shift;
+  const unsigned __int128 rest = magnitude - (kept << shift), half = static_cast<unsigned __int128>(1)
+                                                                     << (shift - 1);
+  if (rest > half || (rest == half && (kept & 1) != 0)) ++kept;
+  // |low| ≤ 2^(shift-1) ≤ 2^52: the low 64 bits of the difference, as a signed number, are it.
+  const auto low = static_cast<std::int64_t>(static_cast<std::uint64_t>(magnitude - (kept << shift)));
+  const double high = static_cast<double>(static_cast<std::uint64_t>(kept)) * power_of_two(shift);
+  return negative ? std::pair{-high, static_cast<double>(-low)} : std::pair{high, static_cast<double>(low)};
+}
+
 ExactRow row_of(const ExactPlane& p) {
   if (!p.exact.set()) return {{p.normal.x(), p.normal.y(), p.normal.z(), p.offset}, 0.0};
   const IntegerPlane& q = p.exact;
   const double scale = power_of_two(q.grid_exponent);
-  const Eigen::Vector3d n(static_cast<double>(q.normal[0]), static_cast<double>(q.normal[1]),
-                          static_cast<double>(q.normal[2]));
-  constexpr std::int64_t kExactDouble = std::int64_t{1} << 53;
-  if (q.offset < kExactDouble && q.offset > -kExactDouble)
-    return {{n.x(), n.y(), n.z(), static_cast<double>(static_cast<std::int64_t>(q.offset)) * scale}, 0.0};
-  const auto high = static_cast<double>(q.offset);
-  const auto low = static_cast<double>(q.offset - static_cast<__int128>(high));
-  return {{n.x(), n.y(), n.z(), high * scale}, low * scale};
+  const auto [high, low] = split(q.offset);
+  return {{static_cast<double>(q.normal[0]), static_cast<double>(q.normal[1]),
+           static_cast<double>(q.normal[2]), high * scale},
+          low * scale};
 }
 
 // The planes' integer forms when all are exact on one grid (then the integers decide directly).
@@ -90,11 +113,31 @@ Filtered det3(const Row& a, const Row& b, const Row& c) {
   return {a[0] * m0 - a[1] * m1 + a[2] * m2, kDet3Bound * permanent};
 }
 
+int exact_normals_orientation(const Row& a, const Row& b, const Row& c) {
+  if (int s = exact::double_double_minor_sign(a, b, c)) {
+    ++predicate_counts().refined;
+    return s;
+  }
+  ++predicate_counts().exact;
+  return ExactRows({a, b, c, Row{}}, 3).minor_sign(0, 1, 2);
+}
+
+// Sign of det[normals of a, b, c], given their rows and the filter's look at it.
+int orientation_of(const ExactPlane& a, const ExactPlane& b, const ExactPlane& c, const Row& ra,
+                   const Row& rb, const Row& rc, const Filtered& filtered) {
+  if (int s = filtered.certain()) return s;
+  if (on_one_grid(std::array<const ExactPlane*, 3>{&a, &b, &c})) {
+    ++predicate_counts().exact;
+    return exact::integer_minor_sign(a.exact, b.exact, c.exact);
+  }
+  return exact_normals_orientation(ra, rb, rc);
+}
+
 // The four planes as rows of [normal | offset]: the cofactors of the offset column, the
 // determinant, and their exact forms on demand.
 class FourPlanes {
  public:
-  explicit FourPlanes(const std::array<const ExactPlane*, 4>& planes) {
+  explicit FourPlanes(const std::array<const ExactPlane*, 4>& planes) : planes_(planes) {
     std::array<ExactRow, 4> rows;
     for (int i = 0; i < 4; ++i) rows[i] = row_of(*planes[i]);
     if (on_one_grid(planes))
@@ -131,6 +174,11 @@ class FourPlanes {
     if (integer_[0]) return exact::integer_det4_sign(integer_);
     return exact().det4_sign();
   }
+  // Sign of det[normals of rows 0, 1, 2] (normals_orientation() of the first three planes; the
+  // filter's look at it is the cofactor of row 3, whose sign (-1)^(3+3) is +1).
+  int orientation() const {
+    return orientation_of(*planes_[0], *planes_[1], *planes_[2], rows_[0], rows_[1], rows_[2], cofactor_[3]);
+  }
   // Sign of the cofactor of row i's offset.
   int cofactor_sign(int i) {
     if (int s = cofactor_[i].certain()) return s;
@@ -160,6 +208,7 @@ class FourPlanes {
     return *exact_;
   }
 
+  std::array<const ExactPlane*, 4> planes_;
   std::array<Row, 4> rows_;
   std::array<const IntegerPlane*, 4> integer_{};  // all set when the four are on one grid
   std::array<double, 4> low_{};
@@ -167,15 +216,6 @@ class FourPlanes {
   std::array<Filtered, 4> cofactor_{};
   std::optional<ExactRows> exact_;
 };
-
-int exact_normals_orientation(const Row& a, const Row& b, const Row& c) {
-  if (int s = exact::double_double_minor_sign(a, b, c)) {
-    ++predicate_counts().refined;
-    return s;
-  }
-  ++predicate_counts().exact;
-  return ExactRows({a, b, c, Row{}}, 3).minor_sign(0, 1, 2);
-}
 
 }  // namespace
 
@@ -186,22 +226,17 @@ PredicateCounts& predicate_counts() {
 
 int normals_orientation(const ExactPlane& a, const ExactPlane& b, const ExactPlane& c) {
   const Row ra = row_of(a).row, rb = row_of(b).row, rc = row_of(c).row;
-  if (int s = det3(ra, rb, rc).certain()) return s;
-  if (on_one_grid(std::array<const ExactPlane*, 3>{&a, &b, &c})) {
-    ++predicate_counts().exact;
-    return exact::integer_minor_sign(a.exact, b.exact, c.exact);
-  }
-  return exact_normals_orientation(ra, rb, rc);
+  return orientation_of(a, b, c, ra, rb, rc, det3(ra, rb, rc));
 }
 
 int side_at_vertex(const ExactPlane& a, const ExactPlane& b, const ExactPlane& c, const ExactPlane& d) {
   ++predicate_counts().calls;
-  const int orientation = normals_orientation(a, b, c);
+  FourPlanes four({&a, &b, &c, &d});  // its rows also give the orientation of a, b, c
+  const int orientation = four.orientation();
   if (orientation == 0)
     throw std::invalid_argument("side_at_vertex: the three planes have no single common point");
   if (d.rank == a.rank || d.rank == b.rank || d.rank == c.rank) return 0;
   // det[n|o] = -det3(a,b,c)·(d.normal·x - d.offset), x the vertex (Schur complement).
-  FourPlanes four({&a, &b, &c, &d});
   int det = four.determinant_sign();
   if (det == 0) {
     // Offsets o_i + direction_i·ε_rank_i: det[n|o+δ] = Σ δ_i·cofactor_i, decided by the
@@ -221,11 +256,11 @@ int side_at_vertex(const ExactPlane& a, const ExactPlane& b, const ExactPlane& c
 
 int limit_side_at_vertex(const ExactPlane& a, const ExactPlane& b, const ExactPlane& c, const ExactPlane& d) {
   ++predicate_counts().calls;
-  const int orientation = normals_orientation(a, b, c);
+  FourPlanes four({&a, &b, &c, &d});
+  const int orientation = four.orientation();
   if (orientation == 0)
     throw std::invalid_argument("limit_side_at_vertex: the three planes have no single common point");
   if (d.rank == a.rank || d.rank == b.rank || d.rank == c.rank) return 0;
-  FourPlanes four({&a, &b, &c, &d});
   return -four.determinant_sign() * orientation;
 }
 
@@ -236,12 +271,13 @@ bool same_limit_point(const std::array<ExactPlane, 3>& u, const std::array<Exact
 }
 
 Eigen::Vector3d vertex_point(const ExactPlane& a, const ExactPlane& b, const ExactPlane& c) {
-  if (!vertex_exists(a, b, c))
+  const std::array<ExactRow, 3> rows{row_of(a), row_of(b), row_of(c)};
+  if (orientation_of(a, b, c, rows[0].row, rows[1].row, rows[2].row,
+                     det3(rows[0].row, rows[1].row, rows[2].row)) == 0)
     throw std::invalid_argument("vertex_point: the three planes have no single common point");
   // From the exact forms where there are (integer normals are exact in long double; the offset
   // rounds once), so vertices of different triples at one exact point round alike.
   using L = long double;
-  const std::array<ExactRow, 3> rows{row_of(a), row_of(b), row_of(c)};
   L n[3][3], o[3];
   for (int r = 0; r < 3; ++r) {
     for (int k = 0; k < 3; ++k) n[r][k] = rows[r].row[k];
