@@ -243,6 +243,31 @@ TEST(Quantize, IntegerPredicatesAgreeWithCppInt) {
                std::logic_error);
 }
 
+TEST(Quantize, OffsetPartsAreTheNearestDoubleAndTheRemainder) {
+  std::mt19937_64 rng(18);
+  int ties = 0;
+  for (int length = 0; length <= 120; ++length)
+    for (int trial = 0; trial < 200; ++trial) {
+      unsigned __int128 m = (static_cast<unsigned __int128>(rng()) << 64) | rng();
+      m = length == 0 ? 0 : (m >> (128 - length)) | (static_cast<unsigned __int128>(1) << (length - 1));
+      if (trial % 4 == 1 && length > 54) {  // exactly halfway between two doubles
+        const int shift = length - 53;
+        m = (m >> shift << shift) | (static_cast<unsigned __int128>(1) << (shift - 1));
+        ++ties;
+      }
+      for (const __int128 v : {static_cast<__int128>(m), -static_cast<__int128>(m)}) {
+        const auto [high, low] = morph::offset_parts(v);
+        const auto want = static_cast<double>(v);
+        EXPECT_EQ(high, want) << length;
+        if (length <= 106) {
+          EXPECT_EQ(static_cast<__int128>(low), v - static_cast<__int128>(want)) << length;
+          EXPECT_EQ(low, static_cast<double>(static_cast<__int128>(low)));  // exact
+        }
+      }
+    }
+  EXPECT_GT(ties, 1000);
+}
+
 TEST(Quantize, GridHelpers) {
   const int grid = morph::grid_exponent_for(0.004);
   EXPECT_LE(std::ldexp(1.0, grid), 0.004 * std::ldexp(1.0, -14));

@@ -16,6 +16,7 @@
 #include <array>
 #include <cstdint>
 #include <optional>
+#include <utility>
 
 namespace morph {
 
@@ -55,6 +56,33 @@ std::optional<GridPoint> grid_point(const Eigen::Vector3d& x, int grid_exponent)
 /// kMaxIntegerNormal.
 std::optional<IntegerPlane> plane_through(const std::array<__int128, 3>& normal, const GridPoint& point,
                                           int grid_exponent);
+
+/// An offset as the nearest double (ties to even) and the remainder, exact for |v| < 2^106:
+/// what static_cast<double>(v) and the difference give, by shifts instead of the library's
+/// 128-bit conversions (which took a tenth of the predicates' time).
+inline std::pair<double, double> offset_parts(__int128 v) {
+  const bool negative = v < 0;
+  const auto magnitude =
+      negative ? static_cast<unsigned __int128>(-(v + 1)) + 1 : static_cast<unsigned __int128>(v);
+  const auto top = static_cast<std::uint64_t>(magnitude >> 64);
+  const int length =
+      top != 0 ? 128 - __builtin_clzll(top) : 64 - __builtin_clzll(static_cast<std::uint64_t>(magnitude) | 1);
+  if (length <= 53) return {static_cast<double>(static_cast<std::int64_t>(v)), 0.0};
+  if (length > 106) {
+    const auto high = static_cast<double>(v);
+    return {high, static_cast<double>(v - static_cast<__int128>(high))};
+  }
+  const int shift = length - 53;
+  auto kept = magnitude >> shift;
+  const unsigned __int128 rest = magnitude - (kept << shift), half = static_cast<unsigned __int128>(1)
+                                                                     << (shift - 1);
+  if (rest > half || (rest == half && (kept & 1) != 0)) ++kept;
+  // |low| ≤ 2^(shift-1) ≤ 2^52: the low 64 bits of the difference, as a signed number, are it.
+  const auto low = static_cast<std::int64_t>(static_cast<std::uint64_t>(magnitude - (kept << shift)));
+  const double high =
+      static_cast<double>(static_cast<std::uint64_t>(kept)) * static_cast<double>(std::uint64_t{1} << shift);
+  return negative ? std::pair{-high, static_cast<double>(-low)} : std::pair{high, static_cast<double>(low)};
+}
 
 /// Cross product of two integer vectors (exact for components below 2^62).
 std::array<__int128, 3> integer_cross(const GridPoint& u, const GridPoint& v);

@@ -17,11 +17,19 @@ namespace {
 // errs by less than about 1e-11·(|offset| + |corner|), a hundredth of the margin below.
 class RoughCorners {
  public:
-  explicit RoughCorners(const ConvexPiece& piece) {
+  explicit RoughCorners(const ConvexPiece& piece) : RoughCorners(piece, nullptr, {}) {}
+  // The look at `piece`, taking from `old` the corners that were its corners: from_old[k] is the
+  // index in `old` of corner k, or -1 for a new corner (the same three planes give the same point).
+  RoughCorners(const ConvexPiece& piece, const RoughCorners* old, const std::vector<int>& from_old) {
     const std::size_t n = piece.edges.size();
     points_.reserve(n);
     lengths_.reserve(n);
     for (std::size_t k = 0; k < n; ++k) {
+      if (old && old->usable_ && from_old[k] >= 0) {
+        points_.push_back(old->points_[static_cast<std::size_t>(from_old[k])]);
+        lengths_.push_back(old->lengths_[static_cast<std::size_t>(from_old[k])]);
+        continue;
+      }
       const ExactPlane& a = piece.edges[(k + n - 1) % n];
       const ExactPlane& b = piece.edges[k];
       const double det = std::fabs(piece.support.normal.dot(a.normal.cross(b.normal)));
@@ -34,28 +42,29 @@ class RoughCorners {
       lengths_.push_back(points_.back().norm());
     }
   }
-  // -1: every corner clearly inside `plane`; +1: every corner clearly outside; 0: undecided.
-  int side(const ExactPlane& plane) const {
+  // -1: every corner clearly inside `plane`; +1: every corner clearly outside; 0: undecided,
+  // and then corner(k) is -1 or +1 for a corner clearly inside or outside, 0 for one too close.
+  int side(const ExactPlane& plane) {
     if (!usable_) return 0;
-    int below = 0, above = 0;
+    corner_.resize(points_.size());
+    std::size_t below = 0, above = 0;
     const double length = plane.normal.norm();
     for (std::size_t k = 0; k < points_.size(); ++k) {
       const double value = plane.normal.dot(points_[k]) - plane.offset;
       const double margin = 1e-9 * (1 + std::fabs(plane.offset) + length * lengths_[k]);
-      if (value < -margin)
-        ++below;
-      else if (value > margin)
-        ++above;
-      else
-        return 0;
+      corner_[k] = value < -margin ? -1 : (value > margin ? 1 : 0);
+      below += corner_[k] < 0;
+      above += corner_[k] > 0;
     }
-    return below == static_cast<int>(points_.size()) ? -1
-                                                     : (above == static_cast<int>(points_.size()) ? 1 : 0);
+    return below == points_.size() ? -1 : (above == points_.size() ? 1 : 0);
   }
+  // The last side()'s look at corner k (0 when unusable).
+  int corner(std::size_t k) const { return usable_ ? corner_[k] : 0; }
 
  private:
   std::vector<Eigen::Vector3d> points_;
   std::vector<double> lengths_;  // of points_
+  std::vector<int> corner_;      // the last side()'s look at each corner
   bool usable_ = true;
 };
 
@@ -63,6 +72,61 @@ ExactPlane box_plane(int axis, bool upper, double offset, std::uint32_t index) {
   Eigen::Vector3d n = Eigen::Vector3d::Zero();
   n[axis] = upper ? 1.0 : -1.0;
   return ExactPlane{n, upper ? offset : -offset, stock_rank(index), -1};
+}
+
+// clip(), with the float look's sides of the corners it is sure of (the exact sides, as
+// RoughCorners' margin holds) when `rough` is given: the exact predicates only for the others.
+// `from_old`, when given, receives for each corner of the result the index of the same corner
+// in `piece`, or -1 for a corner on `plane`.
+ConvexPiece clip_with(const ConvexPiece& piece, const ExactPlane& plane, const RoughCorners* rough,
+                      std::vector<int>* from_old = nullptr) {
+  if (from_old) {  // unchanged, unless changed below
+    from_old->resize(piece.edges.size());
+    for (std::size_t k = 0; k < piece.edges.size(); ++k) (*from_old)[k] = static_cast<int>(k);
+  }
+  if (piece.empty() || plane.rank == piece.support.rank) return piece;
+  for (const ExactPlane& e : piece.edges)
+    if (e.rank == plane.rank) return e.direction == plane.direction ? piece : ConvexPiece{piece.support, {}};
+  const std::size_t n = piece.edges.size();
+  std::vector<int> sides(n);  // of corner k, between edges k-1 and k
+  std::size_t inside = 0;
+  for (std::size_t k = 0; k < n; ++k) {
+    const int quick = rough ? rough->corner(k) : 0;
+    sides[k] = quick != 0
+                   ? quick
+                   : side_at_vertex(piece.support, piece.edges[(k + n - 1) % n], piece.edges[k], plane);
+    inside += sides[k] < 0;
+  }
+  if (inside == n) return piece;
+  ConvexPiece out{piece.support, {}};
+  if (inside == 0) return out;
+  // Edge k runs from corner k to corner k+1. Exact signs on a convex piece change twice: keep
+  // the edges with a corner inside, and put `plane` after the edge that leaves.
+  std::vector<int> source;  // of each edge of `out`: its index in `piece`, -1 for `plane`
+  for (std::size_t k = 0; k < n; ++k) {
+    const bool from_inside = sides[k] < 0, to_inside = sides[(k + 1) % n] < 0;
+    if (from_inside || to_inside) {
+      out.edges.push_back(piece.edges[k]);
+      source.push_back(static_cast<int>(k));
+    }
+    if (from_inside && !to_inside) {
+      out.edges.push_back(plane);
+      source.push_back(-1);
+    }
+  }
+  if (from_old) {
+    // Corner j (between edges j-1 and j) is an old corner when both edges are old and were
+    // next to each other there.
+    const std::size_t m = source.size();
+    from_old->resize(m);
+    for (std::size_t j = 0; j < m; ++j) {
+      const int here = source[j], before = source[(j + m - 1) % m];
+      (*from_old)[j] =
+          here >= 0 && before >= 0 && before == (here + static_cast<int>(n) - 1) % static_cast<int>(n) ? here
+                                                                                                       : -1;
+    }
+  }
+  return out;
 }
 
 }  // namespace
@@ -94,38 +158,19 @@ ConvexPiece piece_in_box(const ExactPlane& support, const std::array<ExactPlane,
 }
 
 ConvexPiece clip(const ConvexPiece& piece, const ExactPlane& plane) {
-  if (piece.empty() || plane.rank == piece.support.rank) return piece;
-  for (const ExactPlane& e : piece.edges)
-    if (e.rank == plane.rank) return e.direction == plane.direction ? piece : ConvexPiece{piece.support, {}};
-  const std::size_t n = piece.edges.size();
-  std::vector<int> sides(n);  // of corner k, between edges k-1 and k
-  std::size_t inside = 0;
-  for (std::size_t k = 0; k < n; ++k) {
-    sides[k] = side_at_vertex(piece.support, piece.edges[(k + n - 1) % n], piece.edges[k], plane);
-    inside += sides[k] < 0;
-  }
-  if (inside == n) return piece;
-  ConvexPiece out{piece.support, {}};
-  if (inside == 0) return out;
-  // Edge k runs from corner k to corner k+1. Exact signs on a convex piece change twice: keep
-  // the edges with a corner inside, and put `plane` after the edge that leaves.
-  for (std::size_t k = 0; k < n; ++k) {
-    const bool from_inside = sides[k] < 0, to_inside = sides[(k + 1) % n] < 0;
-    if (from_inside || to_inside) out.edges.push_back(piece.edges[k]);
-    if (from_inside && !to_inside) out.edges.push_back(plane);
-  }
-  return out;
+  return clip_with(piece, plane, nullptr);
 }
 
 ConvexPiece intersect(ConvexPiece piece, const std::vector<ExactPlane>& planes) {
   RoughCorners rough(piece);
+  std::vector<int> from_old;
   for (const ExactPlane& plane : planes) {
     if (piece.empty()) break;
     const int quick = rough.side(plane);
     if (quick < 0) continue;
     if (quick > 0) return ConvexPiece{piece.support, {}};
-    piece = clip(piece, plane);
-    if (!piece.empty()) rough = RoughCorners(piece);
+    piece = clip_with(piece, plane, &rough, &from_old);
+    if (!piece.empty()) rough = RoughCorners(piece, &rough, from_old);
   }
   return piece;
 }

@@ -46,37 +46,11 @@ double power_of_two(int e) {
   return v;
 }
 
-// The nearest double to v (ties to even) and the remainder v - high, exact for |v| < 2^106:
-// what static_cast<double>(v) and the difference give, by shifts instead of the library's
-// 128-bit conversions (a tenth of the predicates' time).
-std::pair<double, double> split(__int128 v) {
-  const bool negative = v < 0;
-  const auto magnitude =
-      negative ? static_cast<unsigned __int128>(-(v + 1)) + 1 : static_cast<unsigned __int128>(v);
-  const auto top = static_cast<std::uint64_t>(magnitude >> 64);
-  const int length =
-      top != 0 ? 128 - __builtin_clzll(top) : 64 - __builtin_clzll(static_cast<std::uint64_t>(magnitude) | 1);
-  if (length <= 53) return {static_cast<double>(static_cast<std::int64_t>(v)), 0.0};
-  if (length > 106) {
-    const auto high = static_cast<double>(v);
-    return {high, static_cast<double>(v - static_cast<__int128>(high))};
-  }
-  const int shift = length - 53;
-  auto kept = magnitude >> shift;
-  const unsigned __int128 rest = magnitude - (kept << shift), half = static_cast<unsigned __int128>(1)
-                                                                     << (shift - 1);
-  if (rest > half || (rest == half && (kept & 1) != 0)) ++kept;
-  // |low| ≤ 2^(shift-1) ≤ 2^52: the low 64 bits of the difference, as a signed number, are it.
-  const auto low = static_cast<std::int64_t>(static_cast<std::uint64_t>(magnitude - (kept << shift)));
-  const double high = static_cast<double>(static_cast<std::uint64_t>(kept)) * power_of_two(shift);
-  return negative ? std::pair{-high, static_cast<double>(-low)} : std::pair{high, static_cast<double>(low)};
-}
-
 ExactRow row_of(const ExactPlane& p) {
   if (!p.exact.set()) return {{p.normal.x(), p.normal.y(), p.normal.z(), p.offset}, 0.0};
   const IntegerPlane& q = p.exact;
   const double scale = power_of_two(q.grid_exponent);
-  const auto [high, low] = split(q.offset);
+  const auto [high, low] = offset_parts(q.offset);
   return {{static_cast<double>(q.normal[0]), static_cast<double>(q.normal[1]),
            static_cast<double>(q.normal[2]), high * scale},
           low * scale};
