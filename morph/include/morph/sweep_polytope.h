@@ -61,6 +61,12 @@ class SweepPolytopeBuilder {
   /// True when the move is too short to have a direction: its sweep is the tool at `start`.
   bool degenerate(const Eigen::Vector3d& start, const Eigen::Vector3d& end) const;
 
+  /// True when every facet of the sweep from `start` to `end` carries its exact plane (see
+  /// above): the tool's facets have them, both ends lie on the tool's grid, and (a sufficient
+  /// bound) every silhouette normal fits kMaxIntegerNormal and every offset the predicates' range.
+  /// False may also be said of a sweep whose planes happen to be exact.
+  bool exact(const Eigen::Vector3d& start, const Eigen::Vector3d& end) const;
+
   const ConvexPolytope& tool() const { return tool_; }
 
   struct Edge {
@@ -90,6 +96,8 @@ class SweepPolytopeBuilder {
   double size_ = 0.0;
   std::optional<int> grid_;               // when every tool facet has an exact plane on this grid
   std::vector<GridPoint> grid_vertices_;  // the tool's vertices on it
+  std::int64_t largest_edge_ = 0;         // the largest |component| of a tool edge on the grid
+  std::int64_t largest_vertex_ = 0;       // the largest |component| of a tool vertex on the grid
 };
 
 /// One-off form of SweepPolytopeBuilder.

@@ -97,7 +97,15 @@ SweepPolytopeBuilder::SweepPolytopeBuilder(ConvexPolytope tool) : tool_(std::mov
     if (p) grid_vertices_.push_back(*p);
     exact = exact && p.has_value();
   }
-  if (exact) grid_ = grid;
+  if (!exact) return;
+  grid_ = grid;
+  for (const GridPoint& v : grid_vertices_)
+    for (std::int64_t c : v) largest_vertex_ = std::max(largest_vertex_, c < 0 ? -c : c);
+  for (const Edge& e : edges_)
+    for (int i = 0; i < 3; ++i) {
+      const std::int64_t c = grid_vertices_[e.to][i] - grid_vertices_[e.from][i];
+      largest_edge_ = std::max(largest_edge_, c < 0 ? -c : c);
+    }
 }
 
 namespace {
@@ -131,6 +139,24 @@ std::pair<Vector3d, Vector3d> SweepPolytopeBuilder::ordered(const Vector3d& star
 bool SweepPolytopeBuilder::degenerate(const Vector3d& start, const Vector3d& end) const {
   const auto [a, b] = ordered(start, end);
   return !((b - a).norm() > 1e-12 * size_);
+}
+
+bool SweepPolytopeBuilder::exact(const Vector3d& start, const Vector3d& end) const {
+  const std::optional<GridPoint> a = on_grid(start), b = on_grid(end);
+  if (!a || !b) return false;
+  // Offsets: |n·X| <= 3·2^52·max|X| stays below bounded()'s 2^100 when max|X| < 2^46.
+  constexpr std::int64_t kLargestPoint = std::int64_t{1} << 46;
+  std::int64_t point = largest_vertex_, step = 0;
+  GridPoint motion{};
+  for (int i = 0; i < 3; ++i) {
+    point = std::max({point, std::abs((*a)[i]) + largest_vertex_, std::abs((*b)[i]) + largest_vertex_});
+    motion[i] = (*b)[i] - (*a)[i];
+  }
+  if (point >= kLargestPoint) return false;
+  if (degenerate(start, end)) return true;
+  // A silhouette normal reduced(edge) × reduced(motion) has components <= 2·|edge|·|motion|.
+  for (std::int64_t c : reduced(motion)) step = std::max(step, c < 0 ? -c : c);
+  return static_cast<__int128>(2) * largest_edge_ * step <= kMaxIntegerNormal;
 }
 
 Halfspace SweepPolytopeBuilder::silhouette_plane(const Edge& e, const Vector3d& a,
