@@ -85,10 +85,16 @@ class SweepPolytopeBuilder {
   /// start `a` (as operator() computes it), with its exact plane when `a` and `motion` are on the
   /// grid.
   Halfspace silhouette_plane(const Edge& e, const Eigen::Vector3d& a, const Eigen::Vector3d& motion) const;
+  /// silhouette_plane()'s rounded look alone (normal and offset bit for bit the same; no exact
+  /// plane): what the culling compares and tests by.
+  Halfspace silhouette_look(const Edge& e, const Eigen::Vector3d& a, const Eigen::Vector3d& motion) const;
 
  private:
-  // The tool's facet f placed at `at`, with its exact plane when `exact` and `at` is on the grid.
-  Halfspace placed(int f, const Eigen::Vector3d& at, bool exact) const;
+  // The tool's facet f placed at `at`, with its exact plane when `grid_at` (`at` on the grid).
+  Halfspace placed(int f, const Eigen::Vector3d& at, const GridPoint* grid_at) const;
+  // silhouette_plane() with `a` on the grid at `start` and the motion reduced to `step`.
+  Halfspace silhouette_plane(const Edge& e, const Eigen::Vector3d& a, const Eigen::Vector3d& motion,
+                             const GridPoint& start, const GridPoint& step) const;
   std::optional<GridPoint> on_grid(const Eigen::Vector3d& x) const;
 
   ConvexPolytope tool_;

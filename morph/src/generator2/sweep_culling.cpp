@@ -212,7 +212,7 @@ void SweepCulling::place(std::size_t i, std::vector<Placed>& facets) const {
     p.facet = index;
     p.edge = static_cast<int>(e);
     ++index;
-    p.plane = sweeps_.silhouette_plane(edges[e], a, motion);
+    p.plane = sweeps_.silhouette_look(edges[e], a, motion);  // the culling reads the look alone
     p.box = AlignedBox3d(u + a);
     p.box.extend(w + a).extend(u + b).extend(w + b);
     p.centre = 0.5 * (u + w) + middle;

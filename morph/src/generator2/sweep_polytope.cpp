@@ -123,11 +123,10 @@ std::optional<GridPoint> SweepPolytopeBuilder::on_grid(const Vector3d& x) const 
   return grid_point(x, *grid_);
 }
 
-Halfspace SweepPolytopeBuilder::placed(int f, const Vector3d& at, bool exact) const {
+Halfspace SweepPolytopeBuilder::placed(int f, const Vector3d& at, const GridPoint* grid_at) const {
   const PolytopeFacet& facet = tool_.facets[f];
   Halfspace h{facet.normal, facet.offset + facet.normal.dot(at)};
-  if (!exact) return h;
-  if (const std::optional<GridPoint> p = on_grid(at)) h.exact = bounded(facet.exact.translated(*p));
+  if (grid_at) h.exact = bounded(facet.exact.translated(*grid_at));
   return h;
 }
 
@@ -159,24 +158,33 @@ bool SweepPolytopeBuilder::exact(const Vector3d& start, const Vector3d& end) con
   return static_cast<__int128>(2) * largest_edge_ * step <= kMaxIntegerNormal;
 }
 
-Halfspace SweepPolytopeBuilder::silhouette_plane(const Edge& e, const Vector3d& a,
-                                                 const Vector3d& motion) const {
+Halfspace SweepPolytopeBuilder::silhouette_look(const Edge& e, const Vector3d& a,
+                                                const Vector3d& motion) const {
   Vector3d normal = (tool_.vertices[e.to] - tool_.vertices[e.from]).cross(motion).normalized();
   if (normal.dot(tool_.facets[e.left].normal + tool_.facets[e.right].normal) < 0.0) normal = -normal;
-  Halfspace h{normal, normal.dot(tool_.vertices[e.from] + a)};
+  return {normal, normal.dot(tool_.vertices[e.from] + a), {}};
+}
+
+Halfspace SweepPolytopeBuilder::silhouette_plane(const Edge& e, const Vector3d& a,
+                                                 const Vector3d& motion) const {
   const std::optional<GridPoint> start = on_grid(a), step = on_grid(motion);
-  if (!start || !step || !on_grid(a + motion)) return h;
+  if (!start || !step || !on_grid(a + motion)) return silhouette_look(e, a, motion);
+  return silhouette_plane(e, a, motion, *start, reduced(*step));
+}
+
+Halfspace SweepPolytopeBuilder::silhouette_plane(const Edge& e, const Vector3d& a, const Vector3d& motion,
+                                                 const GridPoint& start, const GridPoint& step) const {
+  Halfspace h = silhouette_look(e, a, motion);
   // Exactly through both ends of the edge at both placements: the edge and the motion reduced to
   // coprime integers keep the normal small (an axis move's motion is a unit vector).
   GridPoint edge{};
   for (int i = 0; i < 3; ++i) edge[i] = grid_vertices_[e.to][i] - grid_vertices_[e.from][i];
   GridPoint through = grid_vertices_[e.from];
-  for (int i = 0; i < 3; ++i) through[i] += (*start)[i];
-  std::optional<IntegerPlane> exact =
-      plane_through(integer_cross(reduced(edge), reduced(*step)), through, *grid_);
+  for (int i = 0; i < 3; ++i) through[i] += start[i];
+  std::optional<IntegerPlane> exact = plane_through(integer_cross(reduced(edge), step), through, *grid_);
   if (!exact) return h;
-  const double look = double(exact->normal[0]) * normal.x() + double(exact->normal[1]) * normal.y() +
-                      double(exact->normal[2]) * normal.z();
+  const double look = double(exact->normal[0]) * h.normal.x() + double(exact->normal[1]) * h.normal.y() +
+                      double(exact->normal[2]) * h.normal.z();
   h.exact = bounded(look < 0.0 ? exact->negated() : *exact);
   return h;
 }
@@ -185,21 +193,31 @@ std::vector<Halfspace> SweepPolytopeBuilder::halfspaces(const Vector3d& start, c
   std::vector<Halfspace> planes;
   planes.reserve(tool_.facets.size() + 128);
   if (degenerate(start, end)) {
+    const std::optional<GridPoint> at = on_grid(start);
     for (std::size_t f = 0; f < tool_.facets.size(); ++f)
-      planes.push_back(placed(static_cast<int>(f), start, true));
+      planes.push_back(placed(static_cast<int>(f), start, at ? &*at : nullptr));
     return planes;
   }
   const auto [a, b] = ordered(start, end);
   const Vector3d motion = b - a;
-  const bool exact = on_grid(a).has_value() && on_grid(b).has_value();
+  const std::optional<GridPoint> grid_a = on_grid(a), grid_b = on_grid(b);
+  const bool exact = grid_a && grid_b;
   std::vector<int> side(tool_.facets.size());
   for (std::size_t f = 0; f < side.size(); ++f) {
     const PolytopeFacet& facet = tool_.facets[f];
     side[f] = motion_side(facet.normal, motion);
-    planes.push_back(placed(static_cast<int>(f), side[f] > 0 ? b : a, exact));
+    planes.push_back(placed(static_cast<int>(f), side[f] > 0 ? b : a,
+                            exact ? (side[f] > 0 ? &*grid_b : &*grid_a) : nullptr));
   }
+  // The silhouette planes are exact when the motion is on the grid too (b - a rounds exactly
+  // when both ends are on it, unless far apart: then on_grid(a + motion) is checked).
+  const std::optional<GridPoint> step = exact ? on_grid(motion) : std::nullopt;
+  const bool exact_silhouettes = step && on_grid(a + motion);
+  const GridPoint reduced_step = exact_silhouettes ? reduced(*step) : GridPoint{};
   for (const Edge& e : edges_)
-    if (side[e.left] * side[e.right] < 0) planes.push_back(silhouette_plane(e, a, motion));
+    if (side[e.left] * side[e.right] < 0)
+      planes.push_back(exact_silhouettes ? silhouette_plane(e, a, motion, *grid_a, reduced_step)
+                                         : silhouette_look(e, a, motion));
   return planes;
 }
 
@@ -207,7 +225,7 @@ ConvexPolytope SweepPolytopeBuilder::operator()(const Vector3d& start, const Vec
   if (degenerate(start, end)) return tool_.translated(start);  // exact planes kept on the grid
   const auto [a, b] = ordered(start, end);
   const Vector3d motion = b - a;
-  const bool exact = on_grid(a).has_value() && on_grid(b).has_value();
+  const std::vector<Halfspace> planes = halfspaces(start, end);  // in facet order
 
   // Side of each tool facet: -1 back (kept at a), +1 forward (kept at b), 0 swept whole.
   std::vector<int> side(tool_.facets.size());
@@ -232,7 +250,7 @@ ConvexPolytope SweepPolytopeBuilder::operator()(const Vector3d& start, const Vec
   };
   for (std::size_t f = 0; f < side.size(); ++f) {
     const PolytopeFacet& facet = tool_.facets[f];
-    const Halfspace plane = placed(static_cast<int>(f), side[f] > 0 ? b : a, exact);
+    const Halfspace& plane = planes[f];
     if (side[f] == 0) {
       add(swept_face(tool_, facet, motion), plane);
       continue;
@@ -245,7 +263,7 @@ ConvexPolytope SweepPolytopeBuilder::operator()(const Vector3d& start, const Vec
   for (const Edge& e : edges_) {
     const int s_left = side[e.left], s_right = side[e.right];
     if (s_left * s_right >= 0) continue;  // not a silhouette edge (or a swept face holds it)
-    const Halfspace plane = silhouette_plane(e, a, motion);
+    const Halfspace& plane = planes[sweep.facets.size()];
     if (s_left < 0)
       add({e.to, e.from, e.from + n, e.to + n}, plane);
     else
