@@ -58,6 +58,25 @@ class SweepPolytopeBuilder {
   /// same values, without building the facets' loops (a few microseconds instead of ~100).
   std::vector<Halfspace> halfspaces(const Eigen::Vector3d& start, const Eigen::Vector3d& end) const;
 
+  /// One sweep's halfspaces made one at a time, for a caller that needs a few of them: the
+  /// facets' sides and the silhouette edges are found once (one dot product per tool facet),
+  /// each plane when asked for, bit for bit halfspaces(start, end)[k].
+  class Planes {
+   public:
+    Planes(const SweepPolytopeBuilder& builder, const Eigen::Vector3d& start, const Eigen::Vector3d& end);
+    std::size_t size() const { return side_.size() + silhouette_.size(); }
+    Halfspace operator[](std::size_t k) const;
+
+   private:
+    const SweepPolytopeBuilder* builder_;
+    Eigen::Vector3d a_, b_, motion_;  ///< the ordered ends (both the start for a degenerate move)
+    std::optional<GridPoint> grid_a_, grid_b_;
+    bool exact_ = false, exact_silhouettes_ = false;
+    GridPoint step_{};               ///< the reduced motion on the grid
+    std::vector<signed char> side_;  ///< motion_side() of each tool facet (-1 for a degenerate move)
+    std::vector<int> silhouette_;    ///< the silhouette edges, in edges() order
+  };
+
   /// True when the move is too short to have a direction: its sweep is the tool at `start`.
   bool degenerate(const Eigen::Vector3d& start, const Eigen::Vector3d& end) const;
 

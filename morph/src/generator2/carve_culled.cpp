@@ -309,14 +309,17 @@ class Carving {
     std::vector<std::pair<int, std::vector<ConvexPiece>>> out;
     if (kept.empty()) return out;
     OwnPlanes own;
-    own.planes = planes_of(g, w);
-    own.groups = group.facet_groups.get();
     const CarveSweep& s = sweeps_[g];
+    own.planes = sweep_planes(s.tool->halfspaces(s.from, s.to), g);
+    own.groups = group.facet_groups.get();
     std::tie(own.a, own.b) = group.builder->degenerate(s.from, s.to)
                                  ? std::pair{s.from, s.from}
                                  : SweepPolytopeBuilder::ordered(s.from, s.to);
     own.tool_facets = group.builder->tool().facets.size();
     for (const ExactPlane& h : own.planes) own.max_offset = std::max(own.max_offset, std::fabs(h.offset));
+    // This move's cutters' planes, made only where a cutter crosses a kept facet (sweep_planes()'
+    // planes at those indices).
+    std::map<std::uint32_t, SweepPolytopeBuilder::Planes> cutter_planes;
     for (const KeptFacet& k : kept) {
       ++w.stages.carve.facets;
       const double facet_start = thread_seconds();
@@ -334,9 +337,18 @@ class Carving {
       std::vector<std::pair<std::uint32_t, std::vector<ExactPlane>>> cutters;
       for (const FacetCutter& c : k.cutters) {
         const std::uint32_t j = group.global[c.move];
-        const std::vector<ExactPlane>& all = planes_of(j, w);
+        auto found = cutter_planes.find(j);
+        if (found == cutter_planes.end())
+          found =
+              cutter_planes
+                  .emplace(j, SweepPolytopeBuilder::Planes(*sweeps_[j].tool, sweeps_[j].from, sweeps_[j].to))
+                  .first;
         std::vector<ExactPlane> planes;
-        for (int h : c.planes) planes.push_back(all[h]);
+        for (int h : c.planes) {
+          const Halfspace x = found->second[h];
+          planes.push_back(
+              ExactPlane{x.normal, x.offset, sweep_rank(j, static_cast<std::uint32_t>(h)), 1, x.exact});
+        }
         cutters.emplace_back(j, std::move(planes));
       }
       if (groups_.size() > 1)

@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <tuple>
 #include <unordered_map>
 
 namespace morph {
@@ -189,35 +190,51 @@ Halfspace SweepPolytopeBuilder::silhouette_plane(const Edge& e, const Vector3d& 
   return h;
 }
 
-std::vector<Halfspace> SweepPolytopeBuilder::halfspaces(const Vector3d& start, const Vector3d& end) const {
-  std::vector<Halfspace> planes;
-  planes.reserve(tool_.facets.size() + 128);
-  if (degenerate(start, end)) {
-    const std::optional<GridPoint> at = on_grid(start);
-    for (std::size_t f = 0; f < tool_.facets.size(); ++f)
-      planes.push_back(placed(static_cast<int>(f), start, at ? &*at : nullptr));
-    return planes;
+SweepPolytopeBuilder::Planes::Planes(const SweepPolytopeBuilder& builder, const Vector3d& start,
+                                     const Vector3d& end)
+    : builder_(&builder) {
+  const ConvexPolytope& tool = builder.tool_;
+  side_.assign(tool.facets.size(), -1);
+  if (builder.degenerate(start, end)) {
+    a_ = b_ = start;
+    motion_ = Vector3d::Zero();
+    grid_a_ = builder.on_grid(start);
+    exact_ = grid_a_.has_value();
+    return;
   }
-  const auto [a, b] = ordered(start, end);
-  const Vector3d motion = b - a;
-  const std::optional<GridPoint> grid_a = on_grid(a), grid_b = on_grid(b);
-  const bool exact = grid_a && grid_b;
-  std::vector<int> side(tool_.facets.size());
-  for (std::size_t f = 0; f < side.size(); ++f) {
-    const PolytopeFacet& facet = tool_.facets[f];
-    side[f] = motion_side(facet.normal, motion);
-    planes.push_back(placed(static_cast<int>(f), side[f] > 0 ? b : a,
-                            exact ? (side[f] > 0 ? &*grid_b : &*grid_a) : nullptr));
-  }
+  std::tie(a_, b_) = ordered(start, end);
+  motion_ = b_ - a_;
+  grid_a_ = builder.on_grid(a_);
+  grid_b_ = builder.on_grid(b_);
+  exact_ = grid_a_ && grid_b_;
+  for (std::size_t f = 0; f < side_.size(); ++f)
+    side_[f] = static_cast<signed char>(motion_side(tool.facets[f].normal, motion_));
   // The silhouette planes are exact when the motion is on the grid too (b - a rounds exactly
   // when both ends are on it, unless far apart: then on_grid(a + motion) is checked).
-  const std::optional<GridPoint> step = exact ? on_grid(motion) : std::nullopt;
-  const bool exact_silhouettes = step && on_grid(a + motion);
-  const GridPoint reduced_step = exact_silhouettes ? reduced(*step) : GridPoint{};
-  for (const Edge& e : edges_)
-    if (side[e.left] * side[e.right] < 0)
-      planes.push_back(exact_silhouettes ? silhouette_plane(e, a, motion, *grid_a, reduced_step)
-                                         : silhouette_look(e, a, motion));
+  const std::optional<GridPoint> step = exact_ ? builder.on_grid(motion_) : std::nullopt;
+  exact_silhouettes_ = step && builder.on_grid(a_ + motion_);
+  if (exact_silhouettes_) step_ = reduced(*step);
+  const std::vector<Edge>& edges = builder.edges_;
+  for (std::size_t e = 0; e < edges.size(); ++e)
+    if (side_[edges[e].left] * side_[edges[e].right] < 0) silhouette_.push_back(static_cast<int>(e));
+}
+
+Halfspace SweepPolytopeBuilder::Planes::operator[](std::size_t k) const {
+  if (k < side_.size()) {
+    const bool end = side_[k] > 0;
+    return builder_->placed(static_cast<int>(k), end ? b_ : a_,
+                            exact_ ? (end ? &*grid_b_ : &*grid_a_) : nullptr);
+  }
+  const Edge& e = builder_->edges_[silhouette_[k - side_.size()]];
+  return exact_silhouettes_ ? builder_->silhouette_plane(e, a_, motion_, *grid_a_, step_)
+                            : builder_->silhouette_look(e, a_, motion_);
+}
+
+std::vector<Halfspace> SweepPolytopeBuilder::halfspaces(const Vector3d& start, const Vector3d& end) const {
+  const Planes source(*this, start, end);
+  std::vector<Halfspace> planes;
+  planes.reserve(source.size());
+  for (std::size_t k = 0; k < source.size(); ++k) planes.push_back(source[k]);
   return planes;
 }
 
