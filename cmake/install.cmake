@@ -14,6 +14,15 @@ set_target_properties(planar_ref PROPERTIES OUTPUT_NAME morphmill_planar_ref)
 # The library behind the CLI (job files, mesh I/O, verify): libmorphmill.a, MorphMill::morphmill.
 set_target_properties(morphmill_app PROPERTIES OUTPUT_NAME morphmill EXPORT_NAME morphmill)
 
+# A sanitized build installs instrumented libraries: whoever links them needs the runtimes, so the
+# CMake package and the pkg-config file say so.
+set(MORPHMILL_PC_SANITIZE "")
+if(MORPHMILL_SANITIZE)
+  set_property(TARGET morph APPEND PROPERTY INTERFACE_LINK_OPTIONS
+               "$<INSTALL_INTERFACE:-fsanitize=address,undefined>")
+  set(MORPHMILL_PC_SANITIZE " -fsanitize=address,undefined")
+endif()
+
 set(MORPHMILL_CMAKE_DIR ${CMAKE_INSTALL_LIBDIR}/cmake/MorphMill)
 
 install(TARGETS morphmill RUNTIME DESTINATION ${CMAKE_INSTALL_BINDIR} COMPONENT runtime)

@@ -6,24 +6,117 @@
 #include <cmath>
 #include <map>
 #include <numeric>
+#include <stdexcept>
 #include <tuple>
+#include <utility>
 
 namespace raytest {
 
 namespace {
 
-std::size_t edge_divisions(const Eigen::Vector3d& a, const Eigen::Vector3d& b, double max_edge) {
-  const double n = std::ceil((a - b).norm() / max_edge);
+std::size_t pieces_of(double length, double max_edge) {
+  const double n = std::ceil(length / max_edge);
   return n >= 1 && std::isfinite(n) ? static_cast<std::size_t>(std::min(n, 4096.0)) : 1;
 }
 
-// Divisions of a triangle's interior: those of its longest edge.
-std::size_t divisions(const morph::TriangleMesh& mesh, const morph::Triangle& tri, double max_edge) {
-  std::size_t n = 1;
-  for (int e = 0; e < 3; ++e)
-    n = std::max(n, edge_divisions(mesh.vertices[tri[e]], mesh.vertices[tri[(e + 1) % 3]], max_edge));
-  return n;
+// A parent triangle seen from its longest edge ab, in the parent's winding (a, b, c), cut into
+// `bands` strips parallel to ab, each at most max_edge high: strip j lies between the rows at
+// heights j / bands and (j + 1) / bands of the apex c's.
+struct Banded {
+  std::uint32_t a = 0, b = 0, c = 0;
+  std::size_t bands = 1;
+};
+
+Banded banded(const morph::TriangleMesh& mesh, const morph::Triangle& tri, double max_edge) {
+  int longest = 0;
+  double length = -1;
+  for (int e = 0; e < 3; ++e) {
+    const double l = (mesh.vertices[tri[e]] - mesh.vertices[tri[(e + 1) % 3]]).norm();
+    if (l > length) length = l, longest = e;
+  }
+  Banded out{tri[longest], tri[(longest + 1) % 3], tri[(longest + 2) % 3], 1};
+  const Eigen::Vector3d ab = mesh.vertices[out.b] - mesh.vertices[out.a];
+  const Eigen::Vector3d ac = mesh.vertices[out.c] - mesh.vertices[out.a];
+  const double height = length > 0 ? ab.cross(ac).norm() / length : 0.0;
+  out.bands = pieces_of(height, max_edge);
+  return out;
 }
+
+// Length of the row at height fraction s (from ab, length `base`, to the apex).
+double row_length(double base, std::size_t j, std::size_t bands) {
+  return base * (1.0 - static_cast<double>(j) / static_cast<double>(bands));
+}
+
+// About how many triangles a parent becomes: its rows' pieces twice, its sides' points, its strips.
+std::size_t estimated_triangles(const morph::TriangleMesh& mesh, const morph::Triangle& tri,
+                                double max_edge) {
+  const Banded t = banded(mesh, tri, max_edge);
+  const double base = (mesh.vertices[t.b] - mesh.vertices[t.a]).norm();
+  std::size_t total = 2 * t.bands + pieces_of((mesh.vertices[t.c] - mesh.vertices[t.a]).norm(), max_edge) +
+                      pieces_of((mesh.vertices[t.c] - mesh.vertices[t.b]).norm(), max_edge);
+  for (std::size_t j = 0; j < t.bands; ++j) total += 2 * pieces_of(row_length(base, j, t.bands), max_edge);
+  return total;
+}
+
+// A point of an edge at an exact fraction num / den of the way from its lower-numbered end.
+struct EdgeFraction {
+  std::uint64_t num = 0, den = 1;
+  bool operator<(const EdgeFraction& o) const { return num * o.den < o.num * den; }
+  bool operator==(const EdgeFraction& o) const { return num * o.den == o.num * den; }
+};
+
+// Every edge's points, shared by both its triangles: evenly spaced at most max_edge apart, plus
+// every row end a triangle beside it asks for, so that each strip's corners are points of its sides.
+class EdgePoints {
+ public:
+  using Key = std::pair<std::uint32_t, std::uint32_t>;
+  struct Point {
+    EdgeFraction at;  ///< from the lower-numbered end
+    std::uint32_t vertex;
+  };
+
+  void ask(std::uint32_t from, std::uint32_t to, std::uint64_t num, std::uint64_t den) {
+    if (from < to)
+      asked_[{from, to}].push_back({num, den});
+    else
+      asked_[{to, from}].push_back({den - num, den});
+  }
+
+  // Turns every edge's fractions into vertices appended to `vertices` (the ends are the edge's own).
+  void settle(std::vector<Eigen::Vector3d>& vertices) {
+    for (auto& [key, fractions] : asked_) {
+      std::sort(fractions.begin(), fractions.end());
+      fractions.erase(std::unique(fractions.begin(), fractions.end()), fractions.end());
+      std::vector<Point>& points = points_[key];
+      for (const EdgeFraction& f : fractions) {
+        std::uint32_t vertex = key.first;
+        if (f.num == f.den) {
+          vertex = key.second;
+        } else if (f.num != 0) {
+          vertex = static_cast<std::uint32_t>(vertices.size());
+          const double t = static_cast<double>(f.num) / static_cast<double>(f.den);
+          vertices.push_back((1 - t) * vertices[key.first] + t * vertices[key.second]);
+        }
+        points.push_back({f, vertex});
+      }
+    }
+    asked_.clear();
+  }
+
+  // The points of edge from -> to in that order, with their fractions measured from `from`.
+  std::vector<Point> along(std::uint32_t from, std::uint32_t to) const {
+    std::vector<Point> out = points_.at({std::min(from, to), std::max(from, to)});
+    if (from > to) {
+      std::reverse(out.begin(), out.end());
+      for (Point& p : out) p.at.num = p.at.den - p.at.num;
+    }
+    return out;
+  }
+
+ private:
+  std::map<Key, std::vector<EdgeFraction>> asked_;
+  std::map<Key, std::vector<Point>> points_;
+};
 
 // Union-find over vertex indices.
 struct Components {
@@ -44,13 +137,10 @@ struct Components {
 RefinedMesh refine_long_edges(const morph::TriangleMesh& mesh, double max_edge, std::size_t max_triangles) {
   if (!(max_edge > 0)) throw morph::InputError("refine_long_edges: max_edge must be positive");
   RefinedMesh out;
-  // Grow the edge length until the triangle budget holds (n^2 triangles per parent).
+  // Grow the edge length until the triangle budget holds.
   for (int attempt = 0; attempt < 64; ++attempt) {
     std::size_t total = 0;
-    for (const auto& tri : mesh.triangles) {
-      const std::size_t n = divisions(mesh, tri, max_edge);
-      total += n * n;
-    }
+    for (const auto& tri : mesh.triangles) total += estimated_triangles(mesh, tri, max_edge);
     if (total <= std::max(max_triangles, mesh.triangle_count())) break;
     max_edge *= std::sqrt(static_cast<double>(total) / static_cast<double>(max_triangles)) * 1.01;
   }
@@ -58,68 +148,99 @@ RefinedMesh refine_long_edges(const morph::TriangleMesh& mesh, double max_edge, 
   morph::TriangleMesh& refined = out.mesh;
   refined.vertices = mesh.vertices;
   const bool tagged = mesh.tags.size() == mesh.triangles.size();
-  // Each edge is split into its own number of pieces, the same seen from both of its triangles, so
-  // the result stays conforming (no T-junctions): a triangle's lattice point at fraction i/n of an
-  // edge snaps to the nearest of the edge's own points (monotone, so no triangle flips; the ones
-  // that collapse are dropped).
-  std::map<std::tuple<std::uint32_t, std::uint32_t, std::size_t>, std::uint32_t> points_on_edges;
-  auto edge_point = [&](std::uint32_t a, std::uint32_t b, std::size_t i, std::size_t n) -> std::uint32_t {
-    if (i == 0) return a;
-    if (i == n) return b;
-    if (a > b) std::swap(a, b), i = n - i;
-    const std::size_t edge_n = edge_divisions(mesh.vertices[a], mesh.vertices[b], max_edge);
-    const auto k = static_cast<std::size_t>(
-        std::llround(static_cast<double>(i) * static_cast<double>(edge_n) / static_cast<double>(n)));
-    if (k == 0) return a;
-    if (k == edge_n) return b;
-    const std::size_t n_ = edge_n;
-    auto [it, inserted] = points_on_edges.try_emplace({a, b, k}, 0u);
-    if (inserted) {
-      it->second = static_cast<std::uint32_t>(refined.vertices.size());
-      const double t = static_cast<double>(k) / static_cast<double>(n_);
-      refined.vertices.push_back((1 - t) * mesh.vertices[a] + t * mesh.vertices[b]);
-    }
-    return it->second;
-  };
+
+  // Strips, not a lattice: a long thin triangle (a sliver of a fan) becomes as many triangles as its
+  // edges have points, not the square of its longest edge's. The edges' points are settled first,
+  // so both triangles of an edge use the same ones and a closed mesh stays closed.
+  std::vector<Banded> parents(mesh.triangles.size());
+  EdgePoints edges;
   for (std::size_t t = 0; t < mesh.triangles.size(); ++t) {
-    const auto [a, b, c] = mesh.triangles[t];
-    const std::size_t n = divisions(mesh, mesh.triangles[t], max_edge);
+    const morph::Triangle& tri = mesh.triangles[t];
+    const Banded p = parents[t] = banded(mesh, tri, max_edge);
+    for (int e = 0; e < 3; ++e) {
+      const std::uint32_t from = tri[e], to = tri[(e + 1) % 3];
+      const std::size_t n = pieces_of((mesh.vertices[to] - mesh.vertices[from]).norm(), max_edge);
+      for (std::size_t k = 0; k <= n; ++k) edges.ask(from, to, k, n);
+    }
+    for (std::size_t j = 1; j < p.bands; ++j) {
+      edges.ask(p.a, p.c, j, p.bands);
+      edges.ask(p.b, p.c, j, p.bands);
+    }
+  }
+  edges.settle(refined.vertices);
+
+  for (std::size_t t = 0; t < mesh.triangles.size(); ++t) {
+    const Banded& p = parents[t];
+    const Eigen::Vector3d a = mesh.vertices[p.a], b = mesh.vertices[p.b], c = mesh.vertices[p.c];
+    const Eigen::Vector3d ab = b - a;
+    const double base = ab.norm();
+    auto x_of = [&](std::uint32_t v) { return (refined.vertices[v] - a).dot(ab); };
     auto emit = [&](std::uint32_t x, std::uint32_t y, std::uint32_t z) {
-      if (x == y || y == z || z == x) return;  // collapsed by snapping to a coarser edge
+      if (x == y || y == z || z == x) return;  // the zero-width start and end of a zip
       refined.triangles.push_back({x, y, z});
       out.parent.push_back(static_cast<std::uint32_t>(t));
       if (tagged) refined.tags.push_back(mesh.tags[t]);
     };
-    if (n == 1) {
-      emit(a, b, c);
-      continue;
-    }
-    // Lattice point (i, j): a + i/n (b - a) + j/n (c - a), i + j <= n.
-    std::vector<std::uint32_t> lattice((n + 1) * (n + 2) / 2);
-    auto at = [&](std::size_t i, std::size_t j) -> std::uint32_t& {
-      return lattice[j * (2 * n + 3 - j) / 2 + i];
+    const std::vector<EdgePoints::Point> bottom_edge = edges.along(p.a, p.b);
+    const std::vector<EdgePoints::Point> left = edges.along(p.a, p.c), right = edges.along(p.b, p.c);
+    // Row j from its end on ac to its end on bc (the sides' points at exactly j / bands).
+    auto side_point = [&](const std::vector<EdgePoints::Point>& side, std::size_t j) {
+      for (const EdgePoints::Point& q : side)
+        if (q.at.num * p.bands == j * q.at.den) return q.vertex;
+      throw std::logic_error("refine_long_edges: a row end is missing from its side");
     };
-    for (std::size_t j = 0; j <= n; ++j)
-      for (std::size_t i = 0; i + j <= n; ++i) {
-        if (j == 0) {
-          at(i, j) = edge_point(a, b, i, n);
-        } else if (i == 0) {
-          at(i, j) = edge_point(a, c, j, n);
-        } else if (i + j == n) {
-          at(i, j) = edge_point(b, c, j, n);
+    auto row = [&](std::size_t j) {
+      std::vector<std::uint32_t> points;
+      if (j == 0) {
+        for (const EdgePoints::Point& q : bottom_edge) points.push_back(q.vertex);
+        return points;
+      }
+      if (j == p.bands) return std::vector<std::uint32_t>{p.c};
+      const double s = static_cast<double>(j) / static_cast<double>(p.bands);
+      const Eigen::Vector3d from = a + s * (c - a), to = b + s * (c - b);
+      const std::size_t pieces = pieces_of(row_length(base, j, p.bands), max_edge);
+      points.push_back(side_point(left, j));
+      for (std::size_t i = 1; i < pieces; ++i) {
+        points.push_back(static_cast<std::uint32_t>(refined.vertices.size()));
+        refined.vertices.push_back(from +
+                                   (static_cast<double>(i) / static_cast<double>(pieces)) * (to - from));
+      }
+      points.push_back(side_point(right, j));
+      return points;
+    };
+    // Strictly between heights j and j + 1: the side's points there, by rising height.
+    auto between = [&](const std::vector<EdgePoints::Point>& side, std::size_t j) {
+      std::vector<std::uint32_t> points;
+      for (const EdgePoints::Point& q : side)
+        if (q.at.num * p.bands > j * q.at.den && q.at.num * p.bands < (j + 1) * q.at.den)
+          points.push_back(q.vertex);
+      return points;
+    };
+    std::vector<std::uint32_t> lower = row(0);
+    for (std::size_t j = 0; j < p.bands; ++j) {
+      // The strip is convex and every point of its boundary chain rises in x (ab's direction) along
+      // both the lower row and the way round over the top: zip the two chains by x.
+      const std::vector<std::uint32_t> upper_row = row(j + 1);
+      std::vector<std::uint32_t> upper{lower.front()};
+      for (std::uint32_t v : between(left, j)) upper.push_back(v);
+      upper.insert(upper.end(), upper_row.begin(), upper_row.end());
+      const std::vector<std::uint32_t> descending = between(right, j);
+      upper.insert(upper.end(), descending.rbegin(), descending.rend());
+      upper.push_back(lower.back());
+      std::size_t i = 0, k = 0;
+      while (i + 1 < lower.size() || k + 1 < upper.size()) {
+        const bool advance_lower =
+            k + 1 == upper.size() || (i + 1 < lower.size() && x_of(lower[i + 1]) <= x_of(upper[k + 1]));
+        if (advance_lower) {
+          emit(lower[i], lower[i + 1], upper[k]);
+          ++i;
         } else {
-          at(i, j) = static_cast<std::uint32_t>(refined.vertices.size());
-          const double u = static_cast<double>(i) / static_cast<double>(n);
-          const double v = static_cast<double>(j) / static_cast<double>(n);
-          refined.vertices.push_back(mesh.vertices[a] + u * (mesh.vertices[b] - mesh.vertices[a]) +
-                                     v * (mesh.vertices[c] - mesh.vertices[a]));
+          emit(lower[i], upper[k + 1], upper[k]);
+          ++k;
         }
       }
-    for (std::size_t j = 0; j < n; ++j)
-      for (std::size_t i = 0; i + j < n; ++i) {
-        emit(at(i, j), at(i + 1, j), at(i, j + 1));
-        if (i + j + 1 < n) emit(at(i + 1, j), at(i + 1, j + 1), at(i, j + 1));
-      }
+      lower = upper_row;
+    }
   }
   return out;
 }

@@ -49,7 +49,9 @@ TEST_F(DeviationEstimate, ACapBelowTheEstimateRefusesBeforeIndexing) {
     EXPECT_NE(m.err.find(expected), std::string::npos) << expected << " not in: " << m.err;
   EXPECT_FALSE(std::filesystem::exists(path("h.ply")));
   // The meshes were read (about 30 MB), nothing indexed or sampled (the estimate is over 400 MB).
-  if (morphmill_test::kPeakMemoryIsTheProgramsOwn) EXPECT_LT(m.peak_bytes, 150.0 * (1 << 20));
+  if (morphmill_test::kPeakMemoryIsTheProgramsOwn) {
+    EXPECT_LT(m.peak_bytes, 150.0 * (1 << 20));
+  }
 }
 
 }  // namespace

@@ -70,7 +70,9 @@ TEST_F(ErodeRefusal, Generator2RefusesATinyToleranceBeforeBuildingAnything) {
   EXPECT_NE(r.err.find("sweep facets"), std::string::npos) << r.err;
   EXPECT_NE(r.err.find("over the memory cap"), std::string::npos) << r.err;
   EXPECT_FALSE(std::filesystem::exists(path("out.ply")));
-  if (morphmill_test::kPeakMemoryIsTheProgramsOwn) EXPECT_LT(r.peak_bytes, 200.0 * (1 << 20));
+  if (morphmill_test::kPeakMemoryIsTheProgramsOwn) {
+    EXPECT_LT(r.peak_bytes, 200.0 * (1 << 20));
+  }
 }
 
 TEST_F(ErodeRefusal, ACapBelowTheEstimateRefusesBeforeComputing) {
@@ -81,7 +83,9 @@ TEST_F(ErodeRefusal, ACapBelowTheEstimateRefusesBeforeComputing) {
   EXPECT_NE(r.err.find("over the memory cap"), std::string::npos) << r.err;
   EXPECT_NE(r.err.find("raise the tolerance"), std::string::npos) << r.err;
   EXPECT_FALSE(std::filesystem::exists(path("out.ply")));
-  if (morphmill_test::kPeakMemoryIsTheProgramsOwn) EXPECT_LT(r.peak_bytes, 200.0 * (1 << 20));
+  if (morphmill_test::kPeakMemoryIsTheProgramsOwn) {
+    EXPECT_LT(r.peak_bytes, 200.0 * (1 << 20));
+  }
 }
 
 TEST_F(ErodeRefusal, ATinyToleranceIsRefusedByTheEstimate) {
@@ -92,7 +96,9 @@ TEST_F(ErodeRefusal, ATinyToleranceIsRefusedByTheEstimate) {
   EXPECT_EQ(r.exit_code, 2) << r.err;
   EXPECT_NE(r.err.find("slots.json"), std::string::npos) << r.err;
   EXPECT_NE(r.err.find("MiB"), std::string::npos) << r.err;
-  if (morphmill_test::kPeakMemoryIsTheProgramsOwn) EXPECT_LT(r.peak_bytes, 500.0 * (1 << 20));
+  if (morphmill_test::kPeakMemoryIsTheProgramsOwn) {
+    EXPECT_LT(r.peak_bytes, 500.0 * (1 << 20));
+  }
 }
 
 TEST_F(ErodeRefusal, VerifyAndCompareRefuseATinyToleranceBeforeTheGeneratorRuns) {
@@ -105,7 +111,9 @@ TEST_F(ErodeRefusal, VerifyAndCompareRefuseATinyToleranceBeforeTheGeneratorRuns)
     EXPECT_NE(r.err.find(".json: erode: at tolerance 1e-06"), std::string::npos) << r.err;
     EXPECT_NE(r.err.find("over the memory cap"), std::string::npos) << r.err;
     EXPECT_NE(r.err.find("--memory-cap 8192 MiB"), std::string::npos) << r.err;
-    if (morphmill_test::kPeakMemoryIsTheProgramsOwn) EXPECT_LT(r.peak_bytes, 500.0 * (1 << 20)) << command;
+    if (morphmill_test::kPeakMemoryIsTheProgramsOwn) {
+      EXPECT_LT(r.peak_bytes, 500.0 * (1 << 20)) << command;
+    }
   }
 }
 
@@ -121,7 +129,9 @@ TEST_F(ErodeRefusal, ALargeMeshStockIsRefusedBeforeItsStructuresAreBuilt) {
   EXPECT_NE(r.err.find("torus.json"), std::string::npos) << r.err;
   EXPECT_NE(r.err.find("200000 stock triangles"), std::string::npos) << r.err;
   EXPECT_NE(r.err.find("over the memory cap"), std::string::npos) << r.err;
-  if (morphmill_test::kPeakMemoryIsTheProgramsOwn) EXPECT_LT(r.peak_bytes, 150.0 * (1 << 20));
+  if (morphmill_test::kPeakMemoryIsTheProgramsOwn) {
+    EXPECT_LT(r.peak_bytes, 150.0 * (1 << 20));
+  }
 }
 
 TEST_F(ErodeRefusal, AMillionTurnCircleIsRefused) {

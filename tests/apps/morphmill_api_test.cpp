@@ -7,6 +7,8 @@
 
 #include <gtest/gtest.h>
 
+#include "common/test_jobs.h"
+
 #include <cmath>
 #include <regex>
 #include <string>
@@ -90,9 +92,52 @@ TEST(MorphmillApi, ErrorsAreExceptionsNamingTheProblem) {
   } catch (const std::exception& e) {
     EXPECT_NE(std::string(e.what()).find("no_such_job.json"), std::string::npos) << e.what();
   }
-  // The generator builds sphere and ball-end tools only.
+  // Generator 1 builds sphere and ball-end tools only; a generator that does not exist is bad input.
   const morph::Job flat = morphmill::load_job(kData + "/jobs/tool_flat.json");
-  EXPECT_THROW(morphmill::erode(flat), morph::InputError);
+  morphmill::ErodeSettings first;
+  first.generator = 1;
+  EXPECT_THROW(morphmill::erode(flat, first), morph::InputError);
+  morphmill::ErodeSettings third;
+  third.generator = 3;
+  EXPECT_THROW(morphmill::erode(flat, third), morph::InputError);
+}
+
+// A flat end mill of radius 3 cutting level 2 deep straight through a 40 x 20 x 10 block removes a
+// 40 x 6 x 2 box: auto hands the tool to generator 2, whose surface is valid and holds that volume.
+TEST(MorphmillApi, ErodeUnderAutoBuildsAFlatEndMillsSlot) {
+  const morph::Job job = morphmill_test::box_polyline_job(
+      Eigen::AlignedBox3d(Eigen::Vector3d(0, 0, 0), Eigen::Vector3d(40, 20, 10)), morph::flat_tool(3.0, 20.0),
+      {Eigen::Vector3d(-5, 10, 8), Eigen::Vector3d(45, 10, 8)}, 0.01);
+  const morphmill::ErodeReport part = morphmill::erode(job);
+  EXPECT_EQ(part.generator, 2);
+  EXPECT_NE(part.generator_choice.find("generator 1 builds spheres and ball ends only"), std::string::npos)
+      << part.generator_choice;
+  EXPECT_TRUE(part.valid());
+  EXPECT_EQ(part.topology.components, 1);
+  // The slot's walls are the tool's polygonal side, within the tolerance of the cylinder: the
+  // volume is off by at most 0.01 times the cut area (walls 2 x 40 x 2, floor 40 x 6).
+  EXPECT_NEAR(part.topology.volume, 40.0 * 20.0 * 10.0 - 40.0 * 6.0 * 2.0, 0.01 * (160.0 + 240.0));
+  // Asked for generator 2 by name, the same surface.
+  morphmill::ErodeSettings second;
+  second.generator = 2;
+  const morphmill::ErodeReport again = morphmill::erode(job, second);
+  EXPECT_EQ(again.generator, 2);
+  EXPECT_TRUE(again.generator_choice.empty());
+  EXPECT_DOUBLE_EQ(again.topology.volume, part.topology.volume);
+}
+
+TEST(MorphmillApi, VerifyReportsTheGeneratorItJudged) {
+  const morph::Job job = morphmill::load_job(kData + "/jobs/single_slot.json");
+  morphmill::VerifySettings settings;
+  settings.voxel_size = 0.5;
+  settings.face_samples = 2000;
+  const morphmill::VerifyReport report = morphmill::verify(job, settings);
+  EXPECT_EQ(report.generator, 1);  // generator 1's surface is sound on a single slot
+  EXPECT_EQ(report.generator_choice, "its surface is sound");
+  settings.generator = 2;
+  const morphmill::VerifyReport second = morphmill::verify(job, settings);
+  EXPECT_EQ(second.generator, 2);
+  EXPECT_TRUE(second.verdict);
 }
 
 }  // namespace

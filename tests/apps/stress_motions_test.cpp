@@ -11,9 +11,11 @@
 #include <morphmill/job_io.h>
 #include <vdb_ref/reference.h>
 
+#include <algorithm>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <limits>
 #include <map>
 #include <set>
 #include <string>
@@ -79,7 +81,7 @@ TEST(MotionCases, KnownPiecesGenusAndVolumesMatchTheReference) {
   const std::size_t families = motion_families().size();
   std::set<std::string> with_volume;
   for (std::size_t index = 0; index < 3 * families; ++index) {
-    const StressCase c = make_case(17, index, motion_space(2));
+    const StressCase c = make_case(22, index, motion_space(2));  // a volume for each family below
     ASSERT_GE(c.expected_pieces, 1) << c.family;
     ASSERT_GE(c.expected_genus, 0) << c.family;
     const std::string path = write_case(c, dir.string(), case_name(index) + ".json");
@@ -103,8 +105,37 @@ TEST(MotionCases, KnownPiecesGenusAndVolumesMatchTheReference) {
       EXPECT_LT(*c.expected_volume, 0.99 * morph::volume(job.stock)) << what;
     }
   }
-  for (const char* family : {"retrace", "plunge_retract", "submicron", "mixed_tools"})
+  for (const char* family : {"retrace", "plunge_retract", "submicron", "mixed_tools", "mesh_stock"})
     EXPECT_EQ(with_volume.count(family), 1u) << family << " never had a closed-form volume";
+}
+
+// The sliver stock is a closed, outward box of the box's volume whose top is many triangles.
+TEST(MotionCases, MeshStockIsAClosedBoxOfSlivers) {
+  const std::size_t families = motion_families().size();
+  int seen = 0;
+  for (std::size_t index = 0; index < 4 * families; ++index) {
+    const StressCase c = make_case(5, index, motion_space(2));
+    if (c.family != "mesh_stock") continue;
+    ++seen;
+    ASSERT_TRUE(c.stock_mesh.has_value());
+    const morph::TriangleMesh& mesh = *c.stock_mesh;
+    const morph::TopologyReport topology = morph::topology_report(mesh);
+    EXPECT_TRUE(topology.closed_manifold()) << c.variant;
+    EXPECT_EQ(topology.components, 1);
+    const Eigen::AlignedBox3d box = morph::bounds(mesh);
+    EXPECT_NEAR(topology.volume, box.sizes().prod(), 1e-9 * box.sizes().prod()) << c.variant;
+    EXPECT_GE(mesh.triangle_count(), 12u + 2u * 6u);  // the top and two sides fanned
+    // The thinnest top triangle is a sliver: its smallest altitude under a tenth of a millimetre.
+    double thinnest = std::numeric_limits<double>::infinity();
+    for (const morph::Triangle& t : mesh.triangles) {
+      const Eigen::Vector3d p = mesh.vertices[t[0]], q = mesh.vertices[t[1]], r = mesh.vertices[t[2]];
+      if (p.z() < box.max().z() || q.z() < box.max().z() || r.z() < box.max().z()) continue;
+      const double longest = std::max({(q - p).norm(), (r - q).norm(), (p - r).norm()});
+      thinnest = std::min(thinnest, (q - p).cross(r - p).norm() / longest);
+    }
+    EXPECT_LT(thinnest, 0.1) << c.variant;
+  }
+  EXPECT_GE(seen, 3);
 }
 
 // The G-code arcs are read as meant: the G18 half circle dips to the cut's depth under its ends,

@@ -21,7 +21,8 @@ import tempfile
 import time
 
 MARKER = re.compile(r"^<!--\s*test:?(.*?)-->\s*$")
-TIMEOUT_SECONDS = 120
+# Seconds each example may take; a sanitized build sets more (tests/CMakeLists.txt).
+TIMEOUT_SECONDS = float(os.environ.get("MORPHMILL_DOC_EXAMPLE_SECONDS", "120"))
 
 
 def marked_blocks(path):
@@ -73,7 +74,7 @@ def main():
                                          capture_output=True, text=True, timeout=TIMEOUT_SECONDS)
                     code, output = run.returncode, run.stdout + run.stderr
                 except subprocess.TimeoutExpired:
-                    code, output = None, f"did not finish within {TIMEOUT_SECONDS} s"
+                    code, output = None, f"did not finish within {TIMEOUT_SECONDS:g} s"
                 seconds = time.monotonic() - start
                 where = f"{document}:{line}"
                 print(f"{where}: exit {code} in {seconds:.1f} s")

@@ -46,7 +46,8 @@ ${CXX:-c++} -std=c++17 -O1 "$source/tests/install/consumer/consumer.cpp" -o "$wo
 "$work/consumer_pc"
 # The Python module from the prefix (where it was built with Python).
 if module=$(find "$prefix" -name 'morphmill*.so' -path '*dist-packages*' | head -n 1) && [[ -n $module ]]; then
-  PYTHONPATH=$(dirname "$module") "${PYTHON:-/usr/bin/python3}" -c \
+  # A sanitized build's module needs its runtimes loaded first (MORPHMILL_PYTHON_PRELOAD, set by ctest).
+  PYTHONPATH=$(dirname "$module") ${MORPHMILL_PYTHON_PRELOAD:+env LD_PRELOAD=$MORPHMILL_PYTHON_PRELOAD ASAN_OPTIONS=detect_leaks=0} "${PYTHON:-/usr/bin/python3}" -c \
     "import morphmill; v = morphmill.version(); assert v == '${version#morphmill }', v; print('python: morphmill', v)"
 fi
 echo "install test: ok"

@@ -54,6 +54,15 @@ class MorphmillModule(unittest.TestCase):
         # Side sweep faces (kind 3) come from the only move (index 0).
         self.assertTrue(np.all(tags[tags[:, 0] == 3][:, 1] == 0))
 
+    def test_erode_chooses_the_generator_as_the_command_line_does(self):
+        self.assertEqual(self.part.generator, 1)  # auto keeps generator 1's sound surface
+        self.assertEqual(self.part.generator_choice, "its surface is sound")
+        second = morphmill.erode(self.job, generator=2)
+        self.assertEqual(second.generator, 2)
+        self.assertTrue(second.valid)
+        self.assertAlmostEqual(second.topology.volume, SLOT_VOLUME, delta=0.01 * math.pi * 2 * 40)
+        self.assertEqual(morphmill.erode(self.job, generator="2").topology.volume, second.topology.volume)
+
     def test_reference_volume(self):
         reference = morphmill.reference(self.job, voxel_size=0.5)
         self.assertEqual(reference.voxel_size, 0.5)
@@ -87,8 +96,11 @@ class MorphmillModule(unittest.TestCase):
         with self.assertRaises(morphmill.IoError) as missing:
             morphmill.load_job(os.path.join(DATA, "jobs", "no_such_job.json"))
         self.assertIn("no_such_job.json", str(missing.exception))
-        with self.assertRaises(morphmill.InputError):
-            morphmill.erode(morphmill.load_job(os.path.join(DATA, "jobs", "tool_flat.json")))
+        flat = morphmill.load_job(os.path.join(DATA, "jobs", "tool_flat.json"))
+        with self.assertRaises(morphmill.InputError):  # generator 1 builds ball ends only
+            morphmill.erode(flat, generator=1)
+        with self.assertRaises(ValueError):
+            morphmill.erode(flat, generator="fast")
         with self.assertRaises(ValueError):  # InputError is a ValueError
             morphmill.Mesh(np.zeros((3, 3)), np.array([[0, 1, 5]], dtype=np.uint32))
         with self.assertRaises(ValueError):

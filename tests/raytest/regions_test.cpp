@@ -5,6 +5,8 @@
 #include <raytest/regions.h>
 
 #include <cmath>
+#include <map>
+#include <utility>
 
 #include "raytest/raytest_support.h"
 
@@ -43,6 +45,58 @@ TEST(RefineLongEdges, EdgesShortAreaKeptAndClosedMeshesStayClosed) {
   EXPECT_TRUE(topology.closed_manifold());
   EXPECT_NEAR(topology.volume, 40.0, 1e-9);
   EXPECT_THROW(raytest::refine_long_edges(box, 0.0), morph::InputError);
+}
+
+// Long slivers (a 40 x 0.3 x 0.3 bar; a square fanned from one corner, as a generator triangulates a
+// face) cost their length, not its square, and stay conforming.
+TEST(RefineLongEdges, SliversBecomeStripsAndStayConforming) {
+  const morph::TriangleMesh bar = raytest_test::box_mesh({0, 0, 0}, {40, 0.3, 0.3}, 1);
+  const raytest::RefinedMesh strips = raytest::refine_long_edges(bar, 0.5);
+  // Each long face is 80 pieces long and one strip high: about 2 x 80 triangles, not 80^2 / 2.
+  EXPECT_LT(strips.mesh.triangle_count(), 4u * 2u * 200u);
+  const morph::TopologyReport topology = morph::topology_report(strips.mesh);
+  EXPECT_TRUE(topology.closed_manifold());
+  EXPECT_NEAR(topology.volume, 40 * 0.3 * 0.3, 1e-9);
+
+  morph::TriangleMesh fan;
+  fan.vertices = {{0, 0, 0}};
+  for (int i = 0; i <= 25; ++i) fan.vertices.push_back({10, 0.4 * i, 0});
+  for (int i = 24; i >= 0; --i) fan.vertices.push_back({0.4 * i, 10, 0});
+  for (std::uint32_t v = 1; v + 1 < fan.vertices.size(); ++v) fan.triangles.push_back({0, v, v + 1});
+  const raytest::RefinedMesh refined = raytest::refine_long_edges(fan, 0.25);
+  // 100 square units: about 2 x 100 / 0.25^2 = 3,200 triangles (the lattice of the longest edges
+  // would have been ~50 x (14.1 / 0.25)^2 = 160,000).
+  EXPECT_LT(refined.mesh.triangle_count(), 8000u);
+  double area = 0, longest = 0;
+  for (const auto& tri : refined.mesh.triangles) {
+    for (int e = 0; e < 3; ++e)
+      longest =
+          std::max(longest, (refined.mesh.vertices[tri[e]] - refined.mesh.vertices[tri[(e + 1) % 3]]).norm());
+    const Eigen::Vector3d n = (refined.mesh.vertices[tri[1]] - refined.mesh.vertices[tri[0]])
+                                  .cross(refined.mesh.vertices[tri[2]] - refined.mesh.vertices[tri[0]]);
+    EXPECT_GE(n.z(), 0.0);  // the parents' winding kept
+    area += 0.5 * n.norm();
+  }
+  EXPECT_NEAR(area, 100.0, 1e-9);
+  EXPECT_LE(longest, 1.5 * 0.25);
+  // Conforming: the only edges with one triangle lie on the square's outline, and they add up to it.
+  const morph::TopologyReport open = morph::topology_report(refined.mesh);
+  EXPECT_EQ(open.non_manifold_edges, 0u);
+  std::map<std::pair<std::uint32_t, std::uint32_t>, int> uses;
+  for (const auto& tri : refined.mesh.triangles)
+    for (int e = 0; e < 3; ++e)
+      ++uses[{std::min(tri[e], tri[(e + 1) % 3]), std::max(tri[e], tri[(e + 1) % 3])}];
+  double outline = 0;
+  for (const auto& [edge, count] : uses)
+    if (count == 1) {
+      const Eigen::Vector3d p = refined.mesh.vertices[edge.first], q = refined.mesh.vertices[edge.second];
+      const bool on_outline = (std::abs(p.x() - 10) < 1e-12 && std::abs(q.x() - 10) < 1e-12) ||
+                              (std::abs(p.y() - 10) < 1e-12 && std::abs(q.y() - 10) < 1e-12) ||
+                              (p.x() == 0 && q.x() == 0) || (p.y() == 0 && q.y() == 0);
+      EXPECT_TRUE(on_outline) << p.transpose() << " - " << q.transpose();
+      outline += (p - q).norm();
+    }
+  EXPECT_NEAR(outline, 40.0, 1e-9);
 }
 
 TEST(RefineLongEdges, TriangleBudgetWidensTheEdge) {

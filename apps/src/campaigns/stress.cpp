@@ -244,7 +244,9 @@ CaseResult run_case(std::uint64_t seed, std::size_t index, const StressOptions& 
     if (!o.morph_topology.closed_manifold()) fail(result, "closed_manifold");
     if (o.generator_skipped.empty()) {
       // Cases run in parallel already: the check runs on this thread.
-      result.self_intersecting_pairs = find_self_intersections(evaluation.morph_mesh, 1, false).pairs;
+      result.self_intersecting_pairs = o.morph_intersecting_pairs
+                                           ? *o.morph_intersecting_pairs
+                                           : find_self_intersections(evaluation.morph_mesh, 1, false).pairs;
       // Generator 1 is measured, not held to it: its patches are trimmed apart and are known to
       // cross where passes cross (issue 18); generator 2 (asked, or chosen by auto) promises it by
       // construction.

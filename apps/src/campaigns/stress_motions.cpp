@@ -15,8 +15,11 @@
 #include <morph/exceptions.h>
 #include <morph/tool.h>
 
+#include <algorithm>
 #include <array>
 #include <cmath>
+#include <functional>
+#include <initializer_list>
 #include <limits>
 #include <sstream>
 
@@ -179,6 +182,49 @@ Vector3d unit_in_plane(double angle) {
 void blind_result(Builder& b, const std::string& variant) {
   b.expected_genus(0);
   b.finish(variant, 1);
+}
+
+/// A closed box mesh whose top face is a fan of slivers from its (lo.x, lo.y) corner to points on
+/// its two far top edges (x = hi.x at `far_y`, y = hi.y at `far_x`, each strictly inside its edge,
+/// any order), as CAD exports triangulate a face; the two side faces holding those points are fans
+/// from a bottom corner, the other faces two triangles each. Wound outward.
+morph::TriangleMesh sliver_box_mesh(const Vector3d& lo, const Vector3d& hi, std::vector<double> far_y,
+                                    std::vector<double> far_x) {
+  std::sort(far_y.begin(), far_y.end());
+  std::sort(far_x.begin(), far_x.end(), std::greater<double>());
+  morph::TriangleMesh mesh;
+  auto vertex = [&](double x, double y, double z) {
+    mesh.vertices.emplace_back(x, y, z);
+    return static_cast<std::uint32_t>(mesh.vertices.size() - 1);
+  };
+  std::uint32_t corner[8];  // bit 0: x, bit 1: y, bit 2: z at hi
+  for (int i = 0; i < 8; ++i)
+    corner[i] = vertex(i & 1 ? hi.x() : lo.x(), i & 2 ? hi.y() : lo.y(), i & 4 ? hi.z() : lo.z());
+  // The top's outline from (hi.x, lo.y) round to (lo.x, hi.y), counter-clockwise seen from above.
+  std::vector<std::uint32_t> rim{corner[5]};
+  for (double y : far_y) rim.push_back(vertex(hi.x(), y, hi.z()));
+  rim.push_back(corner[7]);
+  const std::size_t rim_corner = rim.size() - 1;
+  for (double x : far_x) rim.push_back(vertex(x, hi.y(), hi.z()));
+  rim.push_back(corner[6]);
+  for (std::size_t i = 0; i + 1 < rim.size(); ++i) mesh.triangles.push_back({corner[4], rim[i], rim[i + 1]});
+  // Side x = hi.x, seen from +x: bottom (hi.x, lo.y) -> (hi.x, hi.y), then the top edge back.
+  for (std::size_t i = 0; i < rim_corner; ++i) mesh.triangles.push_back({corner[1], rim[i + 1], rim[i]});
+  mesh.triangles.push_back({corner[1], corner[3], rim[rim_corner]});
+  // Side y = hi.y, seen from +y: bottom (hi.x, hi.y) -> (lo.x, hi.y), then the top edge back.
+  for (std::size_t i = rim_corner; i + 1 < rim.size(); ++i)
+    mesh.triangles.push_back({corner[3], rim[i + 1], rim[i]});
+  mesh.triangles.push_back({corner[3], corner[2], rim.back()});
+  // The plain faces: bottom (z = lo), x = lo, y = lo.
+  for (const morph::Triangle& t :
+       std::initializer_list<morph::Triangle>{{corner[0], corner[2], corner[1]},
+                                              {corner[1], corner[2], corner[3]},  // bottom
+                                              {corner[0], corner[4], corner[2]},
+                                              {corner[2], corner[4], corner[6]},  // x = lo
+                                              {corner[0], corner[1], corner[4]},
+                                              {corner[1], corner[5], corner[4]}})  // y = lo
+    mesh.triangles.push_back(t);
+  return mesh;
 }
 
 // --- families ------------------------------------------------------------------------------------
@@ -523,6 +569,45 @@ void mixed_tools(CaseRandom& rng, Builder& b) {
                               crossing ? "crossing" : "side by side"));
 }
 
+// A blind level pass in a box stock given as a mesh whose top is a fan of slivers, some a
+// micrometre wide, crossing the groove (issue 18's "mesh stock with slivers near a groove"):
+// exactly the pass in a plain box.
+void mesh_stock(CaseRandom& rng, Builder& b) {
+  const DrawnTool t = draw_tool(rng, b.generator());
+  b.tool(1, t.json, t.tool.radius);
+  const double height = round3(rng.uniform(4.0, 10.0)), d = blind_depth(rng, t, height);
+  const double length = round3(rng.uniform(5.0, 25.0));
+  const Vector3d u = unit_in_plane(rng.uniform(0.0, M_PI));
+  const double z = height - d + t.point_height;
+  const Vector3d a = Vector3d(0, 0, z) - 0.5 * length * u, c = Vector3d(0, 0, z) + 0.5 * length * u;
+  Eigen::AlignedBox2d reach;
+  for (const Vector3d& p : {a, c}) reach.extend(p.head<2>());
+  const double margin = t.tool.radius + 2.0;
+  const Eigen::Vector2d lo = (reach.min().array() - margin).floor(),
+                        hi = (reach.max().array() + margin).ceil();
+  // The far edges' points: a few spread along each, and a cluster where the slivers from the
+  // corner pass over the groove's middle (the origin), spaced down to a micrometre.
+  const double spacing = std::pow(10.0, rng.uniform(-3.0, -1.0));
+  // Where the line from the corner through the origin meets the edge x = hi.x (lo < 0 < hi).
+  const double y_mid = lo.y() - lo.y() * (hi.x() - lo.x()) / -lo.x();
+  std::vector<double> far_y, far_x;
+  const int spread = rng.integer(2, 8), cluster = rng.integer(3, 12);
+  for (int i = 0; i < spread; ++i) far_y.push_back(round3(rng.uniform(lo.y() + 0.5, hi.y() - 0.5)));
+  for (int i = 0; i < spread; ++i) far_x.push_back(round3(rng.uniform(lo.x() + 0.5, hi.x() - 0.5)));
+  const double centre = std::clamp(y_mid, lo.y() + 1.0, hi.y() - 1.0);
+  for (int i = 0; i < cluster; ++i) far_y.push_back(centre + (i - cluster / 2) * spacing);
+  std::sort(far_y.begin(), far_y.end());
+  far_y.erase(std::unique(far_y.begin(), far_y.end()), far_y.end());
+  std::sort(far_x.begin(), far_x.end());
+  far_x.erase(std::unique(far_x.begin(), far_x.end()), far_x.end());
+  b.mesh_stock(sliver_box_mesh(Vector3d(lo.x(), lo.y(), 0), Vector3d(hi.x(), hi.y(), height), far_y, far_x),
+               "slivers");
+  b.path({a, c});
+  b.expected_volume(b.stock_volume() - (length * section_below(t.tool, d) + volume_below(t.tool, d)));
+  blind_result(b, fmt::format("{}, depth {}, {} mm pass over {} slivers {:.3g} mm apart", t.word, d, length,
+                              far_y.size() + far_x.size() + 1, spacing));
+}
+
 }  // namespace
 
 const std::vector<std::pair<std::string, Family>>& motion_family_table() {
@@ -535,6 +620,7 @@ const std::vector<std::pair<std::string, Family>>& motion_family_table() {
       {"cutout", cutout},
       {"self_crossing", self_crossing},
       {"mixed_tools", mixed_tools},
+      {"mesh_stock", mesh_stock},
   };
   return table;
 }

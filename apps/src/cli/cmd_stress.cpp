@@ -120,8 +120,9 @@ void register_stress_command(CLI::App& app) {
   command
       ->add_option("--families", options->families,
                    "Case families: classic (the default), motion (retrace, plunge_retract, reversal,\n"
-                   "submicron, arcs, cutout, self_crossing, mixed_tools: box stock, every tool shape the\n"
-                   "generator builds), all, or family names separated by commas")
+                   "submicron, arcs, cutout, self_crossing, mixed_tools: box stock; mesh_stock: a box as a\n"
+                   "mesh of slivers; every tool shape the generator builds), all, or family names\n"
+                   "separated by commas")
       ->capture_default_str();
   command
       ->add_option("--samples", options->face_samples, "Area-uniform deviation samples per surface and case")

@@ -1,16 +1,15 @@
 // SPDX-License-Identifier: Apache-2.0
 // The public API (morphmill/morphmill.h): the CLI's steps, called the way its commands call them.
 #include <morphmill/morphmill.h>
-#include <morphmill/self_intersections.h>
-
-#include <tbb/task_group.h>
 
 #include "io/build_info.h"
 #include "verify/verify.h"
 
 namespace morphmill {
 
-std::string version() { return program_version(); }
+std::string version() {
+  return program_version();
+}
 
 ErodeReport erode(const morph::Job& job, const ErodeSettings& settings) {
   morph::ErodeOptions options;
@@ -18,17 +17,21 @@ ErodeReport erode(const morph::Job& job, const ErodeSettings& settings) {
   options.memory_cap_bytes = settings.memory_cap_bytes;
   options.progress = settings.progress;
   ErodeReport report;
-  morph::ErodeResult result = morph::erode(job, options);
-  report.mesh = std::move(result.mesh);
-  report.stats = result.stats;
-  tbb::task_group checks;
-  checks.run([&] { report.topology = morph::topology_report(report.mesh); });
-  checks.run([&] { report.self_intersections = find_self_intersections(report.mesh).pairs; });
-  checks.wait();
+  GeneratedSurface generated = run_generator(job, options, settings.generator);
+  report.generator = generated.generator;
+  report.generator_choice = generated.choice;
+  report.mesh = std::move(generated.result.mesh);
+  report.stats = generated.result.stats;
+  const SurfaceSoundness soundness =
+      generated.soundness ? *generated.soundness : check_soundness(report.mesh);
+  report.topology = soundness.topology;
+  report.self_intersections = soundness.crossings.pairs;
   return report;
 }
 
-double default_voxel_size(const morph::Job& job) { return auto_voxel_size(job); }
+double default_voxel_size(const morph::Job& job) {
+  return auto_voxel_size(job);
+}
 
 vdb_ref::ReferenceResult reference(const morph::Job& job, const ReferenceSettings& settings) {
   vdb_ref::ReferenceOptions options;
@@ -59,6 +62,7 @@ VerifyReport verify(const morph::Job& job, const VerifySettings& settings) {
   options.reference_only = settings.reference_only;
   options.reference_memory_cap_bytes = settings.reference_memory_cap_bytes;
   options.progress = settings.progress;
+  options.generator = settings.generator;
   Evaluation evaluation = evaluate_job(job, options);
   const VerifyOutcome& outcome = evaluation.outcome;
   VerifyReport report;
@@ -67,6 +71,8 @@ VerifyReport verify(const morph::Job& job, const VerifySettings& settings) {
   report.sides_agree = outcome.sides_agree;
   report.pieces_match = outcome.pieces_match;
   report.generator_skipped = outcome.generator_skipped;
+  report.generator = outcome.generator_used;
+  report.generator_choice = outcome.generator_choice;
   report.tolerance = outcome.tolerance;
   report.voxel_size = outcome.voxel_size;
   report.agreement_bound = outcome.agreement_bound;

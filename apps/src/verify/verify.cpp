@@ -404,7 +404,10 @@ Evaluation evaluate_job(const morph::Job& job, const EvaluateOptions& options) {
   out.generator_steps = eroded.stats.steps;
   out.reference_triangles = reference.mesh.triangle_count();
   out.reference_active_voxels = reference.stats.active_voxels;
-  out.morph_topology = morph::topology_report(eroded.mesh);
+  // Auto has checked the surface it keeps: its topology and crossings are not computed again.
+  out.morph_topology =
+      generated.soundness ? generated.soundness->topology : morph::topology_report(eroded.mesh);
+  if (generated.soundness) out.morph_intersecting_pairs = generated.soundness->crossings.pairs;
   out.reference_topology = morph::topology_report(reference.mesh);
   out.morph_pieces = mesh_pieces(eroded.mesh);
   for (const auto& piece : reference.pieces)

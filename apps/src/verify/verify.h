@@ -11,6 +11,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include <optional>
 #include <string>
 #include <vector>
 #include "io/provenance.h"
@@ -107,6 +108,9 @@ struct VerifyOutcome {
   /// ("" when the generator was given).
   int generator_used = 0;
   std::string generator_choice;
+  /// The generator's intersecting triangle pairs (exact predicates), when auto already counted them
+  /// in choosing; unset otherwise (the caller counts them if it needs them).
+  std::optional<std::size_t> morph_intersecting_pairs;
   /// What the generator counted (morph::ErodeStats::steps): its fallbacks and exact steps.
   std::vector<morph::StepCount> generator_steps;
   bool reference_only_requested = false;

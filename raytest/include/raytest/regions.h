@@ -12,17 +12,20 @@
 
 namespace raytest {
 
-/// A mesh with every triangle split into up to n x n similar ones, n = ceil(longest edge / max_edge);
-/// each edge gets its own ceil(length / max_edge) points, shared by both its triangles, so a closed
-/// mesh stays closed. Tags follow the parent triangle; scalars and colours are dropped.
+/// A mesh with every triangle cut into strips parallel to its longest edge, each at most max_edge
+/// high, and each strip into triangles at most about max_edge long: about 2 area / max_edge^2 plus
+/// perimeter / max_edge triangles per parent, so a long sliver costs its length, not its length
+/// squared. Each edge's points (evenly spaced, plus the strips' ends of both its triangles) are
+/// shared by both its triangles, so a closed mesh stays closed. Tags follow the parent triangle;
+/// scalars and colours are dropped.
 struct RefinedMesh {
   morph::TriangleMesh mesh;
   std::vector<std::uint32_t> parent;  ///< for each triangle of `mesh`, the triangle it came from
   double max_edge = 0;                ///< the edge length actually used (mesh units)
 };
 
-/// Splits long triangles so that edges are at most about `max_edge` (mesh units; up to 1.5 times it
-/// where a fine lattice meets a coarser neighbour's edge), or the smallest length
+/// Splits long triangles so that edges are at most about `max_edge` (mesh units; the diagonals
+/// across a strip up to about 1.5 times it), or the smallest length
 /// that keeps the result under `max_triangles` triangles. Throws morph::InputError if max_edge <= 0.
 RefinedMesh refine_long_edges(const morph::TriangleMesh& mesh, double max_edge,
                               std::size_t max_triangles = 4'000'000);
