@@ -58,6 +58,22 @@ std::vector<JointVerdict> joint_verdicts_off_rim(const ConvexPolytope& tool,
                                                  const std::optional<Eigen::Vector3d>& previous_motion,
                                                  const std::optional<Eigen::Vector3d>& next_motion);
 
+/// joint_verdicts() for exact sweeps (sweep_polytope.h: the move and its neighbours on the grid).
+/// A start cap facet at the joint is inside the previous polytope, or is its own end cap facet,
+/// exactly: the previous polytope's silhouette planes pass exactly through its rim, a shared cap
+/// has one exact plane in both, and the tie order (the earlier polytope expands by more) puts the
+/// facet's rim strictly inside; so those verdicts stand at the rim too. Two exceptions keep the
+/// facet (the previous move a cutter): a vertex where a facet is swept by the previous motion
+/// (motion_side() 0 up to its 1e-12: its swept face's exact plane holds the vertex only when the
+/// facet is exactly parallel to the motion); and the end caps, whose verdicts stay those of
+/// joint_verdicts_off_rim(): by the tie order the later polytope expands by less, so a facet
+/// touching its rim keeps a sliver outside it.
+std::vector<JointVerdict> joint_verdicts_exact(const ConvexPolytope& tool,
+                                               const std::vector<std::vector<int>>& facets_at_vertex,
+                                               const Eigen::Vector3d& motion,
+                                               const std::optional<Eigen::Vector3d>& previous_motion,
+                                               const std::optional<Eigen::Vector3d>& next_motion);
+
 /// How a sweep places its tool facets: `ordered_motion` is its ordered end minus its ordered
 /// start (SweepPolytopeBuilder::ordered()); a degenerate sweep places every facet at its start.
 struct Placement {

@@ -6,13 +6,15 @@
 /// polytopes may cut it, with the planes of theirs that cross it. The facets' loops are never
 /// built here: a facet is a tool facet or edge placed at the move's ends, so its box, ball and
 /// vertices come from the tool. Cheapest proofs first:
-/// 1. joints, by the facets' normals alone (joint_culling.h), for the cap facets none of whose
-///    vertices lies on the neighbour's rim (there the rounded planes, not the exact tool, decide:
-///    such a facet is kept with the neighbour as a cutter);
+/// 1. joints, by the facets' normals alone (joint_culling.h); where a sweep has rounded planes
+///    only, for the cap facets none of whose vertices lies on the neighbour's rim (there the
+///    rounded planes, not the exact tool, decide: such a facet is kept with the neighbour as a
+///    cutter); between exact sweeps also at the rim (joint_verdicts_exact());
 /// 2. the stock box (a facet wholly outside one of its planes);
 /// 3. move against move: candidates from the sweeps' boxes (AabbTree), a retraced move (the same
 ///    polytope bit for bit) culled whole or dropped whole by the tie order (so is a cap both
-///    place at the same point, when every facet around its vertices is placed there by both);
+///    place at the same point: between exact sweeps always, else when every facet around its
+///    vertices is placed there by both);
 /// 4. clusters of facets, then facets, against each candidate's capsules and swept cylinders
 ///    (tool_bounds.h): inside proves culled, missing drops the candidate; a candidate wholly
 ///    below the facet's plane (the sweeps' support functions differ only by their ends) drops too;
@@ -130,6 +132,7 @@ class SweepCulling {
   const SweepPolytopeBuilder& sweeps_;
   std::vector<Move> moves_;
   std::vector<bool> joined_;
+  std::vector<bool> exact_;  ///< the move's sweep carries exact planes (SweepPolytopeBuilder::exact())
   Eigen::AlignedBox3d stock_;
   ToolBounds bounds_;
   std::vector<Eigen::AlignedBox3d> tool_facet_boxes_;

@@ -58,8 +58,33 @@ class SweepPolytopeBuilder {
   /// same values, without building the facets' loops (a few microseconds instead of ~100).
   std::vector<Halfspace> halfspaces(const Eigen::Vector3d& start, const Eigen::Vector3d& end) const;
 
+  /// One sweep's halfspaces made one at a time, for a caller that needs a few of them: the
+  /// facets' sides and the silhouette edges are found once (one dot product per tool facet),
+  /// each plane when asked for, bit for bit halfspaces(start, end)[k].
+  class Planes {
+   public:
+    Planes(const SweepPolytopeBuilder& builder, const Eigen::Vector3d& start, const Eigen::Vector3d& end);
+    std::size_t size() const { return side_.size() + silhouette_.size(); }
+    Halfspace operator[](std::size_t k) const;
+
+   private:
+    const SweepPolytopeBuilder* builder_;
+    Eigen::Vector3d a_, b_, motion_;  ///< the ordered ends (both the start for a degenerate move)
+    std::optional<GridPoint> grid_a_, grid_b_;
+    bool exact_ = false, exact_silhouettes_ = false;
+    GridPoint step_{};               ///< the reduced motion on the grid
+    std::vector<signed char> side_;  ///< motion_side() of each tool facet (-1 for a degenerate move)
+    std::vector<int> silhouette_;    ///< the silhouette edges, in edges() order
+  };
+
   /// True when the move is too short to have a direction: its sweep is the tool at `start`.
   bool degenerate(const Eigen::Vector3d& start, const Eigen::Vector3d& end) const;
+
+  /// True when every facet of the sweep from `start` to `end` carries its exact plane (see
+  /// above): the tool's facets have them, both ends lie on the tool's grid, and (a sufficient
+  /// bound) every silhouette normal fits kMaxIntegerNormal and every offset the predicates' range.
+  /// False may also be said of a sweep whose planes happen to be exact.
+  bool exact(const Eigen::Vector3d& start, const Eigen::Vector3d& end) const;
 
   const ConvexPolytope& tool() const { return tool_; }
 
@@ -79,10 +104,16 @@ class SweepPolytopeBuilder {
   /// start `a` (as operator() computes it), with its exact plane when `a` and `motion` are on the
   /// grid.
   Halfspace silhouette_plane(const Edge& e, const Eigen::Vector3d& a, const Eigen::Vector3d& motion) const;
+  /// silhouette_plane()'s rounded look alone (normal and offset bit for bit the same; no exact
+  /// plane): what the culling compares and tests by.
+  Halfspace silhouette_look(const Edge& e, const Eigen::Vector3d& a, const Eigen::Vector3d& motion) const;
 
  private:
-  // The tool's facet f placed at `at`, with its exact plane when `exact` and `at` is on the grid.
-  Halfspace placed(int f, const Eigen::Vector3d& at, bool exact) const;
+  // The tool's facet f placed at `at`, with its exact plane when `grid_at` (`at` on the grid).
+  Halfspace placed(int f, const Eigen::Vector3d& at, const GridPoint* grid_at) const;
+  // silhouette_plane() with `a` on the grid at `start` and the motion reduced to `step`.
+  Halfspace silhouette_plane(const Edge& e, const Eigen::Vector3d& a, const Eigen::Vector3d& motion,
+                             const GridPoint& start, const GridPoint& step) const;
   std::optional<GridPoint> on_grid(const Eigen::Vector3d& x) const;
 
   ConvexPolytope tool_;
@@ -90,6 +121,8 @@ class SweepPolytopeBuilder {
   double size_ = 0.0;
   std::optional<int> grid_;               // when every tool facet has an exact plane on this grid
   std::vector<GridPoint> grid_vertices_;  // the tool's vertices on it
+  std::int64_t largest_edge_ = 0;         // the largest |component| of a tool edge on the grid
+  std::int64_t largest_vertex_ = 0;       // the largest |component| of a tool vertex on the grid
 };
 
 /// One-off form of SweepPolytopeBuilder.

@@ -4,6 +4,7 @@
 #include <morph/exceptions.h>
 #include <morph/joint_culling.h>
 
+#include "generator2/sweep_plane_cache.h"
 #include "generator2/tool_facet_groups.h"
 
 #include <tbb/enumerable_thread_specific.h>
@@ -63,6 +64,7 @@ struct OwnFacetScratch {
 struct Worker {
   std::vector<SweepCulling::Scratch> scratch;
   OwnFacetScratch own_facet;
+  SweepPlaneCache planes;
   CarveStages stages;
 };
 using Workers = tbb::enumerable_thread_specific<Worker>;
@@ -328,7 +330,7 @@ class Carving {
       Worker& w = workers.local();
       const double start = thread_seconds();
       parts.clear();
-      const bool reached = subtract(piece, planes_of(j), parts);
+      const bool reached = subtract(piece, planes_of(j, w), parts);
       ++w.stages.carve.cutters;
       w.stages.seconds_stock += thread_seconds() - start;
       if (!reached) continue;
@@ -362,9 +364,9 @@ class Carving {
     std::vector<std::pair<int, std::vector<ConvexPiece>>> out;
     if (kept.empty()) return out;
     OwnPlanes own;
-    own.planes = planes_of(g);
-    own.groups = group.facet_groups.get();
     const CarveSweep& s = sweeps_[g];
+    own.planes = sweep_planes(s.tool->halfspaces(s.from, s.to), g);
+    own.groups = group.facet_groups.get();
     std::tie(own.a, own.b) = group.builder->degenerate(s.from, s.to)
                                  ? std::pair{s.from, s.from}
                                  : SweepPolytopeBuilder::ordered(s.from, s.to);
@@ -376,7 +378,9 @@ class Carving {
     for (std::size_t i = 0; i < own.groups->size(); ++i)
       for (int k : group.facet_members[i]) own.group_ends[i] |= own.at_b[k] ? 2 : 1;
     for (const ExactPlane& h : own.planes) own.max_offset = std::max(own.max_offset, std::fabs(h.offset));
-    std::map<std::uint32_t, std::vector<Halfspace>> cutter_halfspaces;  // of this move's cutters
+    // This move's cutters' planes, made only where a cutter crosses a kept facet (sweep_planes()'
+    // planes at those indices).
+    std::map<std::uint32_t, SweepPolytopeBuilder::Planes> cutter_planes;
     for (const KeptFacet& k : kept) {
       ++w.stages.carve.facets;
       const double facet_start = thread_seconds();
@@ -394,21 +398,24 @@ class Carving {
       std::vector<std::pair<std::uint32_t, std::vector<ExactPlane>>> cutters;
       for (const FacetCutter& c : k.cutters) {
         const std::uint32_t j = group.global[c.move];
-        auto found = cutter_halfspaces.find(j);
-        if (found == cutter_halfspaces.end())
+        auto found = cutter_planes.find(j);
+        if (found == cutter_planes.end())
           found =
-              cutter_halfspaces.emplace(j, sweeps_[j].tool->halfspaces(sweeps_[j].from, sweeps_[j].to)).first;
+              cutter_planes
+                  .emplace(j, SweepPolytopeBuilder::Planes(*sweeps_[j].tool, sweeps_[j].from, sweeps_[j].to))
+                  .first;
         std::vector<ExactPlane> planes;
-        for (int h : c.planes)
-          planes.push_back(ExactPlane{found->second[h].normal, found->second[h].offset,
-                                      sweep_rank(j, static_cast<std::uint32_t>(h)), 1,
-                                      found->second[h].exact});
+        for (int h : c.planes) {
+          const Halfspace x = found->second[h];
+          planes.push_back(
+              ExactPlane{x.normal, x.offset, sweep_rank(j, static_cast<std::uint32_t>(h)), 1, x.exact});
+        }
         cutters.emplace_back(j, std::move(planes));
       }
       if (groups_.size() > 1)
         tree_.for_each_overlapping(grown(box_of({facet})), [&](std::size_t j) {
           if (group_of_[j] != t)
-            cutters.emplace_back(static_cast<std::uint32_t>(j), planes_of(static_cast<std::uint32_t>(j)));
+            cutters.emplace_back(static_cast<std::uint32_t>(j), planes_of(static_cast<std::uint32_t>(j), w));
         });
       std::sort(cutters.begin(), cutters.end(),
                 [](const auto& x, const auto& y) { return x.first < y.first; });
@@ -429,8 +436,10 @@ class Carving {
   }
 
  private:
-  std::vector<ExactPlane> planes_of(std::uint32_t j) const {
-    return sweep_planes(sweeps_[j].tool->halfspaces(sweeps_[j].from, sweeps_[j].to), j);
+  // Sweep j's planes, from this thread's cache (valid until its next use).
+  const std::vector<ExactPlane>& planes_of(std::uint32_t j, Worker& w) const {
+    return w.planes.get(
+        j, [&] { return sweep_planes(sweeps_[j].tool->halfspaces(sweeps_[j].from, sweeps_[j].to), j); });
   }
 
   const std::vector<CarveSweep>& sweeps_;

@@ -52,6 +52,27 @@ std::vector<JointVerdict> joint_verdicts_off_rim(const ConvexPolytope& tool,
   return joint;
 }
 
+std::vector<JointVerdict> joint_verdicts_exact(const ConvexPolytope& tool,
+                                               const std::vector<std::vector<int>>& facets_at_vertex,
+                                               const Eigen::Vector3d& motion,
+                                               const std::optional<Eigen::Vector3d>& previous_motion,
+                                               const std::optional<Eigen::Vector3d>& next_motion) {
+  std::vector<JointVerdict> joint = joint_verdicts(tool, motion, previous_motion, next_motion);
+  const std::vector<JointVerdict> off_rim =
+      joint_verdicts_off_rim(tool, facets_at_vertex, motion, previous_motion, next_motion);
+  for (std::size_t f = 0; f < tool.facets.size(); ++f) {
+    if (joint[f] == JointVerdict::InsideNext) {
+      joint[f] = off_rim[f];  // the tie order leaves the later polytope's rim a sliver
+      continue;
+    }
+    if (!culled(joint[f])) continue;
+    for (int v : tool.facets[f].loop)
+      for (int g : facets_at_vertex[v])
+        if (motion_side(tool.facets[g].normal, *previous_motion) == 0) joint[f] = JointVerdict::Kept;
+  }
+  return joint;
+}
+
 bool cap_placed_alike(const ConvexPolytope& tool, const std::vector<std::vector<int>>& facets_at_vertex,
                       int facet, const Placement& own, int own_side, const Placement& other, int other_side) {
   for (int v : tool.facets[facet].loop)

@@ -87,6 +87,7 @@ struct SweepCulling::Candidate {
   std::uint32_t move;
   Vector3d a, b;
   bool degenerate;
+  bool exact;
 };
 
 // A facet of a sweep as placed from the tool: a tool facet at one end (placement -1 at the
@@ -138,6 +139,7 @@ SweepCulling::SweepCulling(const SweepPolytopeBuilder& sweeps, std::vector<Move>
     AlignedBox3d box(tool_box.min() + a, tool_box.max() + a);
     box.extend(AlignedBox3d(tool_box.min() + b, tool_box.max() + b));
     boxes.push_back(box);
+    exact_.push_back(sweeps_.exact(m.start, m.end));
     extent = std::max({extent, a.cwiseAbs().maxCoeff(), b.cwiseAbs().maxCoeff()});
   }
   extent = std::max({extent, stock.min().cwiseAbs().maxCoeff(), stock.max().cwiseAbs().maxCoeff()});
@@ -210,7 +212,7 @@ void SweepCulling::place(std::size_t i, std::vector<Placed>& facets) const {
     p.facet = index;
     p.edge = static_cast<int>(e);
     ++index;
-    p.plane = sweeps_.silhouette_plane(edges[e], a, motion);
+    p.plane = sweeps_.silhouette_look(edges[e], a, motion);  // the culling reads the look alone
     p.box = AlignedBox3d(u + a);
     p.box.extend(w + a).extend(u + b).extend(w + b);
     p.centre = 0.5 * (u + w) + middle;
@@ -413,8 +415,10 @@ SweepCulling::Culled SweepCulling::decide(const Placed& p, std::size_t i, const 
       if (at == c->a || at == c->b) {
         const Placement mine{b - a, own.degenerate}, other{c->b - c->a, c->degenerate};
         const int side = other.side(tool.facets[p.tool_facet].normal);
+        // Between exact sweeps the cap has one exact plane in both (sweep_polytope.h).
         if (side != 0 && (side > 0 ? c->b : c->a) == at &&
-            cap_placed_alike(tool, facets_at_vertex_, p.tool_facet, mine, p.placement, other, side)) {
+            ((exact_[i] && c->exact) ||
+             cap_placed_alike(tool, facets_at_vertex_, p.tool_facet, mine, p.placement, other, side))) {
           if (c->move < i) return Culled::Shared;
           continue;
         }
@@ -470,7 +474,9 @@ std::vector<KeptFacet> SweepCulling::cull(std::size_t i, CullingCounts& counts, 
     std::optional<Vector3d> previous, next;
     if (after) previous = moves_[i - 1].end - moves_[i - 1].start;
     if (before) next = moves_[i + 1].end - moves_[i + 1].start;
-    joint = joint_verdicts_off_rim(tool, facets_at_vertex_, move.end - move.start, previous, next);
+    const bool exact = exact_[i] && (!after || exact_[i - 1]) && (!before || exact_[i + 1]);
+    joint = exact ? joint_verdicts_exact(tool, facets_at_vertex_, move.end - move.start, previous, next)
+                  : joint_verdicts_off_rim(tool, facets_at_vertex_, move.end - move.start, previous, next);
   }
   std::vector<Placed> live;
   AlignedBox3d reach;
@@ -507,7 +513,7 @@ std::vector<KeptFacet> SweepCulling::cull(std::size_t i, CullingCounts& counts, 
       if (j < i) retraced = true;
       return;  // an earlier one owns all of it; a later one cuts none of it
     }
-    candidates.push_back({static_cast<std::uint32_t>(j), aj, bj, degenerate_j});
+    candidates.push_back({static_cast<std::uint32_t>(j), aj, bj, degenerate_j, exact_[j]});
   });
   if (retraced) {
     counts.by_retrace += static_cast<double>(live.size());

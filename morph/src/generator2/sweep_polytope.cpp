@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <tuple>
 #include <unordered_map>
 
 namespace morph {
@@ -97,7 +98,15 @@ SweepPolytopeBuilder::SweepPolytopeBuilder(ConvexPolytope tool) : tool_(std::mov
     if (p) grid_vertices_.push_back(*p);
     exact = exact && p.has_value();
   }
-  if (exact) grid_ = grid;
+  if (!exact) return;
+  grid_ = grid;
+  for (const GridPoint& v : grid_vertices_)
+    for (std::int64_t c : v) largest_vertex_ = std::max(largest_vertex_, c < 0 ? -c : c);
+  for (const Edge& e : edges_)
+    for (int i = 0; i < 3; ++i) {
+      const std::int64_t c = grid_vertices_[e.to][i] - grid_vertices_[e.from][i];
+      largest_edge_ = std::max(largest_edge_, c < 0 ? -c : c);
+    }
 }
 
 namespace {
@@ -115,11 +124,10 @@ std::optional<GridPoint> SweepPolytopeBuilder::on_grid(const Vector3d& x) const 
   return grid_point(x, *grid_);
 }
 
-Halfspace SweepPolytopeBuilder::placed(int f, const Vector3d& at, bool exact) const {
+Halfspace SweepPolytopeBuilder::placed(int f, const Vector3d& at, const GridPoint* grid_at) const {
   const PolytopeFacet& facet = tool_.facets[f];
   Halfspace h{facet.normal, facet.offset + facet.normal.dot(at)};
-  if (!exact) return h;
-  if (const std::optional<GridPoint> p = on_grid(at)) h.exact = bounded(facet.exact.translated(*p));
+  if (grid_at) h.exact = bounded(facet.exact.translated(*grid_at));
   return h;
 }
 
@@ -133,47 +141,100 @@ bool SweepPolytopeBuilder::degenerate(const Vector3d& start, const Vector3d& end
   return !((b - a).norm() > 1e-12 * size_);
 }
 
-Halfspace SweepPolytopeBuilder::silhouette_plane(const Edge& e, const Vector3d& a,
-                                                 const Vector3d& motion) const {
+bool SweepPolytopeBuilder::exact(const Vector3d& start, const Vector3d& end) const {
+  const std::optional<GridPoint> a = on_grid(start), b = on_grid(end);
+  if (!a || !b) return false;
+  // Offsets: |n·X| <= 3·2^52·max|X| stays below bounded()'s 2^100 when max|X| < 2^46.
+  constexpr std::int64_t kLargestPoint = std::int64_t{1} << 46;
+  std::int64_t point = largest_vertex_, step = 0;
+  GridPoint motion{};
+  for (int i = 0; i < 3; ++i) {
+    point = std::max({point, std::abs((*a)[i]) + largest_vertex_, std::abs((*b)[i]) + largest_vertex_});
+    motion[i] = (*b)[i] - (*a)[i];
+  }
+  if (point >= kLargestPoint) return false;
+  if (degenerate(start, end)) return true;
+  // A silhouette normal reduced(edge) × reduced(motion) has components <= 2·|edge|·|motion|.
+  for (std::int64_t c : reduced(motion)) step = std::max(step, c < 0 ? -c : c);
+  return static_cast<__int128>(2) * largest_edge_ * step <= kMaxIntegerNormal;
+}
+
+Halfspace SweepPolytopeBuilder::silhouette_look(const Edge& e, const Vector3d& a,
+                                                const Vector3d& motion) const {
   Vector3d normal = (tool_.vertices[e.to] - tool_.vertices[e.from]).cross(motion).normalized();
   if (normal.dot(tool_.facets[e.left].normal + tool_.facets[e.right].normal) < 0.0) normal = -normal;
-  Halfspace h{normal, normal.dot(tool_.vertices[e.from] + a)};
+  return {normal, normal.dot(tool_.vertices[e.from] + a), {}};
+}
+
+Halfspace SweepPolytopeBuilder::silhouette_plane(const Edge& e, const Vector3d& a,
+                                                 const Vector3d& motion) const {
   const std::optional<GridPoint> start = on_grid(a), step = on_grid(motion);
-  if (!start || !step || !on_grid(a + motion)) return h;
+  if (!start || !step || !on_grid(a + motion)) return silhouette_look(e, a, motion);
+  return silhouette_plane(e, a, motion, *start, reduced(*step));
+}
+
+Halfspace SweepPolytopeBuilder::silhouette_plane(const Edge& e, const Vector3d& a, const Vector3d& motion,
+                                                 const GridPoint& start, const GridPoint& step) const {
+  Halfspace h = silhouette_look(e, a, motion);
   // Exactly through both ends of the edge at both placements: the edge and the motion reduced to
   // coprime integers keep the normal small (an axis move's motion is a unit vector).
   GridPoint edge{};
   for (int i = 0; i < 3; ++i) edge[i] = grid_vertices_[e.to][i] - grid_vertices_[e.from][i];
   GridPoint through = grid_vertices_[e.from];
-  for (int i = 0; i < 3; ++i) through[i] += (*start)[i];
-  std::optional<IntegerPlane> exact =
-      plane_through(integer_cross(reduced(edge), reduced(*step)), through, *grid_);
+  for (int i = 0; i < 3; ++i) through[i] += start[i];
+  std::optional<IntegerPlane> exact = plane_through(integer_cross(reduced(edge), step), through, *grid_);
   if (!exact) return h;
-  const double look = double(exact->normal[0]) * normal.x() + double(exact->normal[1]) * normal.y() +
-                      double(exact->normal[2]) * normal.z();
+  const double look = double(exact->normal[0]) * h.normal.x() + double(exact->normal[1]) * h.normal.y() +
+                      double(exact->normal[2]) * h.normal.z();
   h.exact = bounded(look < 0.0 ? exact->negated() : *exact);
   return h;
 }
 
+SweepPolytopeBuilder::Planes::Planes(const SweepPolytopeBuilder& builder, const Vector3d& start,
+                                     const Vector3d& end)
+    : builder_(&builder) {
+  const ConvexPolytope& tool = builder.tool_;
+  side_.assign(tool.facets.size(), -1);
+  if (builder.degenerate(start, end)) {
+    a_ = b_ = start;
+    motion_ = Vector3d::Zero();
+    grid_a_ = builder.on_grid(start);
+    exact_ = grid_a_.has_value();
+    return;
+  }
+  std::tie(a_, b_) = ordered(start, end);
+  motion_ = b_ - a_;
+  grid_a_ = builder.on_grid(a_);
+  grid_b_ = builder.on_grid(b_);
+  exact_ = grid_a_ && grid_b_;
+  for (std::size_t f = 0; f < side_.size(); ++f)
+    side_[f] = static_cast<signed char>(motion_side(tool.facets[f].normal, motion_));
+  // The silhouette planes are exact when the motion is on the grid too (b - a rounds exactly
+  // when both ends are on it, unless far apart: then on_grid(a + motion) is checked).
+  const std::optional<GridPoint> step = exact_ ? builder.on_grid(motion_) : std::nullopt;
+  exact_silhouettes_ = step && builder.on_grid(a_ + motion_);
+  if (exact_silhouettes_) step_ = reduced(*step);
+  const std::vector<Edge>& edges = builder.edges_;
+  for (std::size_t e = 0; e < edges.size(); ++e)
+    if (side_[edges[e].left] * side_[edges[e].right] < 0) silhouette_.push_back(static_cast<int>(e));
+}
+
+Halfspace SweepPolytopeBuilder::Planes::operator[](std::size_t k) const {
+  if (k < side_.size()) {
+    const bool end = side_[k] > 0;
+    return builder_->placed(static_cast<int>(k), end ? b_ : a_,
+                            exact_ ? (end ? &*grid_b_ : &*grid_a_) : nullptr);
+  }
+  const Edge& e = builder_->edges_[silhouette_[k - side_.size()]];
+  return exact_silhouettes_ ? builder_->silhouette_plane(e, a_, motion_, *grid_a_, step_)
+                            : builder_->silhouette_look(e, a_, motion_);
+}
+
 std::vector<Halfspace> SweepPolytopeBuilder::halfspaces(const Vector3d& start, const Vector3d& end) const {
+  const Planes source(*this, start, end);
   std::vector<Halfspace> planes;
-  planes.reserve(tool_.facets.size() + 128);
-  if (degenerate(start, end)) {
-    for (std::size_t f = 0; f < tool_.facets.size(); ++f)
-      planes.push_back(placed(static_cast<int>(f), start, true));
-    return planes;
-  }
-  const auto [a, b] = ordered(start, end);
-  const Vector3d motion = b - a;
-  const bool exact = on_grid(a).has_value() && on_grid(b).has_value();
-  std::vector<int> side(tool_.facets.size());
-  for (std::size_t f = 0; f < side.size(); ++f) {
-    const PolytopeFacet& facet = tool_.facets[f];
-    side[f] = motion_side(facet.normal, motion);
-    planes.push_back(placed(static_cast<int>(f), side[f] > 0 ? b : a, exact));
-  }
-  for (const Edge& e : edges_)
-    if (side[e.left] * side[e.right] < 0) planes.push_back(silhouette_plane(e, a, motion));
+  planes.reserve(source.size());
+  for (std::size_t k = 0; k < source.size(); ++k) planes.push_back(source[k]);
   return planes;
 }
 
@@ -181,7 +242,7 @@ ConvexPolytope SweepPolytopeBuilder::operator()(const Vector3d& start, const Vec
   if (degenerate(start, end)) return tool_.translated(start);  // exact planes kept on the grid
   const auto [a, b] = ordered(start, end);
   const Vector3d motion = b - a;
-  const bool exact = on_grid(a).has_value() && on_grid(b).has_value();
+  const std::vector<Halfspace> planes = halfspaces(start, end);  // in facet order
 
   // Side of each tool facet: -1 back (kept at a), +1 forward (kept at b), 0 swept whole.
   std::vector<int> side(tool_.facets.size());
@@ -206,7 +267,7 @@ ConvexPolytope SweepPolytopeBuilder::operator()(const Vector3d& start, const Vec
   };
   for (std::size_t f = 0; f < side.size(); ++f) {
     const PolytopeFacet& facet = tool_.facets[f];
-    const Halfspace plane = placed(static_cast<int>(f), side[f] > 0 ? b : a, exact);
+    const Halfspace& plane = planes[f];
     if (side[f] == 0) {
       add(swept_face(tool_, facet, motion), plane);
       continue;
@@ -219,7 +280,7 @@ ConvexPolytope SweepPolytopeBuilder::operator()(const Vector3d& start, const Vec
   for (const Edge& e : edges_) {
     const int s_left = side[e.left], s_right = side[e.right];
     if (s_left * s_right >= 0) continue;  // not a silhouette edge (or a swept face holds it)
-    const Halfspace plane = silhouette_plane(e, a, motion);
+    const Halfspace& plane = planes[sweep.facets.size()];
     if (s_left < 0)
       add({e.to, e.from, e.from + n, e.to + n}, plane);
     else

@@ -53,7 +53,7 @@ ToolFacetGroups::ToolFacetGroups(const ConvexPolytope& tool) {
     // The spread and excess are rounded too: a little more than they are, never less.
     const double spread = spread_of_normals * (1.0 + 1e-12) + 1e-15;
     g.spread_squared = spread * spread * (1.0 + 1e-12);
-    g.excess += 1e-12 * (1.0 + g.reference.norm() + max_offset_);
+    g.excess += 1e-12 * (1.0 + std::max(1.0, max_norm_) * g.reference.norm() + max_offset_);
     groups_.push_back(g);
   }
 }

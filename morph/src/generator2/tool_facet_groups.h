@@ -11,6 +11,8 @@
 /// taken at both ends. So when that bound (plus a float slack far above the rounding of the
 /// values) is below a threshold, no member's value reaches it, and a test "some value at least
 /// t" may skip the group: the answer of every test that uses it is the one of the full loop.
+/// It assumes the sweep's planes are SweepPolytopeBuilder::halfspaces()' tool facet planes
+/// n_k·x <= o_k + n_k·at (tool_facet_groups_test checks the bound against them).
 #include <morph/convex_polytope.h>
 
 #include <Eigen/Core>
@@ -69,10 +71,12 @@ class ToolFacetGroups {
     double spread_squared = 0.0, excess = 0.0;
     std::size_t begin = 0, end = 0;  ///< in members_
   };
-  // Bounds the rounding of the plane values and of the bound itself (a thousand times over).
+  // Bounds the rounding of the plane values and of the bound itself (a thousand times over),
+  // for normals of any length (the values scale with them).
   double slack(const Eigen::Vector3d& centre, double radius, const Eigen::Vector3d& a,
                const Eigen::Vector3d& b) const {
-    return 1e-12 * (1.0 + centre.norm() + radius + a.norm() + b.norm() + max_offset_);
+    return 1e-12 *
+           (1.0 + std::max(1.0, max_norm_) * (centre.norm() + radius + a.norm() + b.norm()) + max_offset_);
   }
 
   std::vector<Group> groups_;
