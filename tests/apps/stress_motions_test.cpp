@@ -201,6 +201,17 @@ TEST(MotionCases, FamiliesAreParsedAndUnknownOnesNamed) {
   }
 }
 
+// campaign.json names the generator; campaigns written before names (numbers, or none: generator 1)
+// still resume.
+TEST(MotionCampaign, TheRecordedGeneratorIsReadByNameOrNumber) {
+  EXPECT_EQ(recorded_generator({{"--generator", "auto"}}), morphmill::kAutoGenerator);
+  EXPECT_EQ(recorded_generator({{"--generator", "2"}}), 2);
+  EXPECT_EQ(recorded_generator({{"--generator", 2}}), 2);
+  EXPECT_EQ(recorded_generator({{"--generator", 0}}), morphmill::kAutoGenerator);
+  EXPECT_EQ(recorded_generator(nlohmann::json::object()), 1);
+  EXPECT_THROW(recorded_generator({{"--generator", "fast"}}), morph::InputError);
+}
+
 // Through the binary: a motion campaign records its generator and families, and a bad family or
 // generator is exit 2 before any case runs.
 TEST(MotionCampaign, RecordsItsGeneratorAndFamiliesAndRefusesBadOnes) {
@@ -218,7 +229,7 @@ TEST(MotionCampaign, RecordsItsGeneratorAndFamiliesAndRefusesBadOnes) {
                                               (out / "one").string());
   const nlohmann::json campaign = nlohmann::json::parse(slurp(out / "one" / "campaign.json"));
   EXPECT_EQ(campaign.at("--families"), "submicron");
-  EXPECT_EQ(campaign.at("--generator"), 1);
+  EXPECT_EQ(campaign.at("--generator"), "auto");  // the default, as erode's
   const nlohmann::json summary = nlohmann::json::parse(slurp(out / "one" / "summary.json"));
   EXPECT_EQ(summary.at("results").size(), 1u) << ok.output;
   EXPECT_EQ(summary["results"][0].at("family"), "submicron");

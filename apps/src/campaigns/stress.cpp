@@ -386,6 +386,16 @@ std::string families_text(const std::string& given) {
 
 }  // namespace
 
+int recorded_generator(const nlohmann::json& campaign) {
+  const auto it = campaign.find("--generator");
+  if (it == campaign.end()) return 1;
+  if (it->is_number_integer()) return it->get<int>();
+  const std::string name = it->is_string() ? it->get<std::string>() : it->dump();
+  for (int generator : {kAutoGenerator, 1, 2})
+    if (name == generator_name(generator)) return generator;
+  throw morph::InputError("campaign.json: --generator must be auto, 1 or 2, not " + it->dump());
+}
+
 nlohmann::json campaign_identity(const StressOptions& options) {
   return {{"program", "morphmill"},
           {"version", program_version()},
@@ -393,7 +403,7 @@ nlohmann::json campaign_identity(const StressOptions& options) {
           {"case_generator", kCaseGeneratorVersion},
           {"--cases", options.cases},
           {"--seed", options.seed},
-          {"--generator", options.generator},
+          {"--generator", generator_name(options.generator)},
           {"--families", families_text(options.families)},
           {"--samples", options.face_samples},
           {"--reference-memory-cap", options.reference_memory_cap_mib},
@@ -524,9 +534,10 @@ std::string summary_markdown(const Summary& s) {
   }
   md << "| generator's self-intersecting triangle pairs | " << crossing_pairs << " in " << crossing_cases
      << " case(s)"
-     << (s.campaign.value("--generator", 1) == 2   ? ""
-         : s.campaign.value("--generator", 1) == 0 ? " (auto: held where generator 2 built the surface)"
-                                                   : " (generator 1: measured, not an invariant)")
+     << (recorded_generator(s.campaign) == 2 ? ""
+         : recorded_generator(s.campaign) == kAutoGenerator
+             ? " (auto: held where generator 2 built the surface)"
+             : " (generator 1: measured, not an invariant)")
      << " |\n";
   std::map<std::string, std::size_t> fallbacks;
   std::size_t fallback_cases = 0, fallbacks_fired = 0;

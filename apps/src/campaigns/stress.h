@@ -15,6 +15,7 @@
 #include <vector>
 
 #include "campaigns/stress_cases.h"
+#include "verify/generator_choice.h"
 
 namespace morphmill::stress {
 
@@ -25,7 +26,7 @@ struct StressOptions {
   std::size_t shard_index = 0;  ///< this run does the cases k with k % shard_count == shard_index
   std::size_t shard_count = 1;
   int threads = 0;                         ///< worker threads; 0 = all cores
-  int generator = 1;                       ///< the generator checked (--generator, generator_choice.h)
+  int generator = kDefaultGenerator;       ///< the generator checked (--generator: auto, as erode's)
   std::string families = "classic";        ///< --families: classic, motion, all or names (parse_families)
   std::size_t face_samples = 2000;         ///< area-uniform deviation samples per surface (plus every vertex)
   double reference_memory_cap_mib = 1024;  ///< per case: the reference refuses to need more
@@ -51,6 +52,9 @@ struct IncompleteCampaign : std::runtime_error {
 /// generator's version) and the shard count. Keys are named as the user knows them ("--samples").
 /// Shards of one campaign have equal identities; `campaign.json` of a shard adds its "--shard".
 nlohmann::json campaign_identity(const StressOptions& options);
+
+/// The generator a campaign.json records ("auto", "1", "2"; campaigns before names: 0, 1, 2; none: 1).
+int recorded_generator(const nlohmann::json& campaign);
 
 /// The first key whose values differ, described as "--samples is 2000 in A but 500 in B"; "" if
 /// the identities are equal.

@@ -69,7 +69,7 @@ void take_recorded_options(const CLI::App& command, const std::string& dir, stre
     if (command.count("--cases") == 0) run.cases = recorded.at("--cases").get<std::size_t>();
     if (command.count("--seed") == 0) run.seed = recorded.at("--seed").get<std::uint64_t>();
     if (command.count("--samples") == 0) run.face_samples = recorded.at("--samples").get<std::size_t>();
-    if (command.count("--generator") == 0) run.generator = recorded.value("--generator", 1);
+    if (command.count("--generator") == 0) run.generator = stress::recorded_generator(recorded);
     if (command.count("--families") == 0) run.families = recorded.value("--families", std::string("classic"));
     if (command.count("--reference-memory-cap") == 0)
       run.reference_memory_cap_mib = recorded.at("--reference-memory-cap").get<double>();

@@ -15,14 +15,18 @@ namespace morphmill {
 
 namespace {
 
-std::string generator_option_help() {
-  return "auto (default): generator 1's surface when it is sound (closed, oriented, no self-intersections),\n"
+// The option's help, "(default)" on the command's own default.
+std::string generator_option_help(int default_generator) {
+  auto marked = [&](int generator) { return generator == default_generator ? " (default)" : ""; };
+  return std::string("auto") + marked(kAutoGenerator) +
+         ": generator 1's surface when it is sound (closed, oriented, no self-intersections),\n"
          "  otherwise generator 2's (also for tools generator 1 cannot build; not tried when generator 2\n"
          "  would sweep more than " +
          std::to_string(static_cast<long long>(kAutoRetryFacets / 1e6)) +
          " million facets: pass 2 to run it anyway);\n"
-         "1: today's generator (sphere and ball-end tools);\n"
-         "2: generator 2, the union of exact sweep polytopes (closed by construction; every tool of\n"
+         "1" +
+         marked(1) + ": today's generator (sphere and ball-end tools);\n" + "2" + marked(2) +
+         ": generator 2, the union of exact sweep polytopes (closed by construction; every tool of\n"
          "  revolution, every stock; slower)";
 }
 
@@ -55,7 +59,7 @@ CLI::Option* add_generator_option(CLI::App& command, int& generator) {
         return std::string();
       },
       "", "generator name");
-  return command.add_option("--generator", generator, generator_option_help())
+  return command.add_option("--generator", generator, generator_option_help(generator))
       ->transform(names)
       ->type_name("auto|1|2")
       ->default_str(generator_name(generator));
