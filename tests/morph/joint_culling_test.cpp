@@ -1,5 +1,6 @@
 // SPDX-License-Identifier: Apache-2.0
 #include <morph/joint_culling.h>
+#include <morph/quantize.h>
 #include <morph/sweep_polytope.h>
 #include <morph/tool_polytope.h>
 
@@ -179,6 +180,68 @@ TEST(JointCulling, TheKeptCapOfASphereIsTheLuneOfTheTurnAngle) {
       EXPECT_LT(bound, 0.15 * 2.0 * a * r * r) << "a bound that says something";
     }
   }
+}
+
+// Between exact sweeps (ends on the tool's grid) a start cap facet at the joint is culled at the
+// previous polytope's rim too: every facet the exact verdicts cull has every vertex inside the
+// previous polytope by its exact integer planes, the verdicts cull at least what the rounded-plane
+// rule culls (strictly more for the curved tools), the end caps keep the rounded-plane verdicts,
+// and a facet touching one swept by the previous motion is kept.
+TEST(JointCulling, BetweenExactSweepsStartCapsAreCulledAtTheRimToo) {
+  int more = 0;
+  for (const auto& [name, tool] : morph_test::every_tool_shape()) {
+    const morph::ToolPolytope quantized = morph::tool_polytope(tool.profile, kDeviation);
+    const int grid = quantized.grid_exponent;
+    const morph::SweepPolytopeBuilder sweeps(quantized.polytope);
+    const morph::ConvexPolytope& shape = sweeps.tool();
+    const std::vector<std::vector<int>> around = morph::facets_at_vertices(shape);
+    for (double deg : {30.0, 90.0, 150.0})
+      for (bool axis : {false, true}) {
+        SCOPED_TRACE(name + " turn " + std::to_string(deg) + (axis ? " from an axis move" : ""));
+        const double a = deg * M_PI / 180.0;
+        const Vector3d in = axis ? Vector3d(6.0, 0.0, 0.0) : Vector3d(6.0, 1.7, -0.9);
+        const Vector3d out(6.0 * std::cos(a), 6.0 * std::sin(a), 0.4);
+        const Vector3d s = morph::snap_to_grid(Vector3d(0.5, -0.25, -2.0), grid);
+        const Vector3d j = morph::snap_to_grid(s + in, grid), e = morph::snap_to_grid(j + out, grid);
+        ASSERT_TRUE(sweeps.exact(s, j) && sweeps.exact(j, e));
+        const std::vector<JointVerdict> plain = morph::joint_verdicts(shape, e - j, j - s, std::nullopt);
+        const std::vector<JointVerdict> rounded =
+            morph::joint_verdicts_off_rim(shape, around, e - j, j - s, std::nullopt);
+        const std::vector<JointVerdict> exact =
+            morph::joint_verdicts_exact(shape, around, e - j, j - s, std::nullopt);
+        const morph::ConvexPolytope first = sweeps(s, j);
+        const std::optional<morph::GridPoint> joint = morph::grid_point(j, grid);
+        ASSERT_TRUE(joint.has_value());
+        for (std::size_t f = 0; f < shape.facets.size(); ++f) {
+          if (morph::culled(rounded[f])) {
+            EXPECT_EQ(exact[f], rounded[f]) << "facet " << f;
+          }
+          if (morph::culled(exact[f])) {
+            EXPECT_EQ(exact[f], plain[f]) << "facet " << f;
+          }
+          more += morph::culled(exact[f]) && !morph::culled(rounded[f]);
+          bool touches_swept = false;
+          for (int v : shape.facets[f].loop)
+            for (int g : around[v]) touches_swept |= morph::motion_side(shape.facets[g].normal, j - s) == 0;
+          if (touches_swept) {
+            EXPECT_EQ(exact[f], JointVerdict::Kept) << "facet " << f;
+          }
+          if (!morph::culled(exact[f])) continue;
+          for (int v : shape.facets[f].loop) {
+            const std::optional<morph::GridPoint> x = morph::grid_point(shape.vertices[v] + j, grid);
+            ASSERT_TRUE(x.has_value());
+            for (const morph::PolytopeFacet& h : first.facets) {
+              ASSERT_TRUE(h.exact.set());
+              EXPECT_LE(h.exact.value_at(*x), 0) << "facet " << f << " vertex " << v;
+            }
+          }
+        }
+        // The end caps of the first move keep the rounded-plane verdicts.
+        EXPECT_EQ(morph::joint_verdicts_exact(shape, around, j - s, std::nullopt, e - j),
+                  morph::joint_verdicts_off_rim(shape, around, j - s, std::nullopt, e - j));
+      }
+  }
+  EXPECT_GT(more, 0);
 }
 
 TEST(JointCulling, OnlyStraightMovesOfOneToolMeetingBitForBitAreJoined) {

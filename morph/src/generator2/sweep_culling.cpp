@@ -528,7 +528,7 @@ std::vector<KeptFacet> SweepCulling::cull(std::size_t i, CullingCounts& counts, 
     return x.cluster < y.cluster || (x.cluster == y.cluster && x.facet < y.facet);
   });
   std::vector<KeptFacet> kept;
-  std::vector<const Candidate*> near;
+  std::vector<const Candidate*> near, reaching;
   const Candidate* last_hider = nullptr;
   std::vector<Vector3d> vertices;
   for (std::size_t begin = 0, end; begin < live.size(); begin = end) {
@@ -542,15 +542,26 @@ std::vector<KeptFacet> SweepCulling::cull(std::size_t i, CullingCounts& counts, 
     near.clear();
     // The candidate that hid the last cluster first: neighbouring clusters are often hidden by it.
     bool hidden = last_hider && ball_inside_sweep(bounds_, last_hider->a, last_hider->b, centre, radius);
-    for (const Candidate& c : candidates) {
+    // Only the candidates whose boxes meet the cluster's ball's box can hide it or meet its
+    // facets (a box misses the ball: the sweep does), in move order as the facets take them.
+    reaching.clear();
+    if (!hidden)
+      tree_->for_each_overlapping(
+          AlignedBox3d(centre.array() - radius, centre.array() + radius), [&](std::size_t j) {
+            const auto c = std::lower_bound(candidates.begin(), candidates.end(), j,
+                                            [](const Candidate& x, std::size_t m) { return x.move < m; });
+            if (c != candidates.end() && c->move == j) reaching.push_back(&*c);
+          });
+    std::sort(reaching.begin(), reaching.end());  // candidates are in move order
+    for (const Candidate* c : reaching) {
       if (hidden) break;
       ++counts.bound_tests;
-      if (ball_inside_sweep(bounds_, c.a, c.b, centre, radius)) {
+      if (ball_inside_sweep(bounds_, c->a, c->b, centre, radius)) {
         hidden = true;
-        last_hider = &c;
+        last_hider = c;
         break;
       }
-      if (!ball_misses_sweep(bounds_, c.a, c.b, centre, radius)) near.push_back(&c);
+      if (!ball_misses_sweep(bounds_, c->a, c->b, centre, radius)) near.push_back(c);
     }
     if (hidden) {
       counts.by_cluster_bound += static_cast<double>(end - begin);
