@@ -179,6 +179,28 @@ Vector3d unit_in_plane(double angle) {
   return Vector3d(std::cos(angle), std::sin(angle), 0.0);
 }
 
+/// A level blind pass through the origin in a stock of height `height`: the tool (tool 1 of the
+/// job), the depth, and the pass from `start` to `end` (tool points), of `length` in a drawn direction.
+struct BlindPass {
+  DrawnTool tool;
+  double height = 0, depth = 0, length = 0;
+  Vector3d start, end;
+};
+
+BlindPass draw_blind_pass(CaseRandom& rng, Builder& b) {
+  BlindPass pass;
+  pass.tool = draw_tool(rng, b.generator());
+  b.tool(1, pass.tool.json, pass.tool.tool.radius);
+  pass.height = round3(rng.uniform(4.0, 10.0));
+  pass.depth = blind_depth(rng, pass.tool, pass.height);
+  pass.length = round3(rng.uniform(5.0, 25.0));
+  const Vector3d u = unit_in_plane(rng.uniform(0.0, M_PI));
+  const Vector3d centre(0, 0, pass.height - pass.depth + pass.tool.point_height);
+  pass.start = centre - 0.5 * pass.length * u;
+  pass.end = centre + 0.5 * pass.length * u;
+  return pass;
+}
+
 void blind_result(Builder& b, const std::string& variant) {
   b.expected_genus(0);
   b.finish(variant, 1);
@@ -232,13 +254,10 @@ morph::TriangleMesh sliver_box_mesh(const Vector3d& lo, const Vector3d& hi, std:
 // A level blind pass driven there and back, several laps, partly back, or repeated as separate
 // paths: exactly the single pass.
 void retrace(CaseRandom& rng, Builder& b) {
-  const DrawnTool t = draw_tool(rng, b.generator());
-  b.tool(1, t.json, t.tool.radius);
-  const double height = round3(rng.uniform(4.0, 10.0)), d = blind_depth(rng, t, height);
-  const double length = round3(rng.uniform(5.0, 25.0));
-  const Vector3d u = unit_in_plane(rng.uniform(0.0, M_PI));
-  const double z = height - d + t.point_height;
-  const Vector3d a = Vector3d(0, 0, z) - 0.5 * length * u, c = Vector3d(0, 0, z) + 0.5 * length * u;
+  const BlindPass pass = draw_blind_pass(rng, b);
+  const DrawnTool& t = pass.tool;
+  const double height = pass.height, d = pass.depth, length = pass.length;
+  const Vector3d a = pass.start, c = pass.end;
   box_around(b, {a, c}, t.tool.radius + 2.0, height);
   const int variant = rng.integer(0, 3);
   std::string what;
@@ -573,13 +592,10 @@ void mixed_tools(CaseRandom& rng, Builder& b) {
 // micrometre wide, crossing the groove (issue 18's "mesh stock with slivers near a groove"):
 // exactly the pass in a plain box.
 void mesh_stock(CaseRandom& rng, Builder& b) {
-  const DrawnTool t = draw_tool(rng, b.generator());
-  b.tool(1, t.json, t.tool.radius);
-  const double height = round3(rng.uniform(4.0, 10.0)), d = blind_depth(rng, t, height);
-  const double length = round3(rng.uniform(5.0, 25.0));
-  const Vector3d u = unit_in_plane(rng.uniform(0.0, M_PI));
-  const double z = height - d + t.point_height;
-  const Vector3d a = Vector3d(0, 0, z) - 0.5 * length * u, c = Vector3d(0, 0, z) + 0.5 * length * u;
+  const BlindPass pass = draw_blind_pass(rng, b);
+  const DrawnTool& t = pass.tool;
+  const double height = pass.height, d = pass.depth, length = pass.length;
+  const Vector3d a = pass.start, c = pass.end;
   Eigen::AlignedBox2d reach;
   for (const Vector3d& p : {a, c}) reach.extend(p.head<2>());
   const double margin = t.tool.radius + 2.0;
