@@ -14,6 +14,7 @@
 #include <morph/emit.h>
 #include <morph/erode2.h>
 #include <morph/quantize.h>
+#include <morph/sweep_segments.h>
 #include <morph/tool_polytope.h>
 #include <morph/topology.h>
 #include <tbb/task_arena.h>
@@ -58,10 +59,11 @@ void BM_Generator2(benchmark::State& state) {
     const morph::SweepPolytopeBuilder builder(
         morph::tool_polytope(job.tools.at(1).profile, 0.4 * job.tolerance).polytope);
     std::vector<morph::CarveSweep> sweeps;
-    // Ends on the tool's grid as erode2 snaps them (quantize.h): the exact path users run.
-    const int grid = morph::grid_exponent_for(0.4 * job.tolerance);
-    for (const morph::Move& m : moves)
-      sweeps.push_back({&builder, morph::snap_to_grid(m.start, grid), morph::snap_to_grid(m.end, grid)});
+    // The segments erode2 sweeps (ends on the tool's grid, straight runs joined): the exact path
+    // users run.
+    for (const morph::SweepSegment& s :
+         morph::sweep_segments(job, 0.4 * job.tolerance, morph::grid_exponent_for(0.4 * job.tolerance)))
+      sweeps.push_back({&builder, s.from, s.to});
     const double tool_cpu = process_seconds() - cpu;
     morph::CarveStages stages;
     std::vector<morph::CarvedPiece> pieces;

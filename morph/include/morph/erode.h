@@ -50,7 +50,7 @@ struct StepCount {
 struct ErodeStats {
   std::size_t moves = 0;                    ///< moves of the job
   std::size_t moves_touching_stock = 0;     ///< moves whose swept bounds meet the stock bounds
-  std::size_t segments = 0;                 ///< straight pieces after splitting arcs by chord tolerance
+  std::size_t segments = 0;                 ///< straight pieces after splitting arcs by chord tolerance (generator 2: straight runs joined)
   std::size_t patches = 0;                  ///< parametric patches considered
   std::size_t patches_kept = 0;             ///< patches that left at least one triangle
   std::size_t triangles = 0;                ///< output triangles

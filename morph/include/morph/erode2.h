@@ -21,7 +21,7 @@ ErodeResult erode2(const Job& job, const ErodeOptions& options = {});
 /// Generator 2's up-front estimate, from the job alone, made before anything large is built: the
 /// sweeps' facets dominate (each kept facet is carved, conformed and emitted; every facet is culled).
 struct Erode2Estimate {
-  double segments = 0.0;         ///< straight pieces after splitting arcs into chords
+  double segments = 0.0;         ///< straight pieces: arcs as chords, straight runs joined (sweep_segments.h)
   double sweep_facets = 0.0;     ///< facets of all the sweep polytopes
   double stock_triangles = 0.0;  ///< of a mesh stock
   double bytes = 0.0;            ///< estimated peak resident memory of the process

@@ -7,10 +7,12 @@
 #include <morph/exceptions.h>
 #include <morph/quantize.h>
 #include <morph/sweep_polytope.h>
+#include <morph/sweep_segments.h>
 #include <morph/tool_polytope.h>
 
 #include "generator2/erode_limits.h"
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <map>
@@ -21,26 +23,6 @@ namespace {
 
 double seconds_since(std::chrono::steady_clock::time_point start) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-}
-
-// The moves as straight segments in job order (arcs as chords), each with its move's index.
-struct Segment {
-  Eigen::Vector3d from, to;
-  std::int32_t move = 0, line = 0;
-  int tool = 0;
-};
-
-std::vector<Segment> segments_of(const Job& job, double chord_tolerance) {
-  std::vector<Segment> out;
-  const std::vector<const Move*> moves = job.moves();
-  for (std::size_t m = 0; m < moves.size(); ++m) {
-    const Move& move = *moves[m];
-    const std::vector<double> t = chord_parameters(move, chord_tolerance);
-    for (std::size_t k = 0; k + 1 < t.size(); ++k)
-      out.push_back(Segment{point_at(move, t[k]), point_at(move, t[k + 1]), static_cast<std::int32_t>(m),
-                            move.line, move.tool});
-  }
-  return out;
 }
 
 // The limit step's merges, removals and zips are exact (the construction's ε → 0); what it keeps
@@ -76,22 +58,19 @@ ErodeResult erode2(const Job& job, const ErodeOptions& options) {
   stats.estimated_bytes = estimate.bytes;
   check_memory_cap(options, tolerance, estimate.bytes,
                    std::to_string(std::llround(estimate.segments)) +
-                       " segments after splitting arcs into chords, " +
+                       " segments (arcs as chords, straight runs joined), " +
                        std::to_string(std::llround(estimate.sweep_facets)) + " sweep facets, " +
                        std::to_string(std::llround(estimate.stock_triangles)) + " stock triangles");
   stats.moves = job.move_count();
-  // Ends on the tools' grid (quantize.h), so the sweeps' planes are exact there.
-  std::vector<Segment> segments = segments_of(job, 0.4 * tolerance);
+  // Ends on the tools' grid (quantize.h), so the sweeps' planes are exact there; straight runs
+  // joined (sweep_segments.h).
   const int grid = grid_exponent_for(0.4 * tolerance);  // the tool polytopes' (tool_polytope.h)
-  for (Segment& s : segments) {
-    s.from = snap_to_grid(s.from, grid);
-    s.to = snap_to_grid(s.to, grid);
-  }
+  const std::vector<SweepSegment> segments = sweep_segments(job, 0.4 * tolerance, grid);
   stats.segments = segments.size();
 
   // One polytope per tool, within 0.4 of the tolerance of the exact tool.
   std::map<int, std::unique_ptr<SweepPolytopeBuilder>> builders;
-  for (const Segment& s : segments)
+  for (const SweepSegment& s : segments)
     if (!builders.count(s.tool))
       builders.emplace(
           s.tool, std::make_unique<SweepPolytopeBuilder>(
@@ -101,13 +80,23 @@ ErodeResult erode2(const Job& job, const ErodeOptions& options) {
   const Eigen::AlignedBox3d stock = stock_polytope.bounds;
   std::vector<CarveSweep> sweeps;
   std::vector<std::int32_t> move_index, move_line;
-  for (const Segment& s : segments) {
+  for (const SweepSegment& s : segments) {
     sweeps.push_back(CarveSweep{builders.at(s.tool).get(), s.from, s.to});
     move_index.push_back(s.move);
     move_line.push_back(s.line);
   }
-  for (const Eigen::AlignedBox3d& box : sweep_boxes(sweeps))
-    if (box.intersects(stock)) ++stats.moves_touching_stock;
+  // A segment stands for its first move up to the next segment's (a joined run, an arc's chords).
+  const std::vector<Eigen::AlignedBox3d> boxes = sweep_boxes(sweeps);
+  std::int64_t counted_up_to = -1;
+  for (std::size_t i = 0; i < segments.size(); ++i) {
+    if (!boxes[i].intersects(stock)) continue;
+    const std::int64_t first = std::max<std::int64_t>(segments[i].move, counted_up_to + 1);
+    const std::int64_t last = i + 1 < segments.size()
+                                  ? std::max<std::int64_t>(segments[i + 1].move - 1, segments[i].move)
+                                  : static_cast<std::int64_t>(stats.moves) - 1;
+    if (last >= first) stats.moves_touching_stock += static_cast<std::size_t>(last - first + 1);
+    counted_up_to = std::max(counted_up_to, last);
+  }
   stats.seconds_setup = seconds_since(start);
 
   if (progress.interrupted()) throw Interrupted("erode2: interrupted");

@@ -3,6 +3,8 @@
 
 #include <morph/exceptions.h>
 #include <morph/path.h>
+#include <morph/quantize.h>
+#include <morph/sweep_segments.h>
 #include <morph/tool_polytope.h>
 
 #include <algorithm>
@@ -68,21 +70,15 @@ Erode2Estimate estimate_erode2(const Job& job, double tolerance) {
   Erode2Estimate estimate;
   // A sweep has the tool's facets (each at the start or at the end) and one parallelogram per
   // silhouette edge: about two per sector and two per meridian point.
-  std::map<int, double> facets_per_sweep;
-  for (const Path& path : job.paths)
-    for (const Move& move : path.moves) {
-      auto it = facets_per_sweep.find(move.tool);
-      if (it == facets_per_sweep.end()) {
-        const ToolPolytopeSize size = tool_polytope_size(job.tool_of(move).profile, 0.4 * tolerance);
-        it =
-            facets_per_sweep
-                .emplace(move.tool, double(size.facets) + 2.0 * (size.sectors + double(size.meridian_points)))
-                .first;
-      }
-      const double segments = chord_count(move, 0.4 * tolerance);
-      estimate.segments += segments;
-      estimate.sweep_facets += segments * it->second;
-    }
+  // Segments as sweep_segments() makes them (straight runs joined), counted without listing them.
+  const std::map<int, double> segments =
+      sweep_segment_counts(job, 0.4 * tolerance, grid_exponent_for(0.4 * tolerance));
+  for (const auto& [tool, count] : segments) {
+    const ToolPolytopeSize size = tool_polytope_size(job.tools.find(tool)->second.profile, 0.4 * tolerance);
+    estimate.segments += count;
+    estimate.sweep_facets +=
+        count * (double(size.facets) + 2.0 * (size.sectors + double(size.meridian_points)));
+  }
   if (job.stock.type == StockType::Mesh) estimate.stock_triangles = double(job.stock.mesh.triangles.size());
   estimate.bytes = kBytesFixed + kBytesPerSweepFacet * estimate.sweep_facets +
                    kBytesPerStockTriangle * estimate.stock_triangles;

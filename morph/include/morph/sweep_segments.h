@@ -1,0 +1,48 @@
+// SPDX-License-Identifier: Apache-2.0
+#pragma once
+/// \file sweep_segments.h
+/// Generator 2's first stage: the job's moves as the straight segments it sweeps, in job order.
+/// Arcs become chords within a tolerance, every end goes to the tools' grid (quantize.h), and
+/// runs that sweep one solid become one segment: a segment that continues its predecessor (same
+/// tool, exactly collinear on the grid, same direction) joins it, and a segment of zero length on
+/// the grid is dropped where a neighbour of its tool touches its point. Both are exact, not
+/// approximations: the sweep of [a, c] is the union of the sweeps of [a, b] and [b, c] when b lies
+/// on [a, c], and a tool placed at b lies in any sweep through b. A raster of 0.1 mm moves
+/// (CAM output at a fine step, the hostile 10^4-move raster) then costs what its rows cost.
+#include <morph/job.h>
+
+#include <Eigen/Core>
+
+#include <cstdint>
+#include <map>
+#include <vector>
+
+namespace morph {
+
+/// One straight sweep: from, to on the grid (job units); move and line are the job's first move
+/// of the run it stands for (its index in job.moves() and its source line); tool its tool number.
+struct SweepSegment {
+  Eigen::Vector3d from = Eigen::Vector3d::Zero();
+  Eigen::Vector3d to = Eigen::Vector3d::Zero();
+  std::int32_t move = 0;
+  std::int32_t line = 0;
+  int tool = 0;
+};
+
+/// Whether segment `next`, starting where `previous` ends, sweeps with it the sweep of
+/// [previous.from, next.to]: the same tool, `next` on the line of `previous` going on the same way
+/// (decided exactly on the grid of exponent `grid_exponent`). Zero-length segments are handled by
+/// sweep_segments(), not here.
+bool continues_straight(const SweepSegment& previous, const SweepSegment& next, int grid_exponent);
+
+/// The job's segments as generator 2 sweeps them: chords within `chord_tolerance` (job units),
+/// ends snapped to the grid of exponent `grid_exponent`, straight runs joined and zero-length
+/// segments dropped where a neighbour of their tool covers them (see the file comment).
+std::vector<SweepSegment> sweep_segments(const Job& job, double chord_tolerance, int grid_exponent);
+
+/// How many segments sweep_segments() gives of each tool (by tool number), counted without
+/// listing the chords (an arc is never joined, so its chords are counted, not made): for
+/// estimates made before anything large is built. Doubles, as chord_count() is.
+std::map<int, double> sweep_segment_counts(const Job& job, double chord_tolerance, int grid_exponent);
+
+}  // namespace morph

@@ -1,0 +1,145 @@
+// SPDX-License-Identifier: Apache-2.0
+// Generator 2's segments: straight runs joined and zero-length moves dropped only where the swept
+// solid is the same, decided exactly on the grid; the count made without listing them agrees.
+#include <morph/erode2.h>
+#include <morph/quantize.h>
+#include <morph/sweep_segments.h>
+#include <morph/tool.h>
+#include <morph/topology.h>
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <map>
+
+#include "common/test_jobs.h"
+
+namespace {
+
+using Eigen::Vector3d;
+
+constexpr double kTolerance = 0.05;
+const int kGrid = morph::grid_exponent_for(0.4 * kTolerance);
+
+morph::Job job_through(const std::vector<Vector3d>& points) {
+  return morphmill_test::box_polyline_job(Eigen::AlignedBox3d(Vector3d(0, 0, 0), Vector3d(20, 10, 5)),
+                                          morph::ball_tool(1.0, 10.0), points, kTolerance);
+}
+
+std::vector<morph::SweepSegment> segments_of(const morph::Job& job) {
+  return morph::sweep_segments(job, 0.4 * kTolerance, kGrid);
+}
+
+double counted(const morph::Job& job) {
+  double total = 0;
+  for (const auto& [tool, count] : morph::sweep_segment_counts(job, 0.4 * kTolerance, kGrid)) total += count;
+  return total;
+}
+
+Vector3d snapped(const Vector3d& x) {
+  return morph::snap_to_grid(x, kGrid);
+}
+
+TEST(SweepSegments, AStraightRunIsOneSegmentFromItsFirstMove) {
+  std::vector<Vector3d> points;
+  for (int k = 0; k <= 50; ++k) points.emplace_back(2 + 0.1 * k, 5, 4.5);
+  const morph::Job job = job_through(points);
+  const std::vector<morph::SweepSegment> s = segments_of(job);
+  ASSERT_EQ(s.size(), 1u);
+  EXPECT_EQ(s[0].from, snapped(points.front()));
+  EXPECT_EQ(s[0].to, snapped(points.back()));
+  EXPECT_EQ(s[0].move, 0);
+  EXPECT_EQ(s[0].line, job.paths[0].moves[0].line);
+  EXPECT_EQ(counted(job), 1.0);
+}
+
+TEST(SweepSegments, TurnsReversalsAndAGridStepOffTheLineStaySeparate) {
+  const Vector3d a(2, 5, 4.5), b(8, 5, 4.5);
+  const double step = std::ldexp(1.0, kGrid);
+  // A reversal sweeps the same solid too, but its second move is the retrace the joints decide:
+  // only a continuation is joined.
+  for (const Vector3d& c :
+       {Vector3d(2, 5, 4.5), Vector3d(8, 9, 4.5), Vector3d(14, 5 + step, 4.5), Vector3d(14, 5, 4.5 + step)}) {
+    const morph::Job job = job_through({a, b, c});
+    EXPECT_EQ(segments_of(job).size(), 2u) << c.transpose();
+    EXPECT_EQ(counted(job), 2.0) << c.transpose();
+  }
+  // Going on along the same axis-parallel line: joined.
+  EXPECT_EQ(segments_of(job_through({a, b, Vector3d(14, 5, 4.5)})).size(), 1u);
+  // A diagonal line on the grid: a, a + d, a + 3d join.
+  const Vector3d d = Vector3d(3, 2, -1) * step * 1024;
+  const Vector3d start = snapped(a);
+  EXPECT_EQ(segments_of(job_through({start, start + d, start + 3 * d})).size(), 1u);
+}
+
+TEST(SweepSegments, ZeroLengthMovesGoWhereANeighbourCoversThem) {
+  const Vector3d a(2, 5, 4.5), b(8, 5, 4.5), c(8, 9, 4.5);
+  // At the start (replaced by the next), in a run (dropped, the run joins across it), at a corner.
+  const morph::Job job = job_through({a, a, b, b, Vector3d(10, 5, 4.5), Vector3d(10, 5, 4.5), c});
+  const std::vector<morph::SweepSegment> s = segments_of(job);
+  ASSERT_EQ(s.size(), 2u);
+  EXPECT_EQ(s[0].from, snapped(a));
+  EXPECT_EQ(s[0].to, snapped(Vector3d(10, 5, 4.5)));
+  EXPECT_EQ(s[0].move, 1);  // the zero-length move 0 was replaced by move 1
+  EXPECT_EQ(s[1].to, snapped(c));
+  EXPECT_EQ(counted(job), 2.0);
+  // A lone zero-length move is the tool placed once: kept.
+  EXPECT_EQ(segments_of(job_through({a, a})).size(), 1u);
+}
+
+TEST(SweepSegments, ToolsAndArcsAreNotJoined) {
+  morph::Job job = job_through({Vector3d(2, 5, 4.5), Vector3d(5, 5, 4.5), Vector3d(8, 5, 4.5)});
+  job.tools.emplace(2, morph::ball_tool(0.5, 10.0));
+  job.paths[0].moves[1].tool = 2;
+  EXPECT_EQ(segments_of(job).size(), 2u);
+  const std::map<int, double> per_tool = morph::sweep_segment_counts(job, 0.4 * kTolerance, kGrid);
+  EXPECT_EQ(per_tool.at(1), 1.0);
+  EXPECT_EQ(per_tool.at(2), 1.0);
+
+  // A quarter arc then a line leaving along its end tangent: the chords stay as chords, and the
+  // line is not joined to the last chord.
+  morph::Move arc;
+  arc.kind = morph::MoveKind::Arc;
+  arc.center = Vector3d(10, 5, 4.5);
+  arc.axis = Vector3d::UnitZ();
+  arc.start = Vector3d(13, 5, 4.5);
+  arc.end = Vector3d(10, 8, 4.5);
+  arc.sweep = M_PI / 2;
+  arc.tool = 1;
+  morph::Move line;
+  line.start = arc.end;
+  line.end = Vector3d(4, 8, 4.5);
+  line.tool = 1;
+  morph::Job with_arc = job_through({Vector3d(13, 2, 4.5), Vector3d(13, 5, 4.5)});
+  with_arc.paths[0].moves.push_back(arc);
+  with_arc.paths[0].moves.push_back(line);
+  const double chords = morph::chord_count(arc, 0.4 * kTolerance);
+  EXPECT_EQ(segments_of(with_arc).size(), 2u + static_cast<std::size_t>(chords));
+  EXPECT_EQ(counted(with_arc), 2.0 + chords);
+}
+
+TEST(SweepSegments, ARasterOfShortMovesErodesAsItsRowsDo) {
+  // The hostile 10^4-move raster in small: rows of 0.1 mm moves, 0.1 mm apart, sweep exactly what
+  // the rows as single moves sweep, so generator 2 builds the same surface from far fewer sweeps.
+  std::vector<Vector3d> fine, rows;
+  for (int r = 0; r < 6; ++r) {
+    const double y = 3 + 0.1 * r;
+    for (int k = 0; k <= 40; ++k) {
+      const double x = 4 + 0.1 * (r % 2 == 0 ? k : 40 - k);
+      fine.emplace_back(x, y, 4.9);
+      if (k == 0 || k == 40) rows.emplace_back(x, y, 4.9);
+    }
+  }
+  const morph::ErodeResult from_fine = morph::erode2(job_through(fine));
+  const morph::ErodeResult from_rows = morph::erode2(job_through(rows));
+  EXPECT_EQ(from_fine.stats.moves, fine.size() - 1);
+  EXPECT_EQ(from_fine.stats.segments, rows.size() - 1);
+  EXPECT_EQ(from_fine.mesh.vertices, from_rows.mesh.vertices);
+  EXPECT_EQ(from_fine.mesh.triangles, from_rows.mesh.triangles);
+  const morph::TopologyReport topology = morph::topology_report(from_fine.mesh);
+  EXPECT_TRUE(topology.closed_manifold());
+  EXPECT_EQ(topology.components, 1u);
+  EXPECT_LT(topology.volume, 20 * 10 * 5 - 0.3);  // it cut the rows (about 0.5 mm³)
+}
+
+}  // namespace
