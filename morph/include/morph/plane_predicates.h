@@ -24,6 +24,7 @@
 
 #include <array>
 #include <cstdint>
+#include <optional>
 
 namespace morph {
 
@@ -78,6 +79,17 @@ bool same_limit_point(const std::array<ExactPlane, 3>& u, const std::array<Exact
 /// tests, never for decisions. Throws std::invalid_argument when it does not exist.
 Eigen::Vector3d vertex_point(const ExactPlane& a, const ExactPlane& b, const ExactPlane& c);
 
+/// A vertex rounded to doubles and a bound on its distance from the exact vertex (job units).
+struct BoundedPoint {
+  Eigen::Vector3d point;
+  double error = 0.0;
+};
+/// vertex_point() (the same point) with a bound on its distance from the exact vertex, from a
+/// forward error analysis of its arithmetic that holds however ill-conditioned the three planes
+/// are: for filters that must not miss. Nothing when the determinant is too small for the bound
+/// to hold. Throws like vertex_point().
+std::optional<BoundedPoint> bounded_vertex_point(const ExactPlane& a, const ExactPlane& b,
+                                                 const ExactPlane& c);
 /// How often the double filter failed and the double-word filter decided (refined), how often
 /// both failed and exact integers decided (exact), and how often a tie was settled by the
 /// perturbation, in this thread (for the benches).

@@ -178,24 +178,37 @@ std::vector<Ball> covering_balls(const std::vector<Vector3d>& points, const OwnP
   return {one, two};
 }
 
-// The exact corners of `piece` lie within `margin` of these rounded ones when every corner is
-// well conditioned (the float look's condition in facet_clipping.cpp: then a rounded corner is
-// within about 1e-11·(|offset| + |corner|) of the exact one); none otherwise.
+// The exact corners of `piece` lie within `margin` of these rounded ones. When every corner is
+// well conditioned (the float look's condition in facet_clipping.cpp), a rounded corner is within
+// about 1e-11·(|offset| + |corner|) of the exact one, and the margin is a hundred times that;
+// otherwise it is the largest of the corners' forward error bounds (bounded_vertex_point()),
+// which hold however close to parallel the planes are. None when such a bound fails.
 std::optional<std::pair<std::vector<Vector3d>, double>> rounded_corners(const ConvexPiece& piece) {
   const std::size_t n = piece.edges.size();
   std::vector<Vector3d> points;
   double largest = 0.0, max_offset = std::fabs(piece.support.offset);
   for (const ExactPlane& e : piece.edges) max_offset = std::max(max_offset, std::fabs(e.offset));
+  bool conditioned = true;
   for (std::size_t k = 0; k < n; ++k) {
     const ExactPlane& a = piece.edges[(k + n - 1) % n];
     const ExactPlane& b = piece.edges[k];
     const double det = std::fabs(piece.support.normal.dot(a.normal.cross(b.normal)));
     const double scale = piece.support.normal.norm() * a.normal.norm() * b.normal.norm();
-    if (!(det > 1e-7 * scale)) return std::nullopt;
+    conditioned = det > 1e-7 * scale;
+    if (!conditioned) break;
     points.push_back(vertex_point(piece.support, a, b));
     largest = std::max(largest, points.back().norm());
   }
-  return std::pair{std::move(points), 1e-9 * (1.0 + max_offset + largest)};
+  if (conditioned) return std::pair{std::move(points), 1e-9 * (1.0 + max_offset + largest)};
+  points.clear();
+  double margin = 0.0;
+  for (std::size_t k = 0; k < n; ++k) {
+    const auto corner = bounded_vertex_point(piece.support, piece.edges[(k + n - 1) % n], piece.edges[k]);
+    if (!corner) return std::nullopt;
+    points.push_back(corner->point);
+    margin = std::max(margin, corner->error);
+  }
+  return std::pair{std::move(points), margin};
 }
 
 // Facet f of a sweep within the stock and its own polytope: first by the planes passing near

@@ -12,9 +12,11 @@ namespace {
 
 // A float look at a piece, to skip planes that are clearly apart from it (all corners below, or
 // all above, by far more than the rounding of the corners): the exact predicates would decide
-// the same, so nothing depends on it but speed. Only for corners whose normals' determinant is
-// above 1e-7 of the product of their lengths: Cramer's rule in long double (vertex_point()) then
-// errs by less than about 1e-11·(|offset| + |corner|), a hundredth of the margin below.
+// the same, so nothing depends on it but speed. For corners whose normals' determinant is above
+// 1e-7 of the product of their lengths, Cramer's rule in long double (vertex_point()) errs by
+// less than about 1e-11·(|offset| + |corner|), a hundredth of the margin below; for the others
+// (planes close to parallel, as a facet nearly along the motion and its silhouette plane) the
+// margin adds the corner's forward error bound (bounded_vertex_point()).
 class RoughCorners {
  public:
   explicit RoughCorners(const ConvexPiece& piece) : RoughCorners(piece, nullptr, {}) {}
@@ -24,21 +26,30 @@ class RoughCorners {
     const std::size_t n = piece.edges.size();
     points_.reserve(n);
     lengths_.reserve(n);
+    errors_.reserve(n);
     for (std::size_t k = 0; k < n; ++k) {
       if (old && old->usable_ && from_old[k] >= 0) {
         points_.push_back(old->points_[static_cast<std::size_t>(from_old[k])]);
         lengths_.push_back(old->lengths_[static_cast<std::size_t>(from_old[k])]);
+        errors_.push_back(old->errors_[static_cast<std::size_t>(from_old[k])]);
         continue;
       }
       const ExactPlane& a = piece.edges[(k + n - 1) % n];
       const ExactPlane& b = piece.edges[k];
       const double det = std::fabs(piece.support.normal.dot(a.normal.cross(b.normal)));
       const double scale = piece.support.normal.norm() * a.normal.norm() * b.normal.norm();
-      if (!(det > 1e-7 * scale)) {
-        usable_ = false;
-        return;
+      if (det > 1e-7 * scale) {
+        points_.push_back(vertex_point(piece.support, a, b));
+        errors_.push_back(0.0);
+      } else {
+        const auto corner = bounded_vertex_point(piece.support, a, b);
+        if (!corner) {
+          usable_ = false;
+          return;
+        }
+        points_.push_back(corner->point);
+        errors_.push_back(corner->error);
       }
-      points_.push_back(vertex_point(piece.support, a, b));
       lengths_.push_back(points_.back().norm());
     }
   }
@@ -51,7 +62,7 @@ class RoughCorners {
     const double length = plane.normal.norm();
     for (std::size_t k = 0; k < points_.size(); ++k) {
       const double value = plane.normal.dot(points_[k]) - plane.offset;
-      const double margin = 1e-9 * (1 + std::fabs(plane.offset) + length * lengths_[k]);
+      const double margin = 1e-9 * (1 + std::fabs(plane.offset) + length * lengths_[k]) + length * errors_[k];
       corner_[k] = value < -margin ? -1 : (value > margin ? 1 : 0);
       below += corner_[k] < 0;
       above += corner_[k] > 0;
@@ -64,6 +75,7 @@ class RoughCorners {
  private:
   std::vector<Eigen::Vector3d> points_;
   std::vector<double> lengths_;  // of points_
+  std::vector<double> errors_;   // bounds of points_' errors (0: well conditioned)
   std::vector<int> corner_;      // the last side()'s look at each corner
   bool usable_ = true;
 };

@@ -9,6 +9,7 @@
 #include <cfloat>
 #include <cmath>
 #include <cstring>
+#include <limits>
 #include <optional>
 #include <stdexcept>
 #include <utility>
@@ -191,6 +192,64 @@ class FourPlanes {
   std::optional<ExactRows> exact_;
 };
 
+// The vertex of three planes by Cramer's rule in long double, from the exact forms where there
+// are (integer normals are exact in long double; the offset rounds once), so vertices of
+// different triples at one exact point round alike. When `error` is given, it receives a bound
+// on the distance from the exact vertex (infinity when none can be given): a forward error
+// analysis, as for the filters above, in long double's unit roundoff U. A 3×3 determinant by
+// cofactors is within 5U(1+U)^5 of its permanent P (taken 8U·P, which covers the rounding of
+// P's own evaluation); replacing a column by the offsets adds U·P for their rounding (a cofactor
+// is at most its minor's permanent). With those bounds EN of the numerator N and ED < |D| of the
+// denominator D, |N/D - N'/D'| <= (EN·|D'| + |N'|·ED) / (|D'|·(|D'| - ED)), primes the computed
+// values; the quotient and its rounding to double add 2^-52 of the coordinate.
+Eigen::Vector3d cramer(const ExactPlane& a, const ExactPlane& b, const ExactPlane& c, double* error) {
+  const std::array<ExactRow, 3> rows{row_of(a), row_of(b), row_of(c)};
+  if (orientation_of(a, b, c, rows[0].row, rows[1].row, rows[2].row,
+                     det3(rows[0].row, rows[1].row, rows[2].row)) == 0)
+    throw std::invalid_argument("vertex_point: the three planes have no single common point");
+  using L = long double;
+  L n[3][3], o[3];
+  for (int r = 0; r < 3; ++r) {
+    for (int k = 0; k < 3; ++k) n[r][k] = rows[r].row[k];
+    o[r] = static_cast<L>(rows[r].row[3]) + static_cast<L>(rows[r].offset_low);
+  }
+  auto det = [](const L m[3][3]) {
+    return m[0][0] * (m[1][1] * m[2][2] - m[1][2] * m[2][1]) -
+           m[0][1] * (m[1][0] * m[2][2] - m[1][2] * m[2][0]) +
+           m[0][2] * (m[1][0] * m[2][1] - m[1][1] * m[2][0]);
+  };
+  auto permanent = [](const L m[3][3]) {
+    using std::fabs;
+    return fabs(m[0][0]) * (fabs(m[1][1] * m[2][2]) + fabs(m[1][2] * m[2][1])) +
+           fabs(m[0][1]) * (fabs(m[1][0] * m[2][2]) + fabs(m[1][2] * m[2][0])) +
+           fabs(m[0][2]) * (fabs(m[1][0] * m[2][1]) + fabs(m[1][1] * m[2][0]));
+  };
+  constexpr L kUnitL = std::numeric_limits<L>::epsilon() / 2;
+  const L d = det(n);
+  const L d_error = 8 * kUnitL * permanent(n);
+  const bool bounded = error && d_error < std::fabs(d);
+  L squared = 0;
+  Eigen::Vector3d x;
+  for (int col = 0; col < 3; ++col) {
+    L m[3][3];
+    for (int r = 0; r < 3; ++r)
+      for (int k = 0; k < 3; ++k) m[r][k] = (k == col) ? o[r] : n[r][k];
+    const L numerator = det(m);
+    x[col] = static_cast<double>(numerator / d);
+    if (bounded) {
+      const L n_error = 10 * kUnitL * permanent(m);
+      const L e = (n_error * std::fabs(d) + std::fabs(numerator) * d_error) /
+                      (std::fabs(d) * (std::fabs(d) - d_error)) +
+                  std::fabs(static_cast<L>(x[col])) * (DBL_EPSILON * 2);
+      squared += e * e;
+    }
+  }
+  if (error)
+    // Doubled for the rounding of the bound's own evaluation.
+    *error = bounded ? static_cast<double>(2 * std::sqrt(squared)) : std::numeric_limits<double>::infinity();
+  return x;
+}
+
 }  // namespace
 
 PredicateCounts& predicate_counts() {
@@ -245,32 +304,15 @@ bool same_limit_point(const std::array<ExactPlane, 3>& u, const std::array<Exact
 }
 
 Eigen::Vector3d vertex_point(const ExactPlane& a, const ExactPlane& b, const ExactPlane& c) {
-  const std::array<ExactRow, 3> rows{row_of(a), row_of(b), row_of(c)};
-  if (orientation_of(a, b, c, rows[0].row, rows[1].row, rows[2].row,
-                     det3(rows[0].row, rows[1].row, rows[2].row)) == 0)
-    throw std::invalid_argument("vertex_point: the three planes have no single common point");
-  // From the exact forms where there are (integer normals are exact in long double; the offset
-  // rounds once), so vertices of different triples at one exact point round alike.
-  using L = long double;
-  L n[3][3], o[3];
-  for (int r = 0; r < 3; ++r) {
-    for (int k = 0; k < 3; ++k) n[r][k] = rows[r].row[k];
-    o[r] = static_cast<L>(rows[r].row[3]) + static_cast<L>(rows[r].offset_low);
-  }
-  auto det = [](const L m[3][3]) {
-    return m[0][0] * (m[1][1] * m[2][2] - m[1][2] * m[2][1]) -
-           m[0][1] * (m[1][0] * m[2][2] - m[1][2] * m[2][0]) +
-           m[0][2] * (m[1][0] * m[2][1] - m[1][1] * m[2][0]);
-  };
-  const L d = det(n);
-  Eigen::Vector3d x;
-  for (int col = 0; col < 3; ++col) {
-    L m[3][3];
-    for (int r = 0; r < 3; ++r)
-      for (int k = 0; k < 3; ++k) m[r][k] = (k == col) ? o[r] : n[r][k];
-    x[col] = static_cast<double>(det(m) / d);
-  }
-  return x;
+  return cramer(a, b, c, nullptr);
+}
+
+std::optional<BoundedPoint> bounded_vertex_point(const ExactPlane& a, const ExactPlane& b,
+                                                 const ExactPlane& c) {
+  double error = 0.0;
+  const Eigen::Vector3d x = cramer(a, b, c, &error);
+  if (!std::isfinite(error)) return std::nullopt;
+  return BoundedPoint{x, error};
 }
 
 }  // namespace morph
