@@ -259,4 +259,56 @@ TEST(PlanePredicates, BoundedVertexPointHoldsTheExactVertex) {
   }
 }
 
+// Planes exact on one grid through a common grid point (a tool vertex where several facets meet)
+// are decided from the integer value at that point. Near the origin: the same sides, ties and
+// all, as the same planes given by their doubles alone (the general exact path). Far out (offsets
+// beyond 2^53, where the float filter fails, the points still doubles): the sign of d's value at the point,
+// by definition.
+TEST(PlanePredicates, PlanesThroughAGridPointAreDecidedThere) {
+  std::mt19937_64 rng(11);
+  std::uniform_int_distribution<int> component(-40, 40), shift(-1, 1);
+  const int grid = -10;
+  auto exact_plane = [&](const morph::GridPoint& through, std::uint64_t rank, int direction) {
+    for (;;) {
+      const std::array<__int128, 3> normal{component(rng), component(rng), component(rng)};
+      const auto q = morph::plane_through(normal, through, grid);
+      if (!q) continue;
+      const Vector3d n(static_cast<double>(q->normal[0]), static_cast<double>(q->normal[1]),
+                       static_cast<double>(q->normal[2]));
+      return ExactPlane{n, std::ldexp(static_cast<double>(q->offset), grid), rank, direction, *q};
+    }
+  };
+  auto doubles = [](ExactPlane p) {
+    p.exact = {};
+    return p;
+  };
+  int far_cases = 0;
+  for (const int bits : {12, 50}) {
+    std::uniform_int_distribution<std::int64_t> coordinate(-(std::int64_t{1} << bits),
+                                                           std::int64_t{1} << bits);
+    for (int trial = 0; trial < 500; ++trial) {
+      const morph::GridPoint x{coordinate(rng), coordinate(rng), coordinate(rng)};
+      const ExactPlane a = exact_plane(x, 3, 1), b = exact_plane(x, 1, -1), c = exact_plane(x, 4, 1);
+      if (!morph::vertex_exists(a, b, c)) continue;
+      // d through x (a tie), or through a neighbouring grid point.
+      const morph::GridPoint y{x[0] + shift(rng), x[1] + shift(rng), x[2] + shift(rng)};
+      const ExactPlane d = exact_plane(y, trial % 6, trial % 2 ? 1 : -1);
+      if (bits < 20) {
+        EXPECT_EQ(morph::side_at_vertex(a, b, c, d),
+                  morph::side_at_vertex(doubles(a), doubles(b), doubles(c), doubles(d)));
+        EXPECT_EQ(morph::limit_side_at_vertex(a, b, c, d),
+                  morph::limit_side_at_vertex(doubles(a), doubles(b), doubles(c), doubles(d)));
+        continue;
+      }
+      const __int128 value = d.exact.value_at(x);
+      if (value == 0 || d.rank == 1 || d.rank == 3 || d.rank == 4) continue;
+      ++far_cases;
+      const int expected = value > 0 ? 1 : -1;
+      EXPECT_EQ(morph::side_at_vertex(a, b, c, d), expected);
+      EXPECT_EQ(morph::limit_side_at_vertex(a, b, c, d), expected);
+    }
+  }
+  EXPECT_GT(far_cases, 100);
+}
+
 }  // namespace

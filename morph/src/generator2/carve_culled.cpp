@@ -178,6 +178,18 @@ std::vector<Ball> covering_balls(const std::vector<Vector3d>& points, const OwnP
   return {one, two};
 }
 
+// True when `plane`'s value is below -threshold everywhere in every ball, with room for the
+// rounding of this test and of any point's value in them (a millionth of the thresholds used).
+bool below_in_balls(const ExactPlane& plane, const std::vector<Ball>& balls, double threshold) {
+  const double length = plane.normal.norm();
+  for (const auto& [centre, radius] : balls) {
+    const double top = plane.normal.dot(centre) - plane.offset + length * radius;
+    const double rounding = 1e-15 * (1 + std::fabs(plane.offset) + length * (centre.norm() + radius));
+    if (!(top + rounding < -threshold)) return false;
+  }
+  return true;
+}
+
 // The exact corners of `piece` lie within `margin` of these rounded ones. When every corner is
 // well conditioned (the float look's condition in facet_clipping.cpp), a rounded corner is within
 // about 1e-11·(|offset| + |corner|) of the exact one, and the margin is a hundred times that;
@@ -232,10 +244,13 @@ ConvexPiece own_facet(const OwnPlanes& own, int f, const std::vector<Vector3d>& 
   applied.resize(own.planes.size(), 0);
   // Every plane's margin below is at most this, so a plane below -reach in the balls is not near.
   const double reach = 1e-9 * (1 + own.max_offset) * (1 + largest);
-  for_each_plane_reaching(own, covering_balls(points, own, 0.0), -reach, scratch.marks, [&](std::size_t k) {
+  const std::vector<Ball> point_balls = covering_balls(points, own, 0.0);
+  for_each_plane_reaching(own, point_balls, -reach, scratch.marks, [&](std::size_t k) {
     if (static_cast<int>(k) == f) return;
     const ExactPlane& h = own.planes[k];
     const double margin = 1e-9 * (1 + std::fabs(h.offset));
+    // Below the smallest threshold in the balls is below each point's (a group's bound is loose).
+    if (below_in_balls(h, point_balls, margin * (1 + largest))) return;
     for (std::size_t i = 0; i < points.size(); ++i)
       if (h.normal.dot(points[i]) - h.offset > -margin * (1 + lengths[i])) {
         near.push_back(h);
@@ -253,10 +268,13 @@ ConvexPiece own_facet(const OwnPlanes& own, int f, const std::vector<Vector3d>& 
       for (std::size_t k = 0; k < own.planes.size(); ++k)
         if (!applied[k]) reaching.push_back(own.planes[k]);
     } else {
-      for_each_plane_reaching(own, covering_balls(rounded->first, own, rounded->second), 0.0, scratch.marks,
-                              [&](std::size_t k) {
-                                if (!applied[k]) reaching.push_back(own.planes[k]);
-                              });
+      // A plane below zero in the balls holds the exact corners strictly inside: clipping by it
+      // would give the piece unchanged (the margin covers its rounded look, as RoughCorners').
+      const std::vector<Ball> balls = covering_balls(rounded->first, own, rounded->second);
+      for_each_plane_reaching(own, balls, 0.0, scratch.marks, [&](std::size_t k) {
+        const ExactPlane& h = own.planes[k];
+        if (!applied[k] && !below_in_balls(h, balls, 1e-9 * (1 + std::fabs(h.offset)))) reaching.push_back(h);
+      });
     }
   }
   for (std::size_t k : scratch.applied_index) applied[k] = 0;

@@ -24,59 +24,58 @@ class RoughCorners {
   // index in `old` of corner k, or -1 for a new corner (the same three planes give the same point).
   RoughCorners(const ConvexPiece& piece, const RoughCorners* old, const std::vector<int>& from_old) {
     const std::size_t n = piece.edges.size();
-    points_.reserve(n);
-    lengths_.reserve(n);
-    errors_.reserve(n);
+    corners_.reserve(n);
     for (std::size_t k = 0; k < n; ++k) {
       if (old && old->usable_ && from_old[k] >= 0) {
-        points_.push_back(old->points_[static_cast<std::size_t>(from_old[k])]);
-        lengths_.push_back(old->lengths_[static_cast<std::size_t>(from_old[k])]);
-        errors_.push_back(old->errors_[static_cast<std::size_t>(from_old[k])]);
+        corners_.push_back(old->corners_[static_cast<std::size_t>(from_old[k])]);
         continue;
       }
       const ExactPlane& a = piece.edges[(k + n - 1) % n];
       const ExactPlane& b = piece.edges[k];
       const double det = std::fabs(piece.support.normal.dot(a.normal.cross(b.normal)));
       const double scale = piece.support.normal.norm() * a.normal.norm() * b.normal.norm();
+      Corner c;
       if (det > 1e-7 * scale) {
-        points_.push_back(vertex_point(piece.support, a, b));
-        errors_.push_back(0.0);
+        c.point = vertex_point(piece.support, a, b);
       } else {
-        const auto corner = bounded_vertex_point(piece.support, a, b);
-        if (!corner) {
+        const auto bounded = bounded_vertex_point(piece.support, a, b);
+        if (!bounded) {
           usable_ = false;
           return;
         }
-        points_.push_back(corner->point);
-        errors_.push_back(corner->error);
+        c.point = bounded->point;
+        c.error = bounded->error;
       }
-      lengths_.push_back(points_.back().norm());
+      c.length = c.point.norm();
+      corners_.push_back(c);
     }
   }
   // -1: every corner clearly inside `plane`; +1: every corner clearly outside; 0: undecided,
   // and then corner(k) is -1 or +1 for a corner clearly inside or outside, 0 for one too close.
   int side(const ExactPlane& plane) {
     if (!usable_) return 0;
-    corner_.resize(points_.size());
     std::size_t below = 0, above = 0;
     const double length = plane.normal.norm();
-    for (std::size_t k = 0; k < points_.size(); ++k) {
-      const double value = plane.normal.dot(points_[k]) - plane.offset;
-      const double margin = 1e-9 * (1 + std::fabs(plane.offset) + length * lengths_[k]) + length * errors_[k];
-      corner_[k] = value < -margin ? -1 : (value > margin ? 1 : 0);
-      below += corner_[k] < 0;
-      above += corner_[k] > 0;
+    for (Corner& c : corners_) {
+      const double value = plane.normal.dot(c.point) - plane.offset;
+      const double margin = 1e-9 * (1 + std::fabs(plane.offset) + length * c.length) + length * c.error;
+      c.look = value < -margin ? -1 : (value > margin ? 1 : 0);
+      below += c.look < 0;
+      above += c.look > 0;
     }
-    return below == points_.size() ? -1 : (above == points_.size() ? 1 : 0);
+    return below == corners_.size() ? -1 : (above == corners_.size() ? 1 : 0);
   }
   // The last side()'s look at corner k (0 when unusable).
-  int corner(std::size_t k) const { return usable_ ? corner_[k] : 0; }
+  int corner(std::size_t k) const { return usable_ ? corners_[k].look : 0; }
 
  private:
-  std::vector<Eigen::Vector3d> points_;
-  std::vector<double> lengths_;  // of points_
-  std::vector<double> errors_;   // bounds of points_' errors (0: well conditioned)
-  std::vector<int> corner_;      // the last side()'s look at each corner
+  struct Corner {
+    Eigen::Vector3d point;
+    double length = 0.0;  // of point
+    double error = 0.0;   // a bound of point's distance from the exact corner (0: well conditioned)
+    int look = 0;         // the last side()'s look at it
+  };
+  std::vector<Corner> corners_;
   bool usable_ = true;
 };
 

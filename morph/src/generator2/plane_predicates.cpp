@@ -108,6 +108,13 @@ int orientation_of(const ExactPlane& a, const ExactPlane& b, const ExactPlane& c
   return exact_normals_orientation(ra, rb, rc);
 }
 
+// A 3×3 determinant by cofactors along the first row, in long double.
+long double det3_of(const long double m[3][3]) {
+  return m[0][0] * (m[1][1] * m[2][2] - m[1][2] * m[2][1]) -
+         m[0][1] * (m[1][0] * m[2][2] - m[1][2] * m[2][0]) +
+         m[0][2] * (m[1][0] * m[2][1] - m[1][1] * m[2][0]);
+}
+
 // The four planes as rows of [normal | offset]: the cofactors of the offset column, the
 // determinant, and their exact forms on demand.
 class FourPlanes {
@@ -146,13 +153,51 @@ class FourPlanes {
       return s;
     }
     ++predicate_counts().exact;
-    if (integer_[0]) return exact::integer_det4_sign(integer_);
+    if (integer_[0]) {
+      if (const std::optional<int> s = grid_vertex_sign()) return *s;
+      return exact::integer_det4_sign(integer_);
+    }
     return exact().det4_sign();
   }
   // Sign of det[normals of rows 0, 1, 2] (normals_orientation() of the first three planes; the
   // filter's look at it is the cofactor of row 3, whose sign (-1)^(3+3) is +1).
   int orientation() const {
     return orientation_of(*planes_[0], *planes_[1], *planes_[2], rows_[0], rows_[1], rows_[2], cofactor_[3]);
+  }
+  // determinant_sign() for four planes on one grid when the vertex of the first three is a grid
+  // point X (the filter fails mostly at ties, and those are mostly at a tool vertex where several
+  // facets meet): det = -det3(normals 0..2)·(n3·x - o3) with x = X·2^g, so the sign is that of
+  // plane 3's integer value at X; the three planes' values there being zero proves X is their
+  // vertex. Nothing when the rounded vertex does not snap to such a point.
+  std::optional<int> grid_vertex_sign() const {
+    const int orientation = this->orientation();
+    if (orientation == 0) return std::nullopt;
+    using L = long double;
+    L n[3][3], o[3];
+    for (int r = 0; r < 3; ++r) {
+      for (int k = 0; k < 3; ++k) n[r][k] = rows_[r][k];
+      o[r] = static_cast<L>(rows_[r][3]) + static_cast<L>(low_[r]);
+    }
+    const L d = det3_of(n);
+    Eigen::Vector3d x;
+    for (int col = 0; col < 3; ++col) {
+      L m[3][3];
+      for (int r = 0; r < 3; ++r)
+        for (int k = 0; k < 3; ++k) m[r][k] = (k == col) ? o[r] : n[r][k];
+      x[col] = static_cast<double>(det3_of(m) / d);
+    }
+    // The nearest grid point (scaling by a power of two is exact; a wrong point fails the check).
+    const double scale = std::ldexp(1.0, -integer_[0]->grid_exponent);
+    GridPoint point{};
+    for (int i = 0; i < 3; ++i) {
+      const double steps = std::nearbyint(x[i] * scale);
+      if (!(std::fabs(steps) < 0x1p62)) return std::nullopt;
+      point[i] = static_cast<std::int64_t>(steps);
+    }
+    for (int r = 0; r < 3; ++r)
+      if (integer_[r]->value_at(point) != 0) return std::nullopt;
+    const __int128 value = integer_[3]->value_at(point);
+    return value == 0 ? 0 : (value > 0 ? -orientation : orientation);
   }
   // Sign of the cofactor of row i's offset.
   int cofactor_sign(int i) {
@@ -213,11 +258,6 @@ Eigen::Vector3d cramer(const ExactPlane& a, const ExactPlane& b, const ExactPlan
     for (int k = 0; k < 3; ++k) n[r][k] = rows[r].row[k];
     o[r] = static_cast<L>(rows[r].row[3]) + static_cast<L>(rows[r].offset_low);
   }
-  auto det = [](const L m[3][3]) {
-    return m[0][0] * (m[1][1] * m[2][2] - m[1][2] * m[2][1]) -
-           m[0][1] * (m[1][0] * m[2][2] - m[1][2] * m[2][0]) +
-           m[0][2] * (m[1][0] * m[2][1] - m[1][1] * m[2][0]);
-  };
   auto permanent = [](const L m[3][3]) {
     using std::fabs;
     return fabs(m[0][0]) * (fabs(m[1][1] * m[2][2]) + fabs(m[1][2] * m[2][1])) +
@@ -225,8 +265,8 @@ Eigen::Vector3d cramer(const ExactPlane& a, const ExactPlane& b, const ExactPlan
            fabs(m[0][2]) * (fabs(m[1][0] * m[2][1]) + fabs(m[1][1] * m[2][0]));
   };
   constexpr L kUnitL = std::numeric_limits<L>::epsilon() / 2;
-  const L d = det(n);
-  const L d_error = 8 * kUnitL * permanent(n);
+  const L d = det3_of(n);
+  const L d_error = error ? 8 * kUnitL * permanent(n) : 0;
   const bool bounded = error && d_error < std::fabs(d);
   L squared = 0;
   Eigen::Vector3d x;
@@ -234,7 +274,7 @@ Eigen::Vector3d cramer(const ExactPlane& a, const ExactPlane& b, const ExactPlan
     L m[3][3];
     for (int r = 0; r < 3; ++r)
       for (int k = 0; k < 3; ++k) m[r][k] = (k == col) ? o[r] : n[r][k];
-    const L numerator = det(m);
+    const L numerator = det3_of(m);
     x[col] = static_cast<double>(numerator / d);
     if (bounded) {
       const L n_error = 10 * kUnitL * permanent(m);
