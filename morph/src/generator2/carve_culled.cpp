@@ -69,48 +69,41 @@ struct Worker {
 };
 using Workers = tbb::enumerable_thread_specific<Worker>;
 
-// The points of sweep facet `f` as the builder places it (tool vertices at the ordered ends),
-// for choosing which of the sweep's planes can bound it; the exact facet is decided by all.
-std::vector<Vector3d> facet_points(const SweepPolytopeBuilder& builder, const CarveSweep& s, int f) {
-  const ConvexPolytope& tool = builder.tool();
-  const bool degenerate = builder.degenerate(s.from, s.to);
-  const auto [a, b] = degenerate ? std::pair{s.from, s.from} : SweepPolytopeBuilder::ordered(s.from, s.to);
-  const Vector3d motion = b - a;
-  std::vector<Vector3d> points;
-  const auto nf = static_cast<int>(tool.facets.size());
-  auto side = [&](int facet) { return degenerate ? -1 : motion_side(tool.facets[facet].normal, motion); };
-  if (f < nf) {
-    const int at = side(f);
-    for (int v : tool.facets[f].loop) {
-      if (at <= 0) points.push_back(tool.vertices[v] + a);
-      if (at >= 0) points.push_back(tool.vertices[v] + b);
-    }
-    return points;
-  }
-  int index = nf;
-  for (const SweepPolytopeBuilder::Edge& e : builder.edges()) {
-    if (side(e.left) * side(e.right) >= 0) continue;
-    if (index++ != f) continue;
-    for (int v : {e.from, e.to}) {
-      points.push_back(tool.vertices[v] + a);
-      points.push_back(tool.vertices[v] + b);
-    }
-    break;
-  }
-  return points;
-}
-
 // A sweep's own planes (sweep_planes() of its halfspaces) with what finds the ones that reach a
 // region without testing them all: the tool's facet groups and the sweep's ordered ends.
 struct OwnPlanes {
   std::vector<ExactPlane> planes;
   const ToolFacetGroups* groups = nullptr;
   Vector3d a, b;
-  std::size_t tool_facets = 0;   ///< planes[k] for k below this is tool facet k placed at a or b
-  std::vector<bool> at_b;        ///< per tool facet: placed at b (motion_side() > 0)
-  std::vector<char> group_ends;  ///< per facet group: 1 if a member is placed at a, 2 at b, 3 both
+  std::size_t tool_facets = 0;    ///< planes[k] for k below this is tool facet k placed at a or b
+  std::vector<bool> at_b;         ///< per tool facet: placed at b (motion_side() > 0)
+  std::vector<signed char> side;  ///< per tool facet: motion_side() (-1 for a degenerate move)
+  std::vector<int> silhouette;    ///< the silhouette edges (index in edges()), in facet order
+  std::vector<char> group_ends;   ///< per facet group: 1 if a member is placed at a, 2 at b, 3 both
   double max_offset = 0.0;
 };
+
+// The points of sweep facet `f` as the builder places it (tool vertices at the ordered ends),
+// for choosing which of the sweep's planes can bound it; the exact facet is decided by all.
+std::vector<Vector3d> facet_points(const SweepPolytopeBuilder& builder, const OwnPlanes& own, int f) {
+  const ConvexPolytope& tool = builder.tool();
+  std::vector<Vector3d> points;
+  const auto nf = static_cast<int>(tool.facets.size());
+  if (f < nf) {
+    const int at = own.side[static_cast<std::size_t>(f)];
+    for (int v : tool.facets[f].loop) {
+      if (at <= 0) points.push_back(tool.vertices[v] + own.a);
+      if (at >= 0) points.push_back(tool.vertices[v] + own.b);
+    }
+    return points;
+  }
+  const SweepPolytopeBuilder::Edge& e = builder.edges()[own.silhouette[static_cast<std::size_t>(f - nf)]];
+  for (int v : {e.from, e.to}) {
+    points.push_back(tool.vertices[v] + own.a);
+    points.push_back(tool.vertices[v] + own.b);
+  }
+  return points;
+}
 
 using Ball = std::pair<Vector3d, double>;  ///< centre, radius
 
@@ -403,8 +396,19 @@ class Carving {
                                  : SweepPolytopeBuilder::ordered(s.from, s.to);
     own.tool_facets = group.builder->tool().facets.size();
     own.at_b.resize(own.tool_facets);
-    for (std::size_t k = 0; k < own.tool_facets; ++k)
-      own.at_b[k] = own.a != own.b && motion_side(group.builder->tool().facets[k].normal, own.b - own.a) > 0;
+    own.side.resize(own.tool_facets);
+    const bool degenerate = own.a == own.b;
+    for (std::size_t k = 0; k < own.tool_facets; ++k) {
+      own.side[k] = static_cast<signed char>(
+          degenerate ? -1 : motion_side(group.builder->tool().facets[k].normal, own.b - own.a));
+      own.at_b[k] = own.side[k] > 0;
+    }
+    const std::vector<SweepPolytopeBuilder::Edge>& edges = group.builder->edges();
+    for (std::size_t i = 0; i < edges.size(); ++i)
+      if (own.side[static_cast<std::size_t>(edges[i].left)] *
+              own.side[static_cast<std::size_t>(edges[i].right)] <
+          0)
+        own.silhouette.push_back(static_cast<int>(i));
     own.group_ends.assign(own.groups->size(), 0);
     for (std::size_t i = 0; i < own.groups->size(); ++i)
       for (int k : group.facet_members[i]) own.group_ends[i] |= own.at_b[k] ? 2 : 1;
@@ -417,7 +421,7 @@ class Carving {
       const double facet_start = thread_seconds();
       const PredicateCounts before = predicate_counts();
       const ConvexPiece facet =
-          own_facet(own, k.facet, facet_points(*group.builder, sweeps_[g], k.facet), stock_, w.own_facet);
+          own_facet(own, k.facet, facet_points(*group.builder, own, k.facet), stock_, w.own_facet);
       w.stages.seconds_own_facets += thread_seconds() - facet_start;
       w.stages.predicates_own += static_cast<double>(predicate_counts().calls - before.calls);
       w.stages.exact_own += static_cast<double>(predicate_counts().exact - before.exact);

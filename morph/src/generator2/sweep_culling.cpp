@@ -43,11 +43,12 @@ std::vector<Vector3d> ordered_polygon(bool silhouette, const std::vector<Vector3
   return std::vector<Vector3d>(points.begin(), points.end() - 1);
 }
 
-// A point of the facet inside the candidate, found as the centroid of the facet's part below
-// the candidate's planes `meeting` (the convex polygon is ordered from the facet's points) and
-// proven inside by all the candidate's planes.
-bool clipped_centroid_inside(std::vector<Vector3d> polygon, const std::vector<SweepCulling::Face>& faces,
-                             const std::vector<int>& meeting, double rounding) {
+// The centroid of the facet's part below the candidate's planes `meeting` (the convex polygon is
+// ordered from the facet's points), a point to prove inside the candidate; none when that part
+// vanishes.
+std::optional<Vector3d> clipped_centroid(std::vector<Vector3d> polygon,
+                                         const std::vector<SweepCulling::Face>& faces,
+                                         const std::vector<int>& meeting) {
   std::vector<Vector3d> below;
   for (int h : meeting) {
     const Halfspace& plane = faces[h].plane;
@@ -59,14 +60,11 @@ bool clipped_centroid_inside(std::vector<Vector3d> polygon, const std::vector<Sw
       if ((vx < 0.0 && vy > 0.0) || (vx > 0.0 && vy < 0.0)) below.push_back(x + (y - x) * (vx / (vx - vy)));
     }
     polygon.swap(below);
-    if (polygon.size() < 3) return false;
+    if (polygon.size() < 3) return std::nullopt;
   }
   Vector3d centroid = Vector3d::Zero();
   for (const Vector3d& x : polygon) centroid += x;
-  centroid /= static_cast<double>(polygon.size());
-  return std::all_of(faces.begin(), faces.end(), [&](const SweepCulling::Face& f) {
-    return f.plane.normal.dot(centroid) - f.plane.offset <= -rounding;
-  });
+  return centroid / static_cast<double>(polygon.size());
 }
 
 }  // namespace
@@ -365,9 +363,22 @@ SweepCulling::Against SweepCulling::against(const Placed& p, std::size_t i, std:
     // below the crossing planes (a segment from that point leaves the candidate through a face
     // meeting the facet).
     const bool swept = p.tool_facet >= 0 && p.placement == 0;
-    if (std::any_of(points.begin(), points.end(), inside) ||
-        (!swept && clipped_centroid_inside(ordered_polygon(p.edge >= 0, points), faces, planes, rounding_)))
-      return Against::Cuts;
+    // Proven inside by every face of the candidate, the tie's too (the tool facets' groups skip
+    // those certainly below, as in `inside`).
+    auto below_every_face = [&](const Vector3d& x) {
+      if (!facet_groups_->for_each_reaching(x, 0.0, candidate.a, candidate.b, -rounding_,
+                                            [&](int h) { return value(faces[h].plane, x) <= -rounding_; }))
+        return false;
+      for (int h = first_silhouette; h < static_cast<int>(faces.size()); ++h)
+        if (value(faces[h].plane, x) > -rounding_) return false;
+      return true;
+    };
+    if (std::any_of(points.begin(), points.end(), inside)) return Against::Cuts;
+    if (!swept) {
+      const std::optional<Vector3d> centroid =
+          clipped_centroid(ordered_polygon(p.edge >= 0, points), faces, planes);
+      if (centroid && below_every_face(*centroid)) return Against::Cuts;
+    }
   }
   // Undecided within the rounding: every plane that crosses the facet.
   ++counts.without_witness;
