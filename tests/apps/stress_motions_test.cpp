@@ -105,7 +105,7 @@ TEST(MotionCases, KnownPiecesGenusAndVolumesMatchTheReference) {
       EXPECT_LT(*c.expected_volume, 0.99 * morph::volume(job.stock)) << what;
     }
   }
-  for (const char* family : {"retrace", "plunge_retract", "submicron", "mixed_tools", "mesh_stock"})
+  for (const char* family : {"retrace", "plunge_retract", "submicron", "mixed_tools", "mesh_stock", "fine_steps"})
     EXPECT_EQ(with_volume.count(family), 1u) << family << " never had a closed-form volume";
 }
 

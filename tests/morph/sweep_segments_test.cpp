@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: Apache-2.0
 // Generator 2's segments: straight runs joined and zero-length moves dropped only where the swept
 // solid is the same, decided exactly on the grid; the count made without listing them agrees.
+#include <morph/erode.h>
 #include <morph/erode2.h>
 #include <morph/quantize.h>
 #include <morph/sweep_segments.h>
@@ -140,6 +141,23 @@ TEST(SweepSegments, ARasterOfShortMovesErodesAsItsRowsDo) {
   EXPECT_TRUE(topology.closed_manifold());
   EXPECT_EQ(topology.components, 1u);
   EXPECT_LT(topology.volume, 20 * 10 * 5 - 0.3);  // it cut the rows (about 0.5 mm³)
+}
+
+TEST(SweepSegments, GeneratorOneJoinsTheSameRuns) {
+  // Generator 1 sweeps [a, c] unsnapped where the snapped points go on straight.
+  const Vector3d a(2, 5, 4.5), c(7, 5, 4.5);
+  EXPECT_TRUE(morph::goes_on_straight(a, Vector3d(3, 5, 4.5), c, kGrid));
+  EXPECT_FALSE(morph::goes_on_straight(a, Vector3d(3, 5, 4.5), a, kGrid));  // back
+  EXPECT_FALSE(morph::goes_on_straight(a, a, c, kGrid));                    // from a point
+  EXPECT_FALSE(morph::goes_on_straight(a, Vector3d(3, 5, 4.5), Vector3d(7, 5.001, 4.5), kGrid));
+  std::vector<Vector3d> fine;
+  for (int k = 0; k <= 50; ++k) fine.emplace_back(2 + 0.1 * k, 5, 4.5);
+  const morph::ErodeResult from_fine = morph::erode(job_through(fine));
+  const morph::ErodeResult from_one = morph::erode(job_through({fine.front(), fine.back()}));
+  EXPECT_EQ(from_fine.stats.moves, 50u);
+  EXPECT_EQ(from_fine.stats.segments, 1u);
+  EXPECT_EQ(from_fine.mesh.vertices, from_one.mesh.vertices);
+  EXPECT_EQ(from_fine.mesh.triangles, from_one.mesh.triangles);
 }
 
 }  // namespace

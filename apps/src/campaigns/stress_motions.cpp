@@ -624,6 +624,35 @@ void mesh_stock(CaseRandom& rng, Builder& b) {
                               far_y.size() + far_x.size() + 1, spacing));
 }
 
+// A level blind pass written as many short moves, as CAM output at a fine step is: along an axis
+// (the points exactly collinear, one sweep for generator 2), or in a drawn direction (the points
+// a rounding off the line, each joint a turn of about 1e-10 radians): exactly the single pass.
+void fine_steps(CaseRandom& rng, Builder& b) {
+  BlindPass pass = draw_blind_pass(rng, b);
+  const DrawnTool& t = pass.tool;
+  const double height = pass.height, d = pass.depth, length = pass.length;
+  const bool along_axis = rng.chance(0.5);
+  if (along_axis) {
+    const Vector3d centre = 0.5 * (pass.start + pass.end),
+                   u = rng.chance(0.5) ? Vector3d::UnitX() : Vector3d::UnitY();
+    pass.start = centre - 0.5 * length * u;
+    pass.end = centre + 0.5 * length * u;
+  }
+  // Off an axis every joint is a sweep of its own: fewer of them.
+  static const double axis_steps[] = {0.01, 0.05, 0.1, 0.5}, drawn_steps[] = {0.25, 0.5, 1.0};
+  const double step = along_axis ? axis_steps[rng.integer(0, 3)] : drawn_steps[rng.integer(0, 2)];
+  const int moves = static_cast<int>(std::ceil(length / step));
+  const Vector3d u = (pass.end - pass.start).normalized();
+  std::vector<Vector3d> points;
+  for (int k = 0; k < moves; ++k) points.push_back(pass.start + (k * step) * u);
+  points.push_back(pass.end);
+  b.path(points);
+  box_around(b, {pass.start, pass.end}, t.tool.radius + 2.0, height);
+  b.expected_volume(b.stock_volume() - (length * section_below(t.tool, d) + volume_below(t.tool, d)));
+  blind_result(b, fmt::format("{}, depth {}, {} mm pass as {} moves of {} mm {}", t.word, d, length, moves,
+                              step, along_axis ? "along an axis" : "in a drawn direction"));
+}
+
 }  // namespace
 
 const std::vector<std::pair<std::string, Family>>& motion_family_table() {
@@ -637,6 +666,7 @@ const std::vector<std::pair<std::string, Family>>& motion_family_table() {
       {"self_crossing", self_crossing},
       {"mixed_tools", mixed_tools},
       {"mesh_stock", mesh_stock},
+      {"fine_steps", fine_steps},
   };
   return table;
 }

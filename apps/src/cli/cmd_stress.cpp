@@ -120,8 +120,8 @@ void register_stress_command(CLI::App& app) {
   command
       ->add_option("--families", options->families,
                    "Case families: classic (the default), motion (retrace, plunge_retract, reversal,\n"
-                   "submicron, arcs, cutout, self_crossing, mixed_tools: box stock; mesh_stock: a box as a\n"
-                   "mesh of slivers; every tool shape the generator builds), all, or family names\n"
+                   "submicron, arcs, cutout, self_crossing, mixed_tools, fine_steps: box stock; mesh_stock:\n"
+                   "a box as a mesh of slivers; every tool shape the generator builds), all, or family names\n"
                    "separated by commas")
       ->capture_default_str();
   command

@@ -5,7 +5,9 @@
 #include <morph/erode.h>
 #include <morph/exceptions.h>
 #include <morph/mesh_distance.h>
+#include <morph/quantize.h>
 #include <morph/sweep_distance.h>
+#include <morph/sweep_segments.h>
 #include <morph/topology.h>
 #include <tbb/parallel_for.h>
 
@@ -2488,17 +2490,18 @@ ErodeResult erode(const Job& job, const ErodeOptions& options) {
   // diagonal sqrt(2) h has sagitta 2 h^2 / (8 r) = h^2 / (4 r) <= 0.35 tol.
   Budget budget{0.35 * tolerance, std::sqrt(4.0 * min_radius * 0.35 * tolerance)};
 
-  // What the job will cost, before anything large is built: arcs split into segments first.
+  // What the job will cost, before anything large is built: arcs split into segments first,
+  // straight runs joined (below).
+  const int join_grid = grid_exponent_for(0.4 * tolerance);
   double segment_estimate = 0.0;
-  for (const Path& path : job.paths)
-    for (const Move& move : path.moves) segment_estimate += chord_count(move, arc_chord);
+  for (const auto& [tool, count] : sweep_segment_counts(job, arc_chord, join_grid)) segment_estimate += count;
   const double stock_triangles =
       job.stock.type == StockType::Mesh ? double(job.stock.mesh.triangles.size()) : 0.0;
   const double stock_bytes = kBytesPerStockTriangle * stock_triangles;
   check_memory_cap(
       options, tolerance,
       kBytesFixed + stock_bytes + stock_triangles * kBytesPerPatch + segment_estimate * kBytesPerSegment,
-      std::to_string(std::llround(segment_estimate)) + " segments after splitting arcs into chords, " +
+      std::to_string(std::llround(segment_estimate)) + " segments (arcs as chords, straight runs joined), " +
           std::to_string(std::llround(stock_triangles)) + " stock triangles");
   // Only now the stock's own structures, the largest allocation for a big mesh stock.
   if (job.stock.type == StockType::Mesh) ctx.stock_mesh.emplace(job.stock.mesh);
@@ -2507,8 +2510,11 @@ ErodeResult erode(const Job& job, const ErodeOptions& options) {
   const std::vector<const Move*> moves = job.moves();
   stats.moves = moves.size();
   std::size_t global = 0;
+  // A line going on straight along the line before it joins its segment, as in generator 2
+  // (sweep_segments.h): the same swept solid, and CAM output at a fine step costs its lines.
   for (const Path& path : job.paths) {
     int last = -1;
+    bool last_is_line = false;
     for (const Move& move : path.moves) {
       const int move_index = static_cast<int>(global++);
       const Tool& tool = job.tool_of(move);
@@ -2527,6 +2533,16 @@ ErodeResult erode(const Job& job, const ErodeOptions& options) {
         straight.start = seg.a;
         straight.end = seg.b;
         seg.box = swept_bounds(tool, straight);
+        if (last >= 0 && last_is_line && !move.is_arc() && ctx.segments[last].tool == &tool &&
+            ctx.segments[last].b == seg.a &&
+            goes_on_straight(ctx.segments[last].a, seg.a, seg.b, join_grid)) {
+          Segment& joined = ctx.segments[last];
+          joined.b = seg.b;
+          straight.start = joined.a;
+          joined.box = swept_bounds(tool, straight);
+          continue;
+        }
+        last_is_line = !move.is_arc();
         const int index = static_cast<int>(ctx.segments.size());
         if (last >= 0 && ctx.segments[last].tool == &tool &&
             (ctx.segments[last].b - seg.a).norm() <= 1e-9 * scale) {
