@@ -64,6 +64,8 @@ struct OwnFacetScratch {
 struct Worker {
   std::vector<SweepCulling::Scratch> scratch;
   OwnFacetScratch own_facet;
+  std::vector<char> stock_marks;           ///< per tool facet, all clear between uses
+  std::vector<ExactPlane> stock_reaching;  ///< a stock piece's cutter's planes that may reach it
   SweepPlaneCache planes;
   CarveStages stages;
 };
@@ -252,6 +254,10 @@ ConvexPiece own_facet(const OwnPlanes& own, int f, const std::vector<Vector3d>& 
         break;
       }
   });
+  // In decreasing rank (the same piece in any order): the tightest perturbations first, so the
+  // planes through a tool vertex where many facets meet (a fan about the ball's pole) do not pile
+  // up tiny edges there, each costing an exact tie at every later plane through it.
+  std::reverse(near.begin(), near.end());
   ConvexPiece piece = intersect(piece_in_stock(own.planes[f], stock), near);
   std::vector<ExactPlane>& reaching = scratch.reaching;
   reaching.clear();
@@ -354,7 +360,7 @@ class Carving {
       Worker& w = workers.local();
       const double start = thread_seconds();
       parts.clear();
-      const bool reached = subtract(piece, planes_of(j, w), parts);
+      const bool reached = subtract(piece, reaching_planes(piece, j, w), parts);
       ++w.stages.carve.cutters;
       w.stages.seconds_stock += thread_seconds() - start;
       if (!reached) continue;
@@ -471,6 +477,46 @@ class Carving {
   }
 
  private:
+  // Sweep j's planes that may reach the exact corners of `piece`, in their order (valid until the
+  // thread's next use). The others hold every corner strictly inside: with the piece only
+  // shrinking as it is clipped, they would leave every clip of subtract() unchanged, so it gives
+  // the same pieces without them. Found through the tool facets' groups (placed at either end,
+  // then each plane tested by itself), as own_facet()'s second loop does.
+  const std::vector<ExactPlane>& reaching_planes(const ConvexPiece& piece, std::uint32_t j, Worker& w) const {
+    const std::vector<ExactPlane>& all = planes_of(j, w);
+    const auto rounded = rounded_corners(piece);
+    if (!rounded) return all;
+    Ball ball = ball_of(rounded->first);
+    ball.second += rounded->second;
+    const std::vector<Ball> balls{ball};
+    const CarveSweep& s = sweeps_[j];
+    const auto [a, b] = s.tool->degenerate(s.from, s.to) ? std::pair{s.from, s.from}
+                                                         : SweepPolytopeBuilder::ordered(s.from, s.to);
+    const ToolFacetGroups& facet_groups = *groups_[group_of_[j]].facet_groups;
+    const std::size_t tool_facets = s.tool->tool().facets.size();
+    std::vector<char>& marks = w.stock_marks;
+    marks.resize(tool_facets, 0);
+    int lowest = static_cast<int>(tool_facets), highest = -1;
+    facet_groups.for_each_reaching(ball.first, ball.second, a, b, 0.0, [&](int k) {
+      marks[static_cast<std::size_t>(k)] = 1;
+      lowest = std::min(lowest, k);
+      highest = std::max(highest, k);
+      return true;
+    });
+    std::vector<ExactPlane>& out = w.stock_reaching;
+    out.clear();
+    auto keep = [&](std::size_t k) {
+      if (!below_in_balls(all[k], balls, 1e-9 * (1 + std::fabs(all[k].offset)))) out.push_back(all[k]);
+    };
+    for (int k = lowest; k <= highest; ++k)
+      if (marks[static_cast<std::size_t>(k)]) {
+        marks[static_cast<std::size_t>(k)] = 0;
+        keep(static_cast<std::size_t>(k));
+      }
+    for (std::size_t k = tool_facets; k < all.size(); ++k) keep(k);
+    return out;
+  }
+
   // Sweep j's planes, from this thread's cache (valid until its next use).
   const std::vector<ExactPlane>& planes_of(std::uint32_t j, Worker& w) const {
     return w.planes.get(

@@ -67,6 +67,10 @@ class RoughCorners {
   }
   // The last side()'s look at corner k (0 when unusable).
   int corner(std::size_t k) const { return usable_ ? corners_[k].look : 0; }
+  // The looks at the last side()'s plane flipped().
+  void flip_looks() {
+    for (Corner& c : corners_) c.look = -c.look;
+  }
 
  private:
   struct Corner {
@@ -140,6 +144,23 @@ ConvexPiece clip_with(const ConvexPiece& piece, const ExactPlane& plane, const R
   return out;
 }
 
+// intersect() by the planes in [first, last), in that order.
+template <class Iterator>
+ConvexPiece intersect_in_order(ConvexPiece piece, Iterator first, Iterator last) {
+  RoughCorners rough(piece);
+  std::vector<int> from_old;
+  for (; first != last; ++first) {
+    const ExactPlane& plane = *first;
+    if (piece.empty()) break;
+    const int quick = rough.side(plane);
+    if (quick < 0) continue;
+    if (quick > 0) return ConvexPiece{piece.support, {}};
+    piece = clip_with(piece, plane, &rough, &from_old);
+    if (!piece.empty()) rough = RoughCorners(piece, &rough, from_old);
+  }
+  return piece;
+}
+
 }  // namespace
 
 ExactPlane flipped(const ExactPlane& p) {
@@ -173,17 +194,7 @@ ConvexPiece clip(const ConvexPiece& piece, const ExactPlane& plane) {
 }
 
 ConvexPiece intersect(ConvexPiece piece, const std::vector<ExactPlane>& planes) {
-  RoughCorners rough(piece);
-  std::vector<int> from_old;
-  for (const ExactPlane& plane : planes) {
-    if (piece.empty()) break;
-    const int quick = rough.side(plane);
-    if (quick < 0) continue;
-    if (quick > 0) return ConvexPiece{piece.support, {}};
-    piece = clip_with(piece, plane, &rough, &from_old);
-    if (!piece.empty()) rough = RoughCorners(piece, &rough, from_old);
-  }
-  return piece;
+  return intersect_in_order(std::move(piece), planes.begin(), planes.end());
 }
 
 bool subtract(const ConvexPiece& piece, const std::vector<ExactPlane>& cutter,
@@ -196,7 +207,11 @@ bool subtract(const ConvexPiece& piece, const std::vector<ExactPlane>& cutter,
   // A piece the cutter does not reach stays whole: splitting it along planes that cross it
   // outside the cutter would only make fragments (and, for a retraced move's planes, which
   // coincide with the first pass's, vertices that round to the same point).
-  const ConvexPiece inside = intersect(piece, cutter);
+  // The part inside is the same set whatever the order; clipped in decreasing rank (a cutter's
+  // planes come in rank order) the tightest perturbations come first, so planes through one
+  // vertex (a tool vertex where many facets meet) do not pile up tiny edges there, each costing
+  // an exact tie at every later plane through it. Only its edges are read below.
+  const ConvexPiece inside = intersect_in_order(piece, cutter.rbegin(), cutter.rend());
   if (inside.empty()) {
     out.push_back(piece);
     return false;
@@ -209,12 +224,20 @@ bool subtract(const ConvexPiece& piece, const std::vector<ExactPlane>& cutter,
   }
   std::sort(bounding.begin(), bounding.end(),
             [](const ExactPlane& x, const ExactPlane& y) { return x.rank < y.rank; });
+  // The float look decides the corners it is sure of for both sides of each plane (the flipped
+  // plane's sides are exactly the opposite).
   ConvexPiece rest = piece;
+  RoughCorners rough(rest);
+  std::vector<int> from_old;
   for (const ExactPlane& plane : bounding) {
-    ConvexPiece outside = clip(rest, flipped(plane));
+    rough.side(plane);
+    ConvexPiece inner = clip_with(rest, plane, &rough, &from_old);
+    rough.flip_looks();
+    ConvexPiece outside = clip_with(rest, flipped(plane), &rough);
     if (!outside.empty()) out.push_back(std::move(outside));
-    rest = clip(rest, plane);
-    if (rest.empty()) break;
+    if (inner.empty()) break;
+    rough = RoughCorners(inner, &rough, from_old);
+    rest = std::move(inner);
   }
   return true;
 }
