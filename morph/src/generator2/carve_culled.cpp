@@ -15,6 +15,7 @@
 #include <memory>
 #include <optional>
 #include <tuple>
+#include <unordered_map>
 
 namespace morph {
 namespace {
@@ -66,6 +67,10 @@ struct Worker {
   OwnFacetScratch own_facet;
   std::vector<char> stock_marks;           ///< per tool facet, all clear between uses
   std::vector<ExactPlane> stock_reaching;  ///< a stock piece's cutter's planes that may reach it
+  /// The stock pieces' cutters, their planes made one at a time (a few kB each: the sides of
+  /// the tool's facets; all of a sweep's planes are ~1 MB at tolerance 1e-3, and a stock face
+  /// meets every sweep, more than the plane cache holds).
+  std::unordered_map<std::uint32_t, SweepPolytopeBuilder::Planes> stock_cutters;
   SweepPlaneCache planes;
   CarveStages stages;
 };
@@ -360,7 +365,7 @@ class Carving {
       Worker& w = workers.local();
       const double start = thread_seconds();
       parts.clear();
-      const bool reached = subtract(piece, reaching_planes(piece, j, w), parts);
+      const bool reached = subtract(piece, reaching_planes(piece, j, near.size(), w), parts);
       ++w.stages.carve.cutters;
       w.stages.seconds_stock += thread_seconds() - start;
       if (!reached) continue;
@@ -482,18 +487,22 @@ class Carving {
   // shrinking as it is clipped, they would leave every clip of subtract() unchanged, so it gives
   // the same pieces without them. Found through the tool facets' groups (placed at either end,
   // then each plane tested by itself), as own_facet()'s second loop does.
-  const std::vector<ExactPlane>& reaching_planes(const ConvexPiece& piece, std::uint32_t j, Worker& w) const {
-    const std::vector<ExactPlane>& all = planes_of(j, w);
+  // `cutters`: how many sweeps the stock face meets. When the plane cache cannot hold them all,
+  // asking it for each would rebuild every sweep's planes for every piece: then the planes are
+  // made one at a time, only those the groups list.
+  const std::vector<ExactPlane>& reaching_planes(const ConvexPiece& piece, std::uint32_t j,
+                                                 std::size_t cutters, Worker& w) const {
     const auto rounded = rounded_corners(piece);
-    if (!rounded) return all;
+    if (!rounded) return planes_of(j, w);
+    const CarveSweep& s = sweeps_[j];
+    const std::size_t tool_facets = s.tool->tool().facets.size();
+    const bool cached = cutters <= w.planes.sweeps_held(tool_facets);
     Ball ball = ball_of(rounded->first);
     ball.second += rounded->second;
     const std::vector<Ball> balls{ball};
-    const CarveSweep& s = sweeps_[j];
     const auto [a, b] = s.tool->degenerate(s.from, s.to) ? std::pair{s.from, s.from}
                                                          : SweepPolytopeBuilder::ordered(s.from, s.to);
     const ToolFacetGroups& facet_groups = *groups_[group_of_[j]].facet_groups;
-    const std::size_t tool_facets = s.tool->tool().facets.size();
     std::vector<char>& marks = w.stock_marks;
     marks.resize(tool_facets, 0);
     int lowest = static_cast<int>(tool_facets), highest = -1;
@@ -503,17 +512,33 @@ class Carving {
       highest = std::max(highest, k);
       return true;
     });
+    const std::vector<ExactPlane>* all = cached ? &planes_of(j, w) : nullptr;
+    const SweepPolytopeBuilder::Planes* planes = nullptr;
+    if (!cached) {
+      if (w.stock_cutters.size() > 4096) w.stock_cutters.clear();
+      auto found = w.stock_cutters.find(j);
+      if (found == w.stock_cutters.end())
+        found = w.stock_cutters.emplace(j, SweepPolytopeBuilder::Planes(*s.tool, s.from, s.to)).first;
+      planes = &found->second;
+    }
     std::vector<ExactPlane>& out = w.stock_reaching;
     out.clear();
     auto keep = [&](std::size_t k) {
-      if (!below_in_balls(all[k], balls, 1e-9 * (1 + std::fabs(all[k].offset)))) out.push_back(all[k]);
+      ExactPlane h;
+      if (all) {
+        h = (*all)[k];
+      } else {  // sweep_planes()' plane k, bit for bit
+        const Halfspace x = (*planes)[k];
+        h = ExactPlane{x.normal, x.offset, sweep_rank(j, static_cast<std::uint32_t>(k)), 1, x.exact};
+      }
+      if (!below_in_balls(h, balls, 1e-9 * (1 + std::fabs(h.offset)))) out.push_back(h);
     };
     for (int k = lowest; k <= highest; ++k)
       if (marks[static_cast<std::size_t>(k)]) {
         marks[static_cast<std::size_t>(k)] = 0;
         keep(static_cast<std::size_t>(k));
       }
-    for (std::size_t k = tool_facets; k < all.size(); ++k) keep(k);
+    for (std::size_t k = tool_facets, n = all ? all->size() : planes->size(); k < n; ++k) keep(k);
     return out;
   }
 

@@ -24,6 +24,11 @@ class SweepPlaneCache {
   /// that split them: a few hundred sweeps must stay held for those to be found again.
   explicit SweepPlaneCache(std::size_t bytes = std::size_t{64} << 20) : bytes_(bytes) {}
 
+  /// How many sweeps of `planes` planes each it holds.
+  std::size_t sweeps_held(std::size_t planes) const {
+    return std::max<std::size_t>(16, bytes_ / (sizeof(ExactPlane) * (planes + 1)));
+  }
+
   /// The planes of sweep `sweep`, from `make()` when not held. The reference is valid until the
   /// next call.
   template <class Make>
