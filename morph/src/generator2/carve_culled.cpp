@@ -80,6 +80,7 @@ using Workers = tbb::enumerable_thread_specific<Worker>;
 // region without testing them all: the tool's facet groups and the sweep's ordered ends.
 struct OwnPlanes {
   std::vector<ExactPlane> planes;
+  std::vector<double> lengths;  ///< of the planes' normals
   const ToolFacetGroups* groups = nullptr;
   Vector3d a, b;
   std::size_t tool_facets = 0;    ///< planes[k] for k below this is tool facet k placed at a or b
@@ -180,11 +181,13 @@ std::vector<Ball> covering_balls(const std::vector<Vector3d>& points, const OwnP
 
 // True when `plane`'s value is below -threshold everywhere in every ball, with room for the
 // rounding of this test and of any point's value in them (a millionth of the thresholds used).
-bool below_in_balls(const ExactPlane& plane, const std::vector<Ball>& balls, double threshold) {
-  const double length = plane.normal.norm();
+// `length`: the plane's normal's. (The rounding term takes the centre's 1-norm, above its length.)
+bool below_in_balls(const ExactPlane& plane, double length, const std::vector<Ball>& balls,
+                    double threshold) {
   for (const auto& [centre, radius] : balls) {
     const double top = plane.normal.dot(centre) - plane.offset + length * radius;
-    const double rounding = 1e-15 * (1 + std::fabs(plane.offset) + length * (centre.norm() + radius));
+    const double rounding =
+        1e-15 * (1 + std::fabs(plane.offset) + length * (centre.cwiseAbs().sum() + radius));
     if (!(top + rounding < -threshold)) return false;
   }
   return true;
@@ -250,7 +253,7 @@ ConvexPiece own_facet(const OwnPlanes& own, int f, const std::vector<Vector3d>& 
     const ExactPlane& h = own.planes[k];
     const double margin = 1e-9 * (1 + std::fabs(h.offset));
     // Below the smallest threshold in the balls is below each point's (a group's bound is loose).
-    if (below_in_balls(h, point_balls, margin * (1 + largest))) return;
+    if (below_in_balls(h, own.lengths[k], point_balls, margin * (1 + largest))) return;
     for (std::size_t i = 0; i < points.size(); ++i)
       if (h.normal.dot(points[i]) - h.offset > -margin * (1 + lengths[i])) {
         near.push_back(h);
@@ -277,7 +280,8 @@ ConvexPiece own_facet(const OwnPlanes& own, int f, const std::vector<Vector3d>& 
       const std::vector<Ball> balls = covering_balls(rounded->first, own, rounded->second);
       for_each_plane_reaching(own, balls, 0.0, scratch.marks, [&](std::size_t k) {
         const ExactPlane& h = own.planes[k];
-        if (!applied[k] && !below_in_balls(h, balls, 1e-9 * (1 + std::fabs(h.offset)))) reaching.push_back(h);
+        if (!applied[k] && !below_in_balls(h, own.lengths[k], balls, 1e-9 * (1 + std::fabs(h.offset))))
+          reaching.push_back(h);
       });
     }
   }
@@ -423,7 +427,10 @@ class Carving {
     own.group_ends.assign(own.groups->size(), 0);
     for (std::size_t i = 0; i < own.groups->size(); ++i)
       for (int k : group.facet_members[i]) own.group_ends[i] |= own.at_b[k] ? 2 : 1;
-    for (const ExactPlane& h : own.planes) own.max_offset = std::max(own.max_offset, std::fabs(h.offset));
+    for (const ExactPlane& h : own.planes) {
+      own.max_offset = std::max(own.max_offset, std::fabs(h.offset));
+      own.lengths.push_back(h.normal.norm());
+    }
     // This move's cutters' planes, made only where a cutter crosses a kept facet (sweep_planes()'
     // planes at those indices).
     std::map<std::uint32_t, SweepPolytopeBuilder::Planes> cutter_planes;
@@ -531,7 +538,7 @@ class Carving {
         const Halfspace x = (*planes)[k];
         h = ExactPlane{x.normal, x.offset, sweep_rank(j, static_cast<std::uint32_t>(k)), 1, x.exact};
       }
-      if (!below_in_balls(h, balls, 1e-9 * (1 + std::fabs(h.offset)))) out.push_back(h);
+      if (!below_in_balls(h, h.normal.norm(), balls, 1e-9 * (1 + std::fabs(h.offset)))) out.push_back(h);
     };
     for (int k = lowest; k <= highest; ++k)
       if (marks[static_cast<std::size_t>(k)]) {
