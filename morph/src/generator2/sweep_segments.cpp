@@ -2,7 +2,6 @@
 #include <morph/quantize.h>
 #include <morph/sweep_segments.h>
 
-#include <cstdlib>
 #include <optional>
 
 namespace morph {
@@ -20,7 +19,7 @@ std::optional<GridPoint> difference(const GridPoint& to, const GridPoint& from) 
 }
 
 // The joining rules of the file comment, applied one segment at a time, over a list that keeps
-// either every segment (sweep_segments) or only the last (sweep_segment_count).
+// either every segment (sweep_segments) or only counts (sweep_segment_counts).
 class SegmentJoiner {
  public:
   explicit SegmentJoiner(int grid_exponent) : grid_(grid_exponent) {}
@@ -60,8 +59,6 @@ class SegmentJoiner {
     last_ = s;
     last_is_line_ = false;
   }
-
-  const SweepSegment& last() const { return last_; }
 
  private:
   int grid_;
