@@ -16,6 +16,9 @@
 
 namespace morph {
 
+/// Halfspace k of sweep `move` as an exact plane, ranked sweep_rank(move, k).
+ExactPlane sweep_plane(const Halfspace& halfspace, std::uint32_t move, std::uint32_t k);
+
 /// One sweep polytope's halfspaces as exact planes, ranked sweep_rank(move, k) in their order.
 std::vector<ExactPlane> sweep_planes(const std::vector<Halfspace>& halfspaces, std::uint32_t move);
 

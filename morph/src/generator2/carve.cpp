@@ -45,12 +45,15 @@ void sort_pieces(std::vector<ConvexPiece>& pieces) {
   });
 }
 
+ExactPlane sweep_plane(const Halfspace& halfspace, std::uint32_t move, std::uint32_t k) {
+  return ExactPlane{halfspace.normal, halfspace.offset, sweep_rank(move, k), 1, halfspace.exact};
+}
+
 std::vector<ExactPlane> sweep_planes(const std::vector<Halfspace>& halfspaces, std::uint32_t move) {
   std::vector<ExactPlane> planes;
   planes.reserve(halfspaces.size());
   for (std::size_t k = 0; k < halfspaces.size(); ++k)
-    planes.push_back(ExactPlane{halfspaces[k].normal, halfspaces[k].offset,
-                                sweep_rank(move, static_cast<std::uint32_t>(k)), 1, halfspaces[k].exact});
+    planes.push_back(sweep_plane(halfspaces[k], move, static_cast<std::uint32_t>(k)));
   return planes;
 }
 

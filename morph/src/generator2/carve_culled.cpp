@@ -464,8 +464,7 @@ class Carving {
         std::vector<ExactPlane> planes;
         for (int h : c.planes) {
           const Halfspace x = found->second[h];
-          planes.push_back(
-              ExactPlane{x.normal, x.offset, sweep_rank(j, static_cast<std::uint32_t>(h)), 1, x.exact});
+          planes.push_back(sweep_plane(x, j, static_cast<std::uint32_t>(h)));
         }
         cutters.emplace_back(j, std::move(planes));
       }
@@ -543,7 +542,7 @@ class Carving {
         h = (*all)[k];
       } else {  // sweep_planes()' plane k, bit for bit
         const Halfspace x = (*planes)[k];
-        h = ExactPlane{x.normal, x.offset, sweep_rank(j, static_cast<std::uint32_t>(k)), 1, x.exact};
+        h = sweep_plane(x, j, static_cast<std::uint32_t>(k));
       }
       if (!below_in_balls(h, h.normal.norm(), balls, 1e-9 * (1 + std::fabs(h.offset)))) out.push_back(h);
     };
