@@ -74,8 +74,14 @@ class SweepCulling {
 
  public:
   /// A facet of a candidate sweep as the plane tests need it: its halfspace and its box.
+  /// A face's plane as the culling reads it: its float look alone (the exact plane is the
+  /// carving's), so that a candidate's faces, read in scattered order, take half the memory.
+  struct FacePlane {
+    Eigen::Vector3d normal;
+    double offset;
+  };
   struct Face {
-    Halfspace plane;
+    FacePlane plane;
     Eigen::AlignedBox3d box;  ///< grown by the rounding bound
   };
   /// A candidate sweep's faces, in facet order, with what finds them from the tool's facets
@@ -93,6 +99,8 @@ class SweepCulling {
     std::vector<std::pair<std::uint32_t, Faces>> recent_;
     std::size_t next_ = 0;
     std::vector<int> near_faces_;
+    std::vector<int> planes_;        ///< against()'s crossing planes
+    std::vector<int> candidate_of_;  ///< per move, its index among cull()'s candidates (-1 between calls)
     std::vector<const Candidate*> open_;  ///< decide()'s candidates left for the halfspaces
   };
 

@@ -17,7 +17,7 @@ namespace {
 using Eigen::AlignedBox3d;
 using Eigen::Vector3d;
 
-bool same_plane(const Halfspace& p, const Halfspace& q) {
+bool same_plane(const SweepCulling::FacePlane& p, const SweepCulling::FacePlane& q) {
   return p.normal == q.normal && p.offset == q.offset;
 }
 
@@ -51,7 +51,7 @@ std::optional<Vector3d> clipped_centroid(std::vector<Vector3d> polygon,
                                          const std::vector<int>& meeting) {
   std::vector<Vector3d> below;
   for (int h : meeting) {
-    const Halfspace& plane = faces[h].plane;
+    const SweepCulling::FacePlane& plane = faces[h].plane;
     below.clear();
     for (std::size_t k = 0; k < polygon.size(); ++k) {
       const Vector3d &x = polygon[k], &y = polygon[(k + 1) % polygon.size()];
@@ -97,7 +97,7 @@ struct SweepCulling::Placed {
   double radius = 0.0;
   Vector3d from, to;  // the facet lies within `thickness` of the segment [from, to]
   double thickness = 0.0;
-  Halfspace plane;
+  FacePlane plane;
   ClusterKey cluster{};
 };
 
@@ -210,7 +210,8 @@ void SweepCulling::place(std::size_t i, std::vector<Placed>& facets) const {
     p.facet = index;
     p.edge = static_cast<int>(e);
     ++index;
-    p.plane = sweeps_.silhouette_look(edges[e], a, motion);  // the culling reads the look alone
+    const Halfspace look = sweeps_.silhouette_look(edges[e], a, motion);  // the culling reads the look alone
+    p.plane = {look.normal, look.offset};
     p.box = AlignedBox3d(u + a);
     p.box.extend(w + a).extend(u + b).extend(w + b);
     p.centre = 0.5 * (u + w) + middle;
@@ -268,7 +269,7 @@ SweepCulling::Against SweepCulling::against(const Placed& p, std::size_t i, std:
                                             std::vector<int>& near_faces, std::vector<int>& planes,
                                             CullingCounts& counts) const {
   const std::vector<Face>& faces = candidate.face;
-  auto value = [](const Halfspace& h, const Vector3d& x) { return h.normal.dot(x) - h.offset; };
+  auto value = [](const FacePlane& h, const Vector3d& x) { return h.normal.dot(x) - h.offset; };
   // A face in the facet's own plane is the tie: below an earlier polytope's plane, above a later one's.
   // Only the same tool facet, or a silhouette face, can have the facet's plane bit for bit.
   int tie_face = -1;
@@ -461,12 +462,13 @@ SweepCulling::Culled SweepCulling::decide(const Placed& p, std::size_t i, const 
   }
   for (const Candidate* c : open) {
     ++counts.plane_tests;
-    FacetCutter cutter{c->move, {}};
+    // The planes go to the scratch first: most candidates turn out apart, and a new list for each
+    // grew one allocation at a time.
     const Against verdict = against(p, i, c->move, vertices, faces(c->move, scratch, counts),
-                                    scratch.near_faces_, cutter.planes, counts);
+                                    scratch.near_faces_, scratch.planes_, counts);
     if (verdict == Against::Apart) continue;
     if (verdict == Against::Inside) return Culled::Planes;
-    keep.cutters.push_back(std::move(cutter));
+    keep.cutters.push_back(FacetCutter{c->move, scratch.planes_});
   }
   return Culled::Open;
 }
@@ -538,6 +540,10 @@ std::vector<KeptFacet> SweepCulling::cull(std::size_t i, CullingCounts& counts, 
   std::sort(live.begin(), live.end(), [](const Placed& x, const Placed& y) {
     return x.cluster < y.cluster || (x.cluster == y.cluster && x.facet < y.facet);
   });
+  // Each move's index in `candidates` (-1: none), for the clusters' look-ups; cleared on return.
+  std::vector<int>& candidate_of = scratch.candidate_of_;
+  candidate_of.resize(moves_.size(), -1);
+  for (std::size_t k = 0; k < candidates.size(); ++k) candidate_of[candidates[k].move] = static_cast<int>(k);
   std::vector<KeptFacet> kept;
   std::vector<const Candidate*> near, reaching;
   const Candidate* last_hider = nullptr;
@@ -559,9 +565,8 @@ std::vector<KeptFacet> SweepCulling::cull(std::size_t i, CullingCounts& counts, 
     if (!hidden)
       tree_->for_each_overlapping(
           AlignedBox3d(centre.array() - radius, centre.array() + radius), [&](std::size_t j) {
-            const auto c = std::lower_bound(candidates.begin(), candidates.end(), j,
-                                            [](const Candidate& x, std::size_t m) { return x.move < m; });
-            if (c != candidates.end() && c->move == j) reaching.push_back(&*c);
+            if (candidate_of[j] >= 0)
+              reaching.push_back(&candidates[static_cast<std::size_t>(candidate_of[j])]);
           });
     std::sort(reaching.begin(), reaching.end());  // candidates are in move order
     for (const Candidate* c : reaching) {
@@ -601,6 +606,7 @@ std::vector<KeptFacet> SweepCulling::cull(std::size_t i, CullingCounts& counts, 
       }
     }
   }
+  for (const Candidate& c : candidates) candidate_of[c.move] = -1;
   std::sort(kept.begin(), kept.end(),
             [](const KeptFacet& x, const KeptFacet& y) { return x.facet < y.facet; });
   return kept;
