@@ -4,6 +4,7 @@
 #include <morph/degenerate_collapse.h>
 #include <morph/emit.h>
 #include <morph/erode2.h>
+#include <morph/error_budget.h>
 #include <morph/exceptions.h>
 #include <morph/quantize.h>
 #include <morph/sweep_polytope.h>
@@ -64,19 +65,19 @@ ErodeResult erode2(const Job& job, const ErodeOptions& options) {
   stats.moves = job.move_count();
   // Ends on the tools' grid (quantize.h), so the sweeps' planes are exact there; straight runs
   // joined (sweep_segments.h).
-  const int grid = grid_exponent_for(0.4 * tolerance);  // the tool polytopes' (tool_polytope.h)
-  const std::vector<SweepSegment> segments = sweep_segments(job, 0.4 * tolerance, grid);
+  const ErrorBudget budget = error_budget(job, tolerance);
+  const std::vector<SweepSegment> segments = sweep_segments(job, budget.chords, budget.grid_exponent);
   stats.segments = segments.size();
 
-  // One polytope per tool, within 0.4 of the tolerance of the exact tool.
+  // One polytope per tool, within its share of the tolerance of the exact tool.
   std::map<int, std::unique_ptr<SweepPolytopeBuilder>> builders;
   for (const SweepSegment& s : segments)
     if (!builders.count(s.tool))
-      builders.emplace(
-          s.tool, std::make_unique<SweepPolytopeBuilder>(
-                      tool_polytope(job.tool_of(*job.moves()[s.move]).profile, 0.4 * tolerance).polytope));
-  // The rest of the tolerance: a cylinder's prism, a mesh's vertices on a grid within 0.2 of it.
-  const StockPolytope stock_polytope = generator2_stock(job.stock, 0.2 * tolerance);
+      builders.emplace(s.tool,
+                       std::make_unique<SweepPolytopeBuilder>(
+                           tool_polytope(job.tool_of(*job.moves()[s.move]).profile, budget.tool).polytope));
+  // The stock's share: a cylinder's prism, a mesh's vertices on a grid.
+  const StockPolytope stock_polytope = generator2_stock(job.stock, budget.stock);
   const Eigen::AlignedBox3d stock = stock_polytope.bounds;
   std::vector<CarveSweep> sweeps;
   std::vector<std::int32_t> move_index, move_line;
