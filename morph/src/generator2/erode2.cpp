@@ -16,6 +16,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <ctime>
 #include <map>
 #include <memory>
 
@@ -39,6 +40,13 @@ std::vector<StepCount> steps_counted(const LimitCounts& limit, const EmitCounts&
           {"rounding_flipped_edges", rounding.flipped_edges, true},
           {"rounding_rerounded_vertices", rounding.rerounded_vertices, true},
           {"rounding_misoriented_left", rounding.misoriented_left, true}};
+}
+
+// CPU seconds of the process, all threads.
+double process_cpu_seconds() {
+  timespec t{};
+  clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &t);
+  return static_cast<double>(t.tv_sec) + 1e-9 * static_cast<double>(t.tv_nsec);
 }
 
 }  // namespace
@@ -108,10 +116,18 @@ ErodeResult erode2(const Job& job, const ErodeOptions& options) {
   stats.patches_kept = pieces.size();
   stats.seconds_trim = seconds_since(start) - stats.seconds_setup;
 
+  double cpu = process_cpu_seconds();
   const ConformedSurface surface = conform(pieces, options.policy);
+  const double conform_cpu = process_cpu_seconds() - cpu;
+  cpu = process_cpu_seconds();
   const LimitSurface limit = collapse_degenerates(surface);
   EmitCounts rounding;
   result.mesh = emit(limit, move_index, move_line, &rounding);
+  stats.stage_cpu_seconds = {{"cull", stages.seconds_cull},
+                             {"kept_facets", stages.seconds_facets},
+                             {"stock_faces", stages.seconds_stock},
+                             {"conform", conform_cpu},
+                             {"limit_and_emit", process_cpu_seconds() - cpu}};
   stats.steps = steps_counted(limit.counts, rounding);
   stats.triangles = result.mesh.triangle_count();
   stats.vertices = result.mesh.vertex_count();
