@@ -111,6 +111,12 @@ TEST(GeneratorChoice, VerifyRunsTheGeneratorChosen) {
   const auto summary = nlohmann::json::parse(slurp(dir / "auto.json"));
   EXPECT_EQ(summary.at("generator_asked"), "auto");
   EXPECT_EQ(summary.at("generator"), 2);
+  // Where generator 2's CPU time went: every stage named, none negative, and the carving's three
+  // stages ran (a flat end mill's slot has facets to cull and carve, and a stock to cut).
+  const auto& stages = summary.at("stage_cpu_seconds");
+  for (const char* stage : {"cull", "kept_facets", "stock_faces", "conform", "limit_and_emit"})
+    EXPECT_GE(stages.at(stage).get<double>(), 0.0) << stage;
+  EXPECT_GT(stages.at("cull").get<double>() + stages.at("kept_facets").get<double>(), 0.0) << stages.dump();
   EXPECT_NE(summary.at("generator_choice")
                 .get<std::string>()
                 .find("generator 1 builds spheres and ball ends only, and the move at line"),

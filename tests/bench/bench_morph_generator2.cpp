@@ -13,6 +13,7 @@
 #include <morph/degenerate_collapse.h>
 #include <morph/emit.h>
 #include <morph/erode2.h>
+#include <morph/error_budget.h>
 #include <morph/quantize.h>
 #include <morph/sweep_segments.h>
 #include <morph/tool_polytope.h>
@@ -56,13 +57,13 @@ void BM_Generator2(benchmark::State& state) {
   tbb::task_arena arena(2);
   for (auto _ : state) {
     double wall = wall_seconds(), cpu = process_seconds();
+    const morph::ErrorBudget budget = morph::error_budget(job, job.tolerance);
     const morph::SweepPolytopeBuilder builder(
-        morph::tool_polytope(job.tools.at(1).profile, 0.4 * job.tolerance).polytope);
+        morph::tool_polytope(job.tools.at(1).profile, budget.tool).polytope);
     std::vector<morph::CarveSweep> sweeps;
     // The segments erode2 sweeps (ends on the tool's grid, straight runs joined): the exact path
     // users run.
-    for (const morph::SweepSegment& s :
-         morph::sweep_segments(job, 0.4 * job.tolerance, morph::grid_exponent_for(0.4 * job.tolerance)))
+    for (const morph::SweepSegment& s : morph::sweep_segments(job, budget.chords, budget.grid_exponent))
       sweeps.push_back({&builder, s.from, s.to});
     const double tool_cpu = process_seconds() - cpu;
     morph::CarveStages stages;

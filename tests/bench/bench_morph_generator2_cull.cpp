@@ -9,6 +9,7 @@
 // Times are this thread's CPU seconds; s_cull_wall_2threads is the culling's wall time on 2 TBB
 // threads (inflated when the machine is shared).
 #include <benchmark/benchmark.h>
+#include <morph/error_budget.h>
 #include <morph/joint_culling.h>
 #include <morph/sweep_culling.h>
 #include <morph/tool_polytope.h>
@@ -40,7 +41,7 @@ void BM_Generator2CullBear(benchmark::State& state) {
       state.SkipWithError("the culling takes straight moves only");
       return;
     }
-  const double deviation = 0.4 * job.tolerance;  // the tool's share of the budget (design §3)
+  const double deviation = morph::error_budget(job, job.tolerance).tool;  // the tool's share
   const Eigen::AlignedBox3d& stock = job.stock.box;
   const Plane stock_planes[6] = {
       {-Vector3d::UnitX(), -stock.min().x()}, {Vector3d::UnitX(), stock.max().x()},

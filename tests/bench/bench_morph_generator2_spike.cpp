@@ -16,6 +16,7 @@
 #include <benchmark/benchmark.h>
 #include <morph/aabb_tree.h>
 #include <morph/erode.h>
+#include <morph/error_budget.h>
 #include <morph/gcode.h>
 #include <morph/sweep_distance.h>
 #include <morph/sweep_polytope.h>
@@ -239,7 +240,7 @@ void BM_Generator2SpikeBear(benchmark::State& state) {
       state.SkipWithError("the spike takes straight moves only");
       return;
     }
-  const double deviation = 0.4 * job.tolerance;  // the tool's share of the budget (design §3)
+  const double deviation = morph::error_budget(job, job.tolerance).tool;  // the tool's share
   for (auto _ : state) {
     Counts counts;
     double start = thread_seconds();

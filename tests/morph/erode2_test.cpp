@@ -3,6 +3,7 @@
 // volume against closed forms where there is one. The jobs of ../shared/repro/generator/ are
 // rebuilt here (same stock, tool and path), at a coarser tolerance to keep the test short.
 #include <morph/erode2.h>
+#include <morph/error_budget.h>
 #include <morph/exceptions.h>
 #include <morph/sweep_polytope.h>
 #include <morph/tool.h>
@@ -46,19 +47,21 @@ void expect_closed(const Outcome& o, const char* what) {
   EXPECT_EQ(o.result.mesh.tags.size(), o.result.mesh.triangle_count());
 }
 
-// The tool polytope erode2 uses (0.4 of the tolerance).
-morph::ConvexPolytope polytope_of(const morph::Tool& tool, double tolerance = 0.05) {
-  return morph::tool_polytope(tool.profile, 0.4 * tolerance).polytope;
+// The tool polytope erode2 uses for `job` (its share of the tolerance, error_budget.h).
+morph::ConvexPolytope polytope_of(const morph::Job& job) {
+  return morph::tool_polytope(job.tools.begin()->second.profile, morph::error_budget(job, job.tolerance).tool)
+      .polytope;
 }
 
 TEST(Erode2, MoveInsideTheStockIsACavityOfTheSweepsVolume) {
   const Eigen::AlignedBox3d box(Vector3d(0, 0, 0), Vector3d(20, 10, 10));
   const morph::Tool tool = morph::ball_tool(1.5, 4.0);
   const Vector3d a(5, 5, 3), b(15, 6, 4);
-  const Outcome o = run(job_of(box, tool, {a, b}));
+  const morph::Job job = job_of(box, tool, {a, b});
+  const Outcome o = run(job);
   expect_closed(o, "cavity");
   EXPECT_EQ(o.topology.components, 2u);
-  const morph::ConvexPolytope sweep = morph::sweep_polytope(polytope_of(tool), a, b);
+  const morph::ConvexPolytope sweep = morph::sweep_polytope(polytope_of(job), a, b);
   EXPECT_NEAR(o.topology.volume, box.volume() - sweep.volume(), 1e-9 * box.volume());
 }
 
@@ -81,7 +84,8 @@ TEST(Erode2, SlotThroughThePlateAndBack) {
     // The removed part: the sweep within the stock, by Cavalieri: the polytope's volume is
     // V(P) + L·A⊥(P, u), and its part inside the stock the same at the stock's faces; check
     // the removed volume is below the whole sweep's and above the slot's straight part.
-    const morph::ConvexPolytope p = polytope_of(tool);
+    const morph::ConvexPolytope p =
+        polytope_of(job_of(box, tool, {Vector3d(20, -5, z), Vector3d(20, 15, z)}));
     const double removed = box.volume() - there.topology.volume;
     EXPECT_GT(removed, 0);
     EXPECT_LT(removed, morph::sweep_polytope(p, Vector3d(20, -5, z), Vector3d(20, 15, z)).volume());
@@ -135,7 +139,8 @@ TEST(Erode2, PlungeAndRetractIsThePlunge) {
       EXPECT_EQ(both.result.mesh.triangle_count(), plunge.result.mesh.triangle_count());
     }
     if (bottom < 0) {  // through: a prism of the tool's widest cross-section, 10 deep
-      const morph::ConvexPolytope p = polytope_of(tool);
+      const morph::ConvexPolytope p =
+          polytope_of(job_of(box, tool, {Vector3d(20, 15, 20), Vector3d(20, 15, bottom)}));
       double section = 0;  // the polytope's projection along z: its widest ring
       const Vector3d down(0, 0, 1);
       section = p.projected_area(down);

@@ -3,6 +3,7 @@
 // and a cylinder stock is carved by the same code as the box, closed, with the volume of the
 // closed forms (uncut; a cavity, against the prism's exact volume; a level slot across the top).
 #include <morph/erode2.h>
+#include <morph/error_budget.h>
 #include <morph/exceptions.h>
 #include <morph/stock_polytope.h>
 #include <morph/sweep_polytope.h>
@@ -135,9 +136,9 @@ TEST(StockPolytope, CavityInACylinderStockIsThePrismMinusTheSweep) {
       job_of(cylinder(Vector3d(0, 0, 0), Vector3d::UnitZ(), radius, height), tool, {a, b}, tolerance);
   const morph::TopologyReport t = closed_surface(job, "cavity");
   EXPECT_EQ(t.components, 2u);
-  const morph::ConvexPolytope sweep =
-      morph::sweep_polytope(morph::tool_polytope(tool.profile, 0.4 * tolerance).polytope, a, b);
-  const int sides = morph::cylinder_sides(radius, 0.2 * tolerance);
+  const morph::ConvexPolytope sweep = morph::sweep_polytope(
+      morph::tool_polytope(tool.profile, morph::error_budget(job, tolerance).tool).polytope, a, b);
+  const int sides = morph::cylinder_sides(radius, morph::error_budget(job, tolerance).stock);
   EXPECT_NEAR(t.volume, prism_volume(radius, height, sides) - sweep.volume(), 1e-9 * t.volume);
 }
 

@@ -55,6 +55,13 @@ nlohmann::json steps_json(const morph::ErodeStats& stats, bool fallbacks) {
   return out;
 }
 
+// Stage -> CPU seconds (generator 2; empty for generator 1).
+nlohmann::json stage_cpu_json(const morph::ErodeStats& stats) {
+  nlohmann::json out = nlohmann::json::object();
+  for (const auto& [stage, seconds] : stats.stage_cpu_seconds) out[stage] = seconds;
+  return out;
+}
+
 // "none" or "3 (rounding_flipped_edges 2, limit_kept_apart 1)": the steps of one kind that fired.
 std::string describe_steps(const morph::ErodeStats& stats, bool fallbacks) {
   std::size_t total = 0;
@@ -103,6 +110,7 @@ nlohmann::json summary_json(const ErodeCommandOptions& options, const morph::Job
             {"trim", s.seconds_trim},
             {"assemble", s.seconds_assemble},
             {"total", s.seconds_total}}},
+          {"stage_cpu_seconds", stage_cpu_json(s)},
           {"estimated_bytes", s.estimated_bytes},
           {"output", written ? nlohmann::json(options.mesh_path) : nlohmann::json(nullptr)}};
 }
@@ -197,8 +205,13 @@ void run_erode(const ErodeCommandOptions& options) {
               << "  memory: estimated " << describe_bytes(s.estimated_bytes) << " up front (" << s.segments
               << " segments, " << s.patches << " patches";
     if (generated.generator == 1) std::cout << ", " << std::setprecision(0) << s.grid_cells << " grid cells";
-    std::cout << ")\n"
-              << "  fallbacks fired: " << describe_steps(s, true);
+    std::cout << ")\n";
+    if (!s.stage_cpu_seconds.empty()) {
+      std::cout << "  CPU s by stage:";
+      for (const auto& [stage, seconds] : s.stage_cpu_seconds) std::cout << ' ' << stage << ' ' << seconds;
+      std::cout << '\n';
+    }
+    std::cout << "  fallbacks fired: " << describe_steps(s, true);
     if (std::any_of(s.steps.begin(), s.steps.end(),
                     [](const morph::StepCount& step) { return !step.fallback; }))
       std::cout << "; exact limit steps: " << describe_steps(s, false);

@@ -48,9 +48,10 @@ struct StepCount {
 };
 
 struct ErodeStats {
-  std::size_t moves = 0;                    ///< moves of the job
-  std::size_t moves_touching_stock = 0;     ///< moves whose swept bounds meet the stock bounds
-  std::size_t segments = 0;                 ///< straight pieces after splitting arcs by chord tolerance (generator 2: straight runs joined)
+  std::size_t moves = 0;                 ///< moves of the job
+  std::size_t moves_touching_stock = 0;  ///< moves whose swept bounds meet the stock bounds
+  std::size_t segments =
+      0;  ///< straight pieces after splitting arcs by chord tolerance (generator 2: straight runs joined)
   std::size_t patches = 0;                  ///< parametric patches considered
   std::size_t patches_kept = 0;             ///< patches that left at least one triangle
   std::size_t triangles = 0;                ///< output triangles
@@ -66,6 +67,9 @@ struct ErodeStats {
   double seconds_total = 0.0;
   double grid_cells = 0.0;       ///< cells of the patches' tessellation grids before trimming
   double estimated_bytes = 0.0;  ///< the up-front estimate of the peak memory
+  /// Generator 2: CPU seconds of each stage summed over the threads, in stage order (what a long
+  /// job spends where; empty for generator 1).
+  std::vector<std::pair<std::string, double>> stage_cpu_seconds;
   /// Every counted step, fallbacks and exact steps, in a fixed order per generator (all listed,
   /// also when 0).
   std::vector<StepCount> steps;

@@ -3,12 +3,12 @@
 /// \file erode2.h
 /// Generator 2 (issue 18): the boundary of the stock minus the union of the moves' convex sweep
 /// polytopes, closed, oriented and manifold by construction (exact plane predicates and one tie
-/// order: carve.h, conform.h, emit.h). Arcs become chords within 0.4 of the tolerance, the tool a
-/// polytope within 0.4 of it (tool_polytope.h). The culling stage (sweep_culling.h) decides which
+/// order: carve.h, conform.h, emit.h). Arcs become chords and the tool a polytope, each within its
+/// share of the tolerance (error_budget.h, tool_polytope.h). The culling stage (sweep_culling.h) decides which
 /// facets and cutters the exact carving sees (carve_culled.h), in parallel under options.policy.
-/// A box stock is its six planes; a cylinder a prism within 0.2 of the tolerance of it
+/// A box stock is its six planes; a cylinder a prism within the stock's share of it
 /// (stock_polytope.h), carved by the same code; a mesh stock its triangles, their vertices on a
-/// grid within 0.2 of the tolerance (stock_mesh.h), the sweeps' pieces kept where inside it.
+/// grid within that share (stock_mesh.h), the sweeps' pieces kept where inside it.
 #include <morph/erode.h>
 
 namespace morph {
@@ -27,8 +27,8 @@ struct Erode2Estimate {
   double bytes = 0.0;            ///< estimated peak resident memory of the process
 };
 
-/// The estimate at `tolerance` (job units; the tool polytopes and arc chords within 0.4 of it,
-/// as erode2 builds them). Throws LimitError when a tool polytope alone would be too large.
+/// The estimate at `tolerance` (job units; the tool polytopes and arc chords within their shares
+/// of it, error_budget.h, as erode2 builds them). Throws LimitError when a tool polytope alone would be too large.
 Erode2Estimate estimate_erode2(const Job& job, double tolerance);
 
 }  // namespace morph

@@ -4,6 +4,7 @@
 #include <morph/degenerate_collapse.h>
 #include <morph/emit.h>
 #include <morph/erode2.h>
+#include <morph/error_budget.h>
 #include <morph/exceptions.h>
 #include <morph/quantize.h>
 #include <morph/sweep_polytope.h>
@@ -15,6 +16,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <ctime>
 #include <map>
 #include <memory>
 
@@ -38,6 +40,13 @@ std::vector<StepCount> steps_counted(const LimitCounts& limit, const EmitCounts&
           {"rounding_flipped_edges", rounding.flipped_edges, true},
           {"rounding_rerounded_vertices", rounding.rerounded_vertices, true},
           {"rounding_misoriented_left", rounding.misoriented_left, true}};
+}
+
+// CPU seconds of the process, all threads.
+double process_cpu_seconds() {
+  timespec t{};
+  clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &t);
+  return static_cast<double>(t.tv_sec) + 1e-9 * static_cast<double>(t.tv_nsec);
 }
 
 }  // namespace
@@ -64,19 +73,19 @@ ErodeResult erode2(const Job& job, const ErodeOptions& options) {
   stats.moves = job.move_count();
   // Ends on the tools' grid (quantize.h), so the sweeps' planes are exact there; straight runs
   // joined (sweep_segments.h).
-  const int grid = grid_exponent_for(0.4 * tolerance);  // the tool polytopes' (tool_polytope.h)
-  const std::vector<SweepSegment> segments = sweep_segments(job, 0.4 * tolerance, grid);
+  const ErrorBudget budget = error_budget(job, tolerance);
+  const std::vector<SweepSegment> segments = sweep_segments(job, budget.chords, budget.grid_exponent);
   stats.segments = segments.size();
 
-  // One polytope per tool, within 0.4 of the tolerance of the exact tool.
+  // One polytope per tool, within its share of the tolerance of the exact tool.
   std::map<int, std::unique_ptr<SweepPolytopeBuilder>> builders;
   for (const SweepSegment& s : segments)
     if (!builders.count(s.tool))
-      builders.emplace(
-          s.tool, std::make_unique<SweepPolytopeBuilder>(
-                      tool_polytope(job.tool_of(*job.moves()[s.move]).profile, 0.4 * tolerance).polytope));
-  // The rest of the tolerance: a cylinder's prism, a mesh's vertices on a grid within 0.2 of it.
-  const StockPolytope stock_polytope = generator2_stock(job.stock, 0.2 * tolerance);
+      builders.emplace(s.tool,
+                       std::make_unique<SweepPolytopeBuilder>(
+                           tool_polytope(job.tool_of(*job.moves()[s.move]).profile, budget.tool).polytope));
+  // The stock's share: a cylinder's prism, a mesh's vertices on a grid.
+  const StockPolytope stock_polytope = generator2_stock(job.stock, budget.stock);
   const Eigen::AlignedBox3d stock = stock_polytope.bounds;
   std::vector<CarveSweep> sweeps;
   std::vector<std::int32_t> move_index, move_line;
@@ -107,10 +116,18 @@ ErodeResult erode2(const Job& job, const ErodeOptions& options) {
   stats.patches_kept = pieces.size();
   stats.seconds_trim = seconds_since(start) - stats.seconds_setup;
 
+  double cpu = process_cpu_seconds();
   const ConformedSurface surface = conform(pieces, options.policy);
+  const double conform_cpu = process_cpu_seconds() - cpu;
+  cpu = process_cpu_seconds();
   const LimitSurface limit = collapse_degenerates(surface);
   EmitCounts rounding;
   result.mesh = emit(limit, move_index, move_line, &rounding);
+  stats.stage_cpu_seconds = {{"cull", stages.seconds_cull},
+                             {"kept_facets", stages.seconds_facets},
+                             {"stock_faces", stages.seconds_stock},
+                             {"conform", conform_cpu},
+                             {"limit_and_emit", process_cpu_seconds() - cpu}};
   stats.steps = steps_counted(limit.counts, rounding);
   stats.triangles = result.mesh.triangle_count();
   stats.vertices = result.mesh.vertex_count();

@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: Apache-2.0
 #include "generator2/erode_limits.h"
 
+#include <morph/error_budget.h>
 #include <morph/exceptions.h>
 #include <morph/path.h>
 #include <morph/quantize.h>
@@ -71,10 +72,10 @@ Erode2Estimate estimate_erode2(const Job& job, double tolerance) {
   // A sweep has the tool's facets (each at the start or at the end) and one parallelogram per
   // silhouette edge: about two per sector and two per meridian point.
   // Segments as sweep_segments() makes them (straight runs joined), counted without listing them.
-  const std::map<int, double> segments =
-      sweep_segment_counts(job, 0.4 * tolerance, grid_exponent_for(0.4 * tolerance));
+  const ErrorBudget budget = error_budget(job, tolerance);
+  const std::map<int, double> segments = sweep_segment_counts(job, budget.chords, budget.grid_exponent);
   for (const auto& [tool, count] : segments) {
-    const ToolPolytopeSize size = tool_polytope_size(job.tools.find(tool)->second.profile, 0.4 * tolerance);
+    const ToolPolytopeSize size = tool_polytope_size(job.tools.find(tool)->second.profile, budget.tool);
     estimate.segments += count;
     estimate.sweep_facets +=
         count * (double(size.facets) + 2.0 * (size.sectors + double(size.meridian_points)));
