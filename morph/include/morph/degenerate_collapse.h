@@ -59,6 +59,7 @@ struct LimitSurface {
 };
 
 /// The limit of the conformed surface as ε → 0 (steps 1-4 above).
-LimitSurface collapse_degenerates(const ConformedSurface& surface);
+LimitSurface collapse_degenerates(const ConformedSurface& surface,
+                                  ExecutionPolicy policy = ExecutionPolicy::Parallel);
 
 }  // namespace morph
