@@ -9,6 +9,7 @@
 #include <morph/tool.h>
 #include <morph/tool_polytope.h>
 #include <morph/topology.h>
+#include <tbb/task_arena.h>
 
 #include <gtest/gtest.h>
 
@@ -217,3 +218,34 @@ TEST(Erode2, RefusesAToleranceTheCoordinatesCannotResolve) {
 }
 
 }  // namespace
+
+namespace {
+
+morph::Erode2Estimate estimate_on_threads(const morph::Job& job, int threads) {
+  morph::Erode2Estimate estimate;
+  tbb::task_arena arena(threads);
+  arena.execute([&] { estimate = morph::estimate_erode2(job, job.tolerance); });
+  return estimate;
+}
+
+}  // namespace
+
+TEST(Erode2, TheMemoryEstimateCountsEveryThreadsCaches) {
+  // Fitted on 2 threads; each further one holds its own plane cache (up to 64 MiB) and culling
+  // scratch, which on a many-core machine outweigh the rest.
+  const morph::Tool tool = morph::ball_tool(1.5, 20.0);
+  const Eigen::AlignedBox3d box(Vector3d(0, 0, 0), Vector3d(40, 30, 5));
+  std::vector<Vector3d> raster;
+  for (int row = 0; row < 40; ++row) {
+    raster.emplace_back(row % 2 ? 45 : -5, 0.7 * row, 3);
+    raster.emplace_back(row % 2 ? -5 : 45, 0.7 * row, 3);
+  }
+  const morph::Job job = job_of(box, tool, raster, 0.01);
+  const morph::Erode2Estimate one = estimate_on_threads(job, 1), two = estimate_on_threads(job, 2),
+                              eight = estimate_on_threads(job, 8);
+  EXPECT_EQ(one.bytes, two.bytes);
+  EXPECT_EQ(eight.sweep_facets, two.sweep_facets);
+  const double per_thread = (eight.bytes - two.bytes) / 6.0;
+  EXPECT_GE(per_thread, std::min(64.0 * (1 << 20), 112.0 * two.sweep_facets));
+  EXPECT_LE(per_thread, 64.0 * (1 << 20) + 144.0 * two.sweep_facets);
+}

@@ -8,6 +8,8 @@
 #include <morph/sweep_segments.h>
 #include <morph/tool_polytope.h>
 
+#include <tbb/task_arena.h>
+
 #include <algorithm>
 #include <cmath>
 #include <iomanip>
@@ -28,6 +30,18 @@ constexpr double kBytesPerSweepFacet = 500.0;
 // A mesh stock's triangle is a facet carved like a sweep's, with the mesh and its index beside it
 // (generator 1 measured 1400 bytes for the same on a 1M-triangle sphere stock).
 constexpr double kBytesPerStockTriangle = 1000.0;
+
+// Each thread carving holds the exact planes of the sweeps it met last (sweep_plane_cache.h: up to
+// 64 MiB, 112 bytes a plane, about one per facet) and the culling the faces of the last 1024
+// candidate sweeps (sweep_culling.cpp: about 144 bytes a facet); neither more than every sweep's.
+// The constants above were fitted on 2 threads; each further thread adds its own (at 64 threads
+// about 8 GB on bear.nc at 0.01).
+constexpr double kFittedThreads = 2.0;
+double per_thread_bytes(double sweep_facets, double segments) {
+  const double facets_per_sweep = sweep_facets / std::max(1.0, segments);
+  return std::min(64.0 * (1 << 20), 112.0 * sweep_facets) +
+         144.0 * std::min(1024.0 * facets_per_sweep, sweep_facets);
+}
 
 /// A tolerance must span this many spacings of the doubles at the job's largest coordinate.
 constexpr double kResolutionFactor = 1e6;
@@ -81,8 +95,11 @@ Erode2Estimate estimate_erode2(const Job& job, double tolerance) {
         count * (double(size.facets) + 2.0 * (size.sectors + double(size.meridian_points)));
   }
   if (job.stock.type == StockType::Mesh) estimate.stock_triangles = double(job.stock.mesh.triangles.size());
-  estimate.bytes = kBytesFixed + kBytesPerSweepFacet * estimate.sweep_facets +
-                   kBytesPerStockTriangle * estimate.stock_triangles;
+  const double threads = static_cast<double>(tbb::this_task_arena::max_concurrency());
+  estimate.bytes =
+      kBytesFixed + kBytesPerSweepFacet * estimate.sweep_facets +
+      kBytesPerStockTriangle * estimate.stock_triangles +
+      std::max(0.0, threads - kFittedThreads) * per_thread_bytes(estimate.sweep_facets, estimate.segments);
   return estimate;
 }
 
