@@ -120,7 +120,7 @@ ErodeResult erode2(const Job& job, const ErodeOptions& options) {
   const ConformedSurface surface = conform(pieces, options.policy);
   const double conform_cpu = process_cpu_seconds() - cpu;
   cpu = process_cpu_seconds();
-  const LimitSurface limit = collapse_degenerates(surface, options.policy);
+  const LimitSurface limit = collapse_degenerates(surface);
   EmitCounts rounding;
   result.mesh = emit(limit, move_index, move_line, &rounding);
   stats.stage_cpu_seconds = {{"cull", stages.seconds_cull},
