@@ -6,16 +6,20 @@
 #if defined(__GLIBC__)
 #include <malloc.h>
 #endif
+#if defined(MORPHMILL_TBBMALLOC_PROXY)
+#include <oneapi/tbb/tbbmalloc_proxy.h>  // references the proxy, so the linker keeps it
+#endif
 
 #include "cli/cli_conventions.h"
 #include "cli/commands.h"
 #include "io/provenance.h"
 
 int main(int argc, char** argv) {
-#if defined(__GLIBC__)
-  // The generator's assembly allocates and frees arrays of tens of megabytes over and over (edge
-  // lists, triangle copies): glibc would map each one afresh and fault in every page (about 1 s
-  // of bear's 13). Keeping them on the heap, and the heap from shrinking, reuses the pages.
+#if defined(__GLIBC__) && !defined(MORPHMILL_TBBMALLOC_PROXY)
+  // With glibc's malloc (TBB's proxy keeps its own pools): the generator's assembly allocates and frees
+  // arrays of tens of megabytes over and over (edge lists, triangle copies): glibc would map each one afresh
+  // and fault in every page (about 1 s of bear's 13). Keeping them on the heap, and the heap from shrinking,
+  // reuses the pages.
   mallopt(M_MMAP_MAX, 0);
   mallopt(M_TRIM_THRESHOLD, 1 << 30);
 #endif

@@ -32,15 +32,18 @@ constexpr double kBytesPerSweepFacet = 500.0;
 constexpr double kBytesPerStockTriangle = 1000.0;
 
 // Each thread carving holds the exact planes of the sweeps it met last (sweep_plane_cache.h: up to
-// 64 MiB, 112 bytes a plane, about one per facet) and the culling the faces of the last 1024
-// candidate sweeps (sweep_culling.cpp: about 144 bytes a facet); neither more than every sweep's.
-// The constants above were fitted on 2 threads; each further thread adds its own (at 64 threads
-// about 8 GB on bear.nc at 0.01).
+// 64 MiB, 112 bytes a plane, about one per facet), the cutters' planes it made one at a time
+// (carve_culled.cpp MadePlanes: up to 2^18 planes, ~160 bytes each in their table, and the sides
+// of 4096 sweeps' tool facets) and the culling the faces of the last 1024 candidate sweeps
+// (sweep_culling.cpp: about 80 bytes a facet); none more than every sweep's. The constants above
+// were fitted on 2 threads; each further thread adds its own (at 64 threads about 8 GB on bear.nc
+// at 0.01).
 constexpr double kFittedThreads = 2.0;
 double per_thread_bytes(double sweep_facets, double segments) {
   const double facets_per_sweep = sweep_facets / std::max(1.0, segments);
-  return std::min(64.0 * (1 << 20), 112.0 * sweep_facets) +
-         144.0 * std::min(1024.0 * facets_per_sweep, sweep_facets);
+  return std::min(64.0 * (1 << 20), 112.0 * sweep_facets) + 160.0 * std::min(double(1 << 18), sweep_facets) +
+         std::min(4096.0, segments) * facets_per_sweep +
+         80.0 * std::min(1024.0 * facets_per_sweep, sweep_facets);
 }
 
 /// A tolerance must span this many spacings of the doubles at the job's largest coordinate.
