@@ -99,8 +99,7 @@ class SweepCulling {
     std::vector<std::pair<std::uint32_t, Faces>> recent_;
     std::size_t next_ = 0;
     std::vector<int> near_faces_;
-    std::vector<int> planes_;        ///< against()'s crossing planes
-    std::vector<int> candidate_of_;  ///< per move, its index among cull()'s candidates (-1 between calls)
+    std::vector<int> planes_;             ///< against()'s crossing planes
     std::vector<const Candidate*> open_;  ///< decide()'s candidates left for the halfspaces
   };
 

@@ -328,15 +328,14 @@ SweepCulling::Against SweepCulling::against(const Placed& p, std::size_t i, std:
   near_faces.clear();
   const Vector3d& a = candidate.a;
   const Vector3d& b = candidate.b;
-  tool_facet_tree_->for_each_overlapping(AlignedBox3d(box.min() - a, box.max() - a), [&](std::size_t k) {
-    if (candidate.side[k] < 0) near_faces.push_back(static_cast<int>(k));
-  });
-  tool_facet_tree_->for_each_overlapping(AlignedBox3d(box.min() - b, box.max() - b), [&](std::size_t k) {
-    if (candidate.side[k] > 0) near_faces.push_back(static_cast<int>(k));
-  });
+  // One walk of the tree with the swept box, which holds the box moved by -a and by -b; each
+  // facet placed at an end is then tested against its own (the set of three walks).
+  const AlignedBox3d at_a(box.min() - a, box.max() - a), at_b(box.min() - b, box.max() - b);
   const AlignedBox3d swept(box.min() - a.cwiseMax(b), box.max() - a.cwiseMin(b));
   tool_facet_tree_->for_each_overlapping(swept, [&](std::size_t k) {
-    if (candidate.side[k] == 0) near_faces.push_back(static_cast<int>(k));
+    const int side = candidate.side[k];
+    if (side == 0 || tool_facet_tree_->box(k).intersects(side < 0 ? at_a : at_b))
+      near_faces.push_back(static_cast<int>(k));
   });
   tool_edge_tree_->for_each_overlapping(swept, [&](std::size_t e) {
     if (candidate.face_of_edge[e] >= 0) near_faces.push_back(candidate.face_of_edge[e]);
@@ -540,10 +539,12 @@ std::vector<KeptFacet> SweepCulling::cull(std::size_t i, CullingCounts& counts, 
   std::sort(live.begin(), live.end(), [](const Placed& x, const Placed& y) {
     return x.cluster < y.cluster || (x.cluster == y.cluster && x.facet < y.facet);
   });
-  // Each move's index in `candidates` (-1: none), for the clusters' look-ups; cleared on return.
-  std::vector<int>& candidate_of = scratch.candidate_of_;
-  candidate_of.resize(moves_.size(), -1);
-  for (std::size_t k = 0; k < candidates.size(); ++k) candidate_of[candidates[k].move] = static_cast<int>(k);
+  // The candidates' own tree (their boxes as the sweeps' tree has them), for the clusters: a
+  // cluster's ball meets a few of them, and a walk of the tree of every sweep met many others.
+  std::vector<AlignedBox3d> candidate_boxes;
+  candidate_boxes.reserve(candidates.size());
+  for (const Candidate& c : candidates) candidate_boxes.push_back(tree_->box(c.move));
+  const AabbTree candidate_tree(std::move(candidate_boxes));
   std::vector<KeptFacet> kept;
   std::vector<const Candidate*> near, reaching;
   const Candidate* last_hider = nullptr;
@@ -563,11 +564,8 @@ std::vector<KeptFacet> SweepCulling::cull(std::size_t i, CullingCounts& counts, 
     // facets (a box misses the ball: the sweep does), in move order as the facets take them.
     reaching.clear();
     if (!hidden)
-      tree_->for_each_overlapping(
-          AlignedBox3d(centre.array() - radius, centre.array() + radius), [&](std::size_t j) {
-            if (candidate_of[j] >= 0)
-              reaching.push_back(&candidates[static_cast<std::size_t>(candidate_of[j])]);
-          });
+      candidate_tree.for_each_overlapping(AlignedBox3d(centre.array() - radius, centre.array() + radius),
+                                          [&](std::size_t k) { reaching.push_back(&candidates[k]); });
     std::sort(reaching.begin(), reaching.end());  // candidates are in move order
     for (const Candidate* c : reaching) {
       if (hidden) break;
@@ -606,7 +604,6 @@ std::vector<KeptFacet> SweepCulling::cull(std::size_t i, CullingCounts& counts, 
       }
     }
   }
-  for (const Candidate& c : candidates) candidate_of[c.move] = -1;
   std::sort(kept.begin(), kept.end(),
             [](const KeptFacet& x, const KeptFacet& y) { return x.facet < y.facet; });
   return kept;
