@@ -4,6 +4,7 @@
 // with a verdict and a report a person reads.
 #include <morph/job.h>
 #include <morph/progress.h>
+#include <morph/sweep_distance.h>
 #include <morph/topology.h>
 #include <raytest/deviation.h>
 #include <raytest/regions.h>
@@ -50,6 +51,8 @@ struct PieceRecord {
   double volume = 0.0;
   double area = 0.0;
   Eigen::AlignedBox3d bounds;
+  /// The centre of its volume (generator pieces only; zero for the reference's).
+  Eigen::Vector3d centroid = Eigen::Vector3d::Zero();
 };
 
 /// A gouge or excess region of the generator's surface against one truth, out of `band`.
@@ -90,6 +93,11 @@ struct VerifyOutcome {
   bool generator_within_tolerance = false;
   bool sides_agree = false;
   bool pieces_match = false;
+  /// Generator pieces the reference's voxels cannot see (less than a voxel cube of (2 voxels)^3
+  /// in volume) that the exact field confirms (the piece's centroid lies more than the tolerance
+  /// inside the exact solid: real material, such as a chip freed by undercutting passes), left
+  /// out of the piece match when the counts differ by them.
+  std::size_t pieces_below_resolution = 0;
   double agreement_bound = 0.0;  ///< tolerance + sqrt(3) * voxel
   /// Largest generator<->reference deviation over the samples where the surface is resolvable at
   /// the voxel size (no surface within two voxels faces against the sample: no acute wedge, thin
@@ -131,6 +139,15 @@ struct VerifyOutcome {
   /// Who made these outputs from what (filled by run_verify; written into every file).
   Provenance provenance;
 };
+
+/// Whether the generator's pieces are the reference's: as many, each (by volume, largest first)
+/// within half a voxel times its area of the reference's. When the generator has more, its pieces
+/// under (2 voxels)^3 are left out if the exact field puts each one's centroid more than
+/// `tolerance` inside the exact solid (their count in *below_resolution); one that it does not
+/// is a phantom, and the pieces do not match.
+bool match_pieces(const std::vector<PieceRecord>& morph_pieces,
+                  const std::vector<PieceRecord>& reference_pieces, double voxel_size, double tolerance,
+                  const morph::ErosionField& field, std::size_t* below_resolution = nullptr);
 
 /// What evaluate_job needs: the verify pipeline without any file output.
 struct EvaluateOptions {
