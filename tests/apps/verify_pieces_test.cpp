@@ -1,7 +1,8 @@
 // SPDX-License-Identifier: Apache-2.0
 // Verify's piece match (verify.h, match_pieces): the reference's voxels cannot see a piece much
 // smaller than themselves, such as the chips a sphere frees where its undercutting grooves meet,
-// so the exact field judges those; a small piece the exact solid does not hold still fails.
+// or see them swollen, so the exact field judges those; a small piece the exact solid does not
+// hold still fails, and so does a small one of the reference's where the generator has none.
 #include <gtest/gtest.h>
 #include <morph/sweep_distance.h>
 #include <morph/tool.h>
@@ -70,6 +71,18 @@ TEST(VerifyPieces, ASmallPieceOutsideTheExactSolidIsAPhantom) {
   morphmill::PieceRecord large = chip;
   large.volume = 1.0;
   EXPECT_FALSE(morphmill::match_pieces({body, large}, {reference}, voxel, 0.02, field, &below));
+  // The reference sees one chip, swollen: it lies on one of the generator's, and matches; a small
+  // piece of the reference's where the generator has none does not.
+  chip.bounds = Eigen::AlignedBox3d(chip.centroid.array() - 0.3, chip.centroid.array() + 0.3);
+  morphmill::PieceRecord seen_chip = chip;
+  seen_chip.volume = 0.15;
+  seen_chip.bounds = Eigen::AlignedBox3d(chip.centroid.array() - 0.5, chip.centroid.array() + 0.4);
+  EXPECT_TRUE(
+      morphmill::match_pieces({body, chip, chip}, {reference, seen_chip}, voxel, 0.02, field, &below));
+  EXPECT_EQ(below, 2u);
+  seen_chip.bounds.translate(Vector3d(3, 0, 0));
+  EXPECT_FALSE(
+      morphmill::match_pieces({body, chip, chip}, {reference, seen_chip}, voxel, 0.02, field, &below));
   // Equal counts match as before, volumes within half a voxel times the area.
   EXPECT_TRUE(morphmill::match_pieces({body}, {reference}, voxel, 0.02, field, &below));
   body.volume = reference.volume + 0.6 * voxel * reference.area;

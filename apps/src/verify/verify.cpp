@@ -317,22 +317,33 @@ bool match_pieces(const std::vector<PieceRecord>& morph_pieces,
     return true;
   };
   if (same(morph_pieces)) return true;
-  if (morph_pieces.size() <= reference_pieces.size()) return false;
-  // The voxels cannot see a piece much smaller than themselves: the exact field judges it.
+  // The voxels cannot see a piece much smaller than themselves, or see it swollen: the large
+  // pieces must match; each small one of the generator's must be material of the exact solid
+  // (else a phantom), and each small one of the reference's must lie on one of those.
   const double unseen = std::pow(2.0 * voxel_size, 3);
-  std::vector<PieceRecord> seen;
-  std::size_t confirmed = 0;
-  for (const PieceRecord& piece : morph_pieces) {
-    if (piece.volume >= unseen) {
-      seen.push_back(piece);
-    } else if (field.value(piece.centroid) < -tolerance) {
-      ++confirmed;
-    } else {
-      return false;  // not material of the exact solid: a phantom
-    }
+  auto split = [&](const std::vector<PieceRecord>& pieces, std::vector<PieceRecord>& large,
+                   std::vector<PieceRecord>& small) {
+    for (const PieceRecord& piece : pieces) (piece.volume >= unseen ? large : small).push_back(piece);
+  };
+  std::vector<PieceRecord> morph_large, morph_small, reference_large, reference_small;
+  split(morph_pieces, morph_large, morph_small);
+  split(reference_pieces, reference_large, reference_small);
+  if (morph_small.empty() || morph_large.size() != reference_large.size()) return false;
+  for (std::size_t i = 0; i < morph_large.size(); ++i)
+    if (!(std::abs(morph_large[i].volume - reference_large[i].volume) <=
+          0.5 * voxel_size * reference_large[i].area))
+      return false;
+  for (const PieceRecord& piece : morph_small)
+    if (!(field.value(piece.centroid) < -tolerance)) return false;
+  for (const PieceRecord& seen : reference_small) {
+    Eigen::AlignedBox3d near = seen.bounds;
+    near.min().array() -= voxel_size;
+    near.max().array() += voxel_size;
+    if (std::none_of(morph_small.begin(), morph_small.end(),
+                     [&](const PieceRecord& piece) { return near.intersects(piece.bounds); }))
+      return false;
   }
-  if (!same(seen)) return false;
-  if (below_resolution) *below_resolution = confirmed;
+  if (below_resolution) *below_resolution = morph_small.size();
   return true;
 }
 

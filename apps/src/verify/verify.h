@@ -93,10 +93,9 @@ struct VerifyOutcome {
   bool generator_within_tolerance = false;
   bool sides_agree = false;
   bool pieces_match = false;
-  /// Generator pieces the reference's voxels cannot see (less than a voxel cube of (2 voxels)^3
-  /// in volume) that the exact field confirms (the piece's centroid lies more than the tolerance
-  /// inside the exact solid: real material, such as a chip freed by undercutting passes), left
-  /// out of the piece match when the counts differ by them.
+  /// Generator pieces under (2 voxels)^3, which the reference's voxels miss or swell, judged by
+  /// the exact field instead (match_pieces): real material, such as chips freed by undercutting
+  /// passes. 0 when the pieces matched without it.
   std::size_t pieces_below_resolution = 0;
   double agreement_bound = 0.0;  ///< tolerance + sqrt(3) * voxel
   /// Largest generator<->reference deviation over the samples where the surface is resolvable at
@@ -141,10 +140,11 @@ struct VerifyOutcome {
 };
 
 /// Whether the generator's pieces are the reference's: as many, each (by volume, largest first)
-/// within half a voxel times its area of the reference's. When the generator has more, its pieces
-/// under (2 voxels)^3 are left out if the exact field puts each one's centroid more than
-/// `tolerance` inside the exact solid (their count in *below_resolution); one that it does not
-/// is a phantom, and the pieces do not match.
+/// within half a voxel times its area of the reference's. Failing that, pieces under (2 voxels)^3,
+/// which the voxels miss or swell, are judged apart: the larger ones must match so; each small
+/// one of the generator's must have its centroid more than `tolerance` inside the exact solid (a
+/// chip; else a phantom), and each small one of the reference's must lie within a voxel of one of
+/// those. *below_resolution: the generator's small pieces when that decided.
 bool match_pieces(const std::vector<PieceRecord>& morph_pieces,
                   const std::vector<PieceRecord>& reference_pieces, double voxel_size, double tolerance,
                   const morph::ErosionField& field, std::size_t* below_resolution = nullptr);
