@@ -221,6 +221,7 @@ CaseResult run_case(std::uint64_t seed, std::size_t index, const StressOptions& 
     result.agreement_bound = o.agreement_bound;
     result.generator_pieces = o.morph_pieces.size();
     result.reference_pieces = o.reference_pieces.size();
+    result.pieces_below_resolution = o.pieces_below_resolution;
     result.generator_triangles = o.morph_triangles;
     for (const morph::StepCount& step : o.generator_steps)
       if (step.fallback) result.fallbacks[step.name] = step.count;
@@ -307,7 +308,10 @@ nlohmann::json case_to_json(const CaseResult& r) {
           {"tolerance", r.tolerance},
           {"voxel_size", r.voxel_size},
           {"agreement_bound", r.agreement_bound},
-          {"pieces", {{"generator", r.generator_pieces}, {"reference", r.reference_pieces}}},
+          {"pieces",
+           {{"generator", r.generator_pieces},
+            {"reference", r.reference_pieces},
+            {"below_resolution", r.pieces_below_resolution}}},
           {"volume", {{"generator", r.generator_volume}, {"reference", r.reference_volume}}},
           {"generator_triangles", r.generator_triangles},
           {"genus", {{"expected", r.expected_genus}, {"generator", r.generator_genus}}},
@@ -343,6 +347,7 @@ CaseResult case_from_json(const nlohmann::json& j, const std::string& where) {
     r.agreement_bound = j.at("agreement_bound").get<double>();
     r.generator_pieces = j.at("pieces").at("generator").get<std::size_t>();
     r.reference_pieces = j.at("pieces").at("reference").get<std::size_t>();
+    r.pieces_below_resolution = j.at("pieces").value("below_resolution", std::size_t{0});
     r.generator_volume = j.at("volume").at("generator").get<double>();
     r.reference_volume = j.at("volume").at("reference").get<double>();
     r.self_intersecting_pairs = j.value("self_intersecting_pairs", std::size_t{0});

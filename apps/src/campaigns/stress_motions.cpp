@@ -553,8 +553,18 @@ void self_crossing(CaseRandom& rng, Builder& b) {
   }
   b.path(star);
   box_around(b, star, t.tool.radius + 2.0, height);
-  blind_result(b, fmt::format("{}, depth {}, star {{{}/{}}} of radius {} ({} crossings){}", t.word, d, n, k,
-                              rho, n * (k - 1), laps == 2 ? ", twice round" : ""));
+  const std::string variant =
+      fmt::format("{}, depth {}, star {{{}/{}}} of radius {} ({} crossings){}", t.word, d, n, k, rho,
+                  n * (k - 1), laps == 2 ? ", twice round" : "");
+  // A sphere whose centre runs below the top is widest under it: where three grooves nearly meet
+  // they undercut the material between them and can free a chip of it (real pieces, a fraction of
+  // a voxel: the exact field confirms them), or bridge a groove. Neither pieces nor genus are
+  // known by construction.
+  if (t.tool.type == morph::ToolType::Sphere && d > t.tool.radius) {
+    b.finish(variant + ", undercut", -1);
+    return;
+  }
+  blind_result(b, variant);
 }
 
 // Two tools in one job: parallel passes apart (the volumes add) or the second crossing the first.

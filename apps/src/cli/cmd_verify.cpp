@@ -101,6 +101,10 @@ void register_verify_command(CLI::App& app) {
               << "\n  generator and reference agree: " << (outcome.sides_agree ? "yes" : "no")
               << "\n  pieces: generator " << outcome.morph_pieces.size() << ", reference "
               << outcome.reference_pieces.size() << (outcome.pieces_match ? " (match)" : " (MISMATCH)")
+              << (outcome.pieces_below_resolution
+                      ? ", " + std::to_string(outcome.pieces_below_resolution) +
+                            " of the generator's below the voxels' resolution, confirmed by the exact field"
+                      : std::string())
               << (outcome.design_path.empty()
                       ? std::string()
                       : "\n  design: " + std::to_string(outcome.design.gouge_regions) + " gouge, " +

@@ -274,7 +274,11 @@ std::vector<Table> tables(const VerifyOutcome& o) {
              number(std::max(o.morph_to_reference.stats.max_abs, o.reference_to_morph.stats.max_abs))),
          yes_no(o.sides_agree), number(o.resolvable_hausdorff), number(o.agreement_bound)},
         {"same pieces, volumes within half a voxel times area", yes_no(o.pieces_match),
-         fmt::format("{} vs {}", o.morph_pieces.size(), o.reference_pieces.size()), "-"}}});
+         o.pieces_below_resolution
+             ? fmt::format("{} vs {} ({} below the voxels' resolution, confirmed by the exact field)",
+                           o.morph_pieces.size(), o.reference_pieces.size(), o.pieces_below_resolution)
+             : fmt::format("{} vs {}", o.morph_pieces.size(), o.reference_pieces.size()),
+         "-"}}});
   if (!o.design_path.empty())
     result.back().rows.push_back(
         {"machined result within the design's band", yes_no(o.design.within_band()),
@@ -415,6 +419,7 @@ nlohmann::json outcome_to_json(const VerifyOutcome& o) {
                   {"agreement_samples", o.agreement_samples},
                   {"unresolvable_samples", o.unresolvable_samples},
                   {"pieces_match", o.pieces_match},
+                  {"pieces_below_resolution", o.pieces_below_resolution},
                   {"design_within_band", o.design_within_band()}};
   return j;
 }
