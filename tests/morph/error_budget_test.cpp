@@ -14,6 +14,7 @@
 
 #include <cmath>
 #include <string>
+#include <vector>
 
 #include "common/test_jobs.h"
 
@@ -56,7 +57,7 @@ double largest_field_error(const morph::TriangleMesh& mesh, const morph::Erosion
   return worst;
 }
 
-TEST(ErrorBudget, SharesAddUpToTheToleranceAndArcsKeepTheirs) {
+TEST(ErrorBudget, SharesAddUpToTheToleranceAndArcsTakeTheCheapestSplit) {
   const morph::Tool tool = morph::ball_tool(1.5, 10.0);
   for (double tolerance : {0.1, 0.01, 0.003}) {
     const morph::ErrorBudget lines = morph::error_budget(slot_job(tool, tolerance), tolerance);
@@ -64,12 +65,49 @@ TEST(ErrorBudget, SharesAddUpToTheToleranceAndArcsKeepTheirs) {
     EXPECT_NEAR(lines.tool, 0.8 * tolerance, 1e-15);
     EXPECT_NEAR(lines.chords + lines.tool + lines.stock, tolerance, 1e-15);
     EXPECT_EQ(lines.grid_exponent, morph::grid_exponent_for(lines.tool));
-    const morph::ErrorBudget arcs = morph::error_budget(slot_job_with_arc(tool, tolerance), tolerance);
-    EXPECT_NEAR(arcs.chords, 0.4 * tolerance, 1e-15);
-    EXPECT_NEAR(arcs.tool, 0.4 * tolerance, 1e-15);
+    const morph::Job job = slot_job_with_arc(tool, tolerance);
+    const morph::ErrorBudget arcs = morph::error_budget(job, tolerance);
+    EXPECT_GE(arcs.chords, 0.05 * tolerance - 1e-15);
+    EXPECT_LE(arcs.chords, 0.4 * tolerance + 1e-15);
     EXPECT_NEAR(arcs.chords + arcs.tool + arcs.stock, tolerance, 1e-15);
     EXPECT_EQ(arcs.grid_exponent, morph::grid_exponent_for(arcs.tool));
+    // No other split of the candidates makes fewer sweep facets.
+    const double chosen = morph::count_sweeps(job, arcs).facets;
+    for (int k = 1; k <= 8; ++k) {
+      morph::ErrorBudget other = arcs;
+      other.chords = 0.05 * k * tolerance;
+      other.tool = 0.8 * tolerance - other.chords;
+      other.grid_exponent = morph::grid_exponent_for(other.tool);
+      EXPECT_LE(chosen, morph::count_sweeps(job, other).facets) << k;
+    }
   }
+}
+
+TEST(ErrorBudget, FewArcsGiveTheToolMostOfTheShareAndManyArcsTheChordsMore) {
+  // One quarter arc among 40 raster lines: its chords cost little, the tool's facets much.
+  const double tolerance = 0.01;
+  const morph::Tool tool = morph::ball_tool(1.5, 10.0);
+  morph::Job raster = slot_job_with_arc(tool, tolerance);
+  std::vector<morph::Move>& moves = raster.paths.front().moves;
+  for (int row = 0; row < 40; ++row) {
+    morph::Move m = moves.back();
+    m.start = m.end;
+    m.end = Vector3d(row % 2 ? 0.0 : 20.0, 0.3 * row, 4.5);
+    moves.push_back(m);
+  }
+  const morph::ErrorBudget few = morph::error_budget(raster, tolerance);
+  EXPECT_LE(few.chords, 0.1 * tolerance + 1e-15);
+  // A helix of 40 turns and nothing else: its chords are the segments.
+  morph::Job helix = slot_job_with_arc(tool, tolerance);
+  morph::Move& arc = helix.paths.front().moves[1];
+  arc.sweep = -40 * 2 * M_PI;
+  arc.end = arc.start + Vector3d(0, 0, -2);
+  helix.paths.front().moves = {arc};
+  const morph::ErrorBudget many = morph::error_budget(helix, tolerance);
+  EXPECT_GT(many.chords, few.chords);
+  const morph::SweepCount counted = morph::count_sweeps(helix, many);
+  EXPECT_GT(counted.segments, 40.0);
+  EXPECT_GT(counted.facets, counted.segments);
 }
 
 TEST(ErrorBudget, EveryToolShapeStaysWithinTheToleranceWithEitherSplit) {

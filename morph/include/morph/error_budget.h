@@ -6,8 +6,8 @@
 /// vertices on a grid). A point of the surface is off by at most the chords' and the tool's
 /// deviations where a sweep bounds it, by the stock's where a stock face does, and by all of them
 /// where the two meet; so the three shares add up to the tolerance. A job without arcs has no
-/// chords to pay for, and its tool takes their share too: about half the tool polytope's facets,
-/// and half generator 2's work, for the same tolerance.
+/// chords to pay for, and its tool takes their share too: about half the tool polytope's facets
+/// for the same tolerance. A job with arcs splits the sweeps' share where it costs least.
 #include <morph/job.h>
 
 namespace morph {
@@ -21,8 +21,19 @@ struct ErrorBudget {
   int grid_exponent = 0;
 };
 
-/// The budget of `job` at `tolerance` (> 0, finite; job units): 0.4 of it to the chords and 0.4
-/// to the tool when any move is an arc, else 0.8 to the tool; 0.2 to the stock.
+/// The budget of `job` at `tolerance` (> 0, finite; job units): 0.2 of it to the stock, 0.8 to the
+/// sweeps. A job without arcs gives those all to the tool; one with arcs splits them between the
+/// chords and the tool, 0.05 to 0.4 of the tolerance to the chords in steps of 0.05, at the split
+/// that makes the fewest sweep facets (count_sweeps): arcs that are few or flat take little. Throws
+/// LimitError when no split gives a tool polytope (tool_polytope_size()).
 ErrorBudget error_budget(const Job& job, double tolerance);
+
+/// The segments (sweep_segments.h) and sweep polytope facets generator 2 makes for `job` with
+/// `budget`, counted without listing or building them: its work, and most of its memory.
+struct SweepCount {
+  double segments = 0.0;
+  double facets = 0.0;
+};
+SweepCount count_sweeps(const Job& job, const ErrorBudget& budget);
 
 }  // namespace morph

@@ -86,17 +86,10 @@ void check_memory_cap(const ErodeOptions& options, double tolerance, double byte
 
 Erode2Estimate estimate_erode2(const Job& job, double tolerance) {
   Erode2Estimate estimate;
-  // A sweep has the tool's facets (each at the start or at the end) and one parallelogram per
-  // silhouette edge: about two per sector and two per meridian point.
   // Segments as sweep_segments() makes them (straight runs joined), counted without listing them.
-  const ErrorBudget budget = error_budget(job, tolerance);
-  const std::map<int, double> segments = sweep_segment_counts(job, budget.chords, budget.grid_exponent);
-  for (const auto& [tool, count] : segments) {
-    const ToolPolytopeSize size = tool_polytope_size(job.tools.find(tool)->second.profile, budget.tool);
-    estimate.segments += count;
-    estimate.sweep_facets +=
-        count * (double(size.facets) + 2.0 * (size.sectors + double(size.meridian_points)));
-  }
+  const SweepCount sweeps = count_sweeps(job, error_budget(job, tolerance));
+  estimate.segments = sweeps.segments;
+  estimate.sweep_facets = sweeps.facets;
   if (job.stock.type == StockType::Mesh) estimate.stock_triangles = double(job.stock.mesh.triangles.size());
   const double threads = static_cast<double>(tbb::this_task_arena::max_concurrency());
   estimate.bytes =
