@@ -262,6 +262,16 @@ std::optional<std::pair<std::vector<Vector3d>, double>> rounded_corners(const Co
   return std::pair{std::move(points), margin};
 }
 
+// A ball holding the exact corners of `piece` (rounded_corners() grown by their margin); none
+// when the corners cannot be bounded.
+std::optional<Ball> corner_ball(const ConvexPiece& piece) {
+  const auto rounded = rounded_corners(piece);
+  if (!rounded) return std::nullopt;
+  Ball ball = ball_of(rounded->first);
+  ball.second += rounded->second;
+  return ball;
+}
+
 // Facet f of a sweep within the stock and its own polytope: first by the planes passing near
 // the facet's points (which makes the piece small), then by the others (the float look of
 // intersect() skips the planes clearly apart, so this adds little and decides exactly). Planes
@@ -398,6 +408,8 @@ class Carving {
   void carve_stock_piece(ConvexPiece piece, std::size_t k, const std::vector<std::uint32_t>& near,
                          std::vector<ConvexPiece>& out, Workers& workers, ExecutionPolicy policy) const {
     AlignedBox3d box = grown(box_of({piece}));
+    // A ball about the piece's exact corners, the same for every sweep until the piece is split.
+    std::optional<Ball> ball = corner_ball(piece);
     std::vector<ConvexPiece> parts;
     for (; k < near.size(); ++k) {
       const std::uint32_t j = near[k];
@@ -405,7 +417,7 @@ class Carving {
       Worker& w = workers.local();
       const double start = thread_seconds();
       parts.clear();
-      const bool reached = subtract(piece, reaching_planes(piece, j, near.size(), w), parts);
+      const bool reached = subtract(piece, reaching_planes(ball, j, near.size(), w), parts);
       ++w.stages.carve.cutters;
       w.stages.seconds_stock += thread_seconds() - start;
       if (!reached) continue;
@@ -424,6 +436,7 @@ class Carving {
         for (ConvexPiece& p : r) out.push_back(std::move(p));
       piece = std::move(parts[largest]);
       box = boxes[largest];
+      ball = corner_ball(piece);
     }
     out.push_back(std::move(piece));
   }
@@ -525,15 +538,13 @@ class Carving {
   // facets rebuilds all its sweep's planes for less than it makes the listed ones one at a time
   // (bear's first 1000 moves at 0.01, ~600 facets: stock faces 0.42 CPU s through the cache,
   // 0.80 one at a time; the target at 1e-3, 10,700 facets: 10.9 through it, 6.2 one at a time).
-  const std::vector<ExactPlane>& reaching_planes(const ConvexPiece& piece, std::uint32_t j,
+  const std::vector<ExactPlane>& reaching_planes(const std::optional<Ball>& corners, std::uint32_t j,
                                                  std::size_t cutters, Worker& w) const {
-    const auto rounded = rounded_corners(piece);
-    if (!rounded) return planes_of(j, w);
+    if (!corners) return planes_of(j, w);
     const CarveSweep& s = sweeps_[j];
     const std::size_t tool_facets = s.tool->tool().facets.size();
     const bool cached = cutters <= w.planes.sweeps_held(tool_facets) || tool_facets < kPlanesMadeOneAtATime;
-    Ball ball = ball_of(rounded->first);
-    ball.second += rounded->second;
+    const Ball& ball = *corners;
     const std::vector<Ball> balls{ball};
     const auto [a, b] = s.tool->degenerate(s.from, s.to) ? std::pair{s.from, s.from}
                                                          : SweepPolytopeBuilder::ordered(s.from, s.to);
