@@ -337,14 +337,26 @@ ConvexPiece own_facet(const OwnPlanes& own, int f, const std::vector<Vector3d>& 
 }
 
 // `pieces` minus each cutter in turn (the order of carve_box()).
+// A piece a cutter misses goes on whole with its look (RoughCorners), made once for all the
+// cutters that miss it: a dense engraving's kept facet meets many.
 void minus_cutters(std::vector<ConvexPiece>& pieces,
                    const std::vector<const std::vector<ExactPlane>*>& cutters) {
   std::vector<ConvexPiece> next;
+  std::vector<std::optional<RoughCorners>> looks(pieces.size()), next_looks;
   for (const std::vector<ExactPlane>* cutter : cutters) {
     if (pieces.empty()) return;
     next.clear();
-    for (const ConvexPiece& p : pieces) subtract(p, *cutter, next);
+    next_looks.clear();
+    for (std::size_t i = 0; i < pieces.size(); ++i) {
+      if (!looks[i]) looks[i].emplace(pieces[i]);
+      if (subtract(pieces[i], *looks[i], *cutter, next)) {
+        next_looks.resize(next.size());
+      } else {
+        next_looks.push_back(std::move(looks[i]));
+      }
+    }
     pieces.swap(next);
+    looks.swap(next_looks);
   }
 }
 
@@ -410,6 +422,9 @@ class Carving {
     AlignedBox3d box = grown(box_of({piece}));
     // A ball about the piece's exact corners, the same for every sweep until the piece is split.
     std::optional<Ball> ball = corner_ball(piece);
+    // Its rounded corners, likewise: a sweep one of whose planes leaves them all outside misses
+    // the piece (subtract() would find that out only after clipping by the planes before).
+    std::optional<RoughCorners> look(piece);
     std::vector<ConvexPiece> parts;
     for (; k < near.size(); ++k) {
       const std::uint32_t j = near[k];
@@ -417,7 +432,10 @@ class Carving {
       Worker& w = workers.local();
       const double start = thread_seconds();
       parts.clear();
-      const bool reached = subtract(piece, reaching_planes(ball, j, near.size(), w), parts);
+      const std::vector<ExactPlane>& planes = reaching_planes(ball, j, near.size(), w);
+      const bool missed =
+          std::any_of(planes.begin(), planes.end(), [&](const ExactPlane& h) { return look->outside(h); });
+      const bool reached = !missed && subtract(piece, *look, planes, parts);
       ++w.stages.carve.cutters;
       w.stages.seconds_stock += thread_seconds() - start;
       if (!reached) continue;
@@ -437,6 +455,7 @@ class Carving {
       piece = std::move(parts[largest]);
       box = boxes[largest];
       ball = corner_ball(piece);
+      look.emplace(piece);
     }
     out.push_back(std::move(piece));
   }

@@ -8,80 +8,68 @@
 #include <cstddef>
 
 namespace morph {
+
+RoughCorners::RoughCorners(const ConvexPiece& piece, const RoughCorners* old,
+                           const std::vector<int>& from_old) {
+  const std::size_t n = piece.edges.size();
+  corners_.reserve(n);
+  for (std::size_t k = 0; k < n; ++k) {
+    if (old && old->usable_ && from_old[k] >= 0) {
+      corners_.push_back(old->corners_[static_cast<std::size_t>(from_old[k])]);
+      continue;
+    }
+    const ExactPlane& a = piece.edges[(k + n - 1) % n];
+    const ExactPlane& b = piece.edges[k];
+    const double det = std::fabs(piece.support.normal.dot(a.normal.cross(b.normal)));
+    const double scale = piece.support.normal.norm() * a.normal.norm() * b.normal.norm();
+    Corner c;
+    if (det > 1e-7 * scale) {
+      c.point = vertex_point(piece.support, a, b);
+    } else {
+      const auto bounded = bounded_vertex_point(piece.support, a, b);
+      if (!bounded) {
+        usable_ = false;
+        return;
+      }
+      c.point = bounded->point;
+      c.error = bounded->error;
+    }
+    c.length = c.point.norm();
+    corners_.push_back(c);
+  }
+}
+
+int RoughCorners::side(const ExactPlane& plane) {
+  if (!usable_) return 0;
+  std::size_t below = 0, above = 0;
+  const double length = plane.normal.norm();
+  for (Corner& c : corners_) {
+    c.look = look_at(c, plane, length);
+    below += c.look < 0;
+    above += c.look > 0;
+  }
+  return below == corners_.size() ? -1 : (above == corners_.size() ? 1 : 0);
+}
+
+bool RoughCorners::outside(const ExactPlane& plane) const {
+  if (!usable_) return false;
+  const double length = plane.normal.norm();
+  for (const Corner& c : corners_)
+    if (look_at(c, plane, length) <= 0) return false;
+  return true;
+}
+
+int RoughCorners::look_at(const Corner& c, const ExactPlane& plane, double length) {
+  const double value = plane.normal.dot(c.point) - plane.offset;
+  const double margin = 1e-9 * (1 + std::fabs(plane.offset) + length * c.length) + length * c.error;
+  return value < -margin ? -1 : (value > margin ? 1 : 0);
+}
+
+void RoughCorners::flip_looks() {
+  for (Corner& c : corners_) c.look = -c.look;
+}
+
 namespace {
-
-// A float look at a piece, to skip planes that are clearly apart from it (all corners below, or
-// all above, by far more than the rounding of the corners): the exact predicates would decide
-// the same, so nothing depends on it but speed. For corners whose normals' determinant is above
-// 1e-7 of the product of their lengths, Cramer's rule in long double (vertex_point()) errs by
-// less than about 1e-11·(|offset| + |corner|), a hundredth of the margin below; for the others
-// (planes close to parallel, as a facet nearly along the motion and its silhouette plane) the
-// margin adds the corner's forward error bound (bounded_vertex_point()).
-class RoughCorners {
- public:
-  explicit RoughCorners(const ConvexPiece& piece) : RoughCorners(piece, nullptr, {}) {}
-  // The look at `piece`, taking from `old` the corners that were its corners: from_old[k] is the
-  // index in `old` of corner k, or -1 for a new corner (the same three planes give the same point).
-  RoughCorners(const ConvexPiece& piece, const RoughCorners* old, const std::vector<int>& from_old) {
-    const std::size_t n = piece.edges.size();
-    corners_.reserve(n);
-    for (std::size_t k = 0; k < n; ++k) {
-      if (old && old->usable_ && from_old[k] >= 0) {
-        corners_.push_back(old->corners_[static_cast<std::size_t>(from_old[k])]);
-        continue;
-      }
-      const ExactPlane& a = piece.edges[(k + n - 1) % n];
-      const ExactPlane& b = piece.edges[k];
-      const double det = std::fabs(piece.support.normal.dot(a.normal.cross(b.normal)));
-      const double scale = piece.support.normal.norm() * a.normal.norm() * b.normal.norm();
-      Corner c;
-      if (det > 1e-7 * scale) {
-        c.point = vertex_point(piece.support, a, b);
-      } else {
-        const auto bounded = bounded_vertex_point(piece.support, a, b);
-        if (!bounded) {
-          usable_ = false;
-          return;
-        }
-        c.point = bounded->point;
-        c.error = bounded->error;
-      }
-      c.length = c.point.norm();
-      corners_.push_back(c);
-    }
-  }
-  // -1: every corner clearly inside `plane`; +1: every corner clearly outside; 0: undecided,
-  // and then corner(k) is -1 or +1 for a corner clearly inside or outside, 0 for one too close.
-  int side(const ExactPlane& plane) {
-    if (!usable_) return 0;
-    std::size_t below = 0, above = 0;
-    const double length = plane.normal.norm();
-    for (Corner& c : corners_) {
-      const double value = plane.normal.dot(c.point) - plane.offset;
-      const double margin = 1e-9 * (1 + std::fabs(plane.offset) + length * c.length) + length * c.error;
-      c.look = value < -margin ? -1 : (value > margin ? 1 : 0);
-      below += c.look < 0;
-      above += c.look > 0;
-    }
-    return below == corners_.size() ? -1 : (above == corners_.size() ? 1 : 0);
-  }
-  // The last side()'s look at corner k (0 when unusable).
-  int corner(std::size_t k) const { return usable_ ? corners_[k].look : 0; }
-  // The looks at the last side()'s plane flipped().
-  void flip_looks() {
-    for (Corner& c : corners_) c.look = -c.look;
-  }
-
- private:
-  struct Corner {
-    Eigen::Vector3d point;
-    double length = 0.0;  // of point
-    double error = 0.0;   // a bound of point's distance from the exact corner (0: well conditioned)
-    int look = 0;         // the last side()'s look at it
-  };
-  std::vector<Corner> corners_;
-  bool usable_ = true;
-};
 
 ExactPlane box_plane(int axis, bool upper, double offset, std::uint32_t index) {
   Eigen::Vector3d n = Eigen::Vector3d::Zero();
@@ -146,8 +134,7 @@ ConvexPiece clip_with(const ConvexPiece& piece, const ExactPlane& plane, const R
 
 // intersect() by the planes in [first, last), in that order.
 template <class Iterator>
-ConvexPiece intersect_in_order(ConvexPiece piece, Iterator first, Iterator last) {
-  RoughCorners rough(piece);
+ConvexPiece intersect_in_order(ConvexPiece piece, RoughCorners rough, Iterator first, Iterator last) {
   std::vector<int> from_old;
   for (; first != last; ++first) {
     const ExactPlane& plane = *first;
@@ -194,10 +181,16 @@ ConvexPiece clip(const ConvexPiece& piece, const ExactPlane& plane) {
 }
 
 ConvexPiece intersect(ConvexPiece piece, const std::vector<ExactPlane>& planes) {
-  return intersect_in_order(std::move(piece), planes.begin(), planes.end());
+  RoughCorners rough(piece);
+  return intersect_in_order(std::move(piece), std::move(rough), planes.begin(), planes.end());
 }
 
 bool subtract(const ConvexPiece& piece, const std::vector<ExactPlane>& cutter,
+              std::vector<ConvexPiece>& out) {
+  return subtract(piece, RoughCorners(piece), cutter, out);
+}
+
+bool subtract(const ConvexPiece& piece, const RoughCorners& look, const std::vector<ExactPlane>& cutter,
               std::vector<ConvexPiece>& out) {
   // Facet minus a convex polytope: peel off, plane by plane, the part outside that plane; what
   // is inside every plane is inside the cutter and goes. Only the cutter's planes that bound the
@@ -211,7 +204,7 @@ bool subtract(const ConvexPiece& piece, const std::vector<ExactPlane>& cutter,
   // planes come in rank order) the tightest perturbations come first, so planes through one
   // vertex (a tool vertex where many facets meet) do not pile up tiny edges there, each costing
   // an exact tie at every later plane through it. Only its edges are read below.
-  const ConvexPiece inside = intersect_in_order(piece, cutter.rbegin(), cutter.rend());
+  const ConvexPiece inside = intersect_in_order(piece, look, cutter.rbegin(), cutter.rend());
   if (inside.empty()) {
     out.push_back(piece);
     return false;
@@ -227,7 +220,7 @@ bool subtract(const ConvexPiece& piece, const std::vector<ExactPlane>& cutter,
   // The float look decides the corners it is sure of for both sides of each plane (the flipped
   // plane's sides are exactly the opposite).
   ConvexPiece rest = piece;
-  RoughCorners rough(rest);
+  RoughCorners rough = look;
   std::vector<int> from_old;
   for (const ExactPlane& plane : bounding) {
     rough.side(plane);
