@@ -1202,12 +1202,15 @@ double segment_square_lower(const EdgeCurve& curve, const Vector3d& origin, cons
   auto least = [](const Vector3d& w, const Vector3d& dw, double along, double d_along, double s0, double s1) {
     return square_range(w, dw, along, d_along, s0, s1).first;
   };
-  std::array<double, 4> cuts{0.0, 1.0, 0.0, 0.0};
-  std::size_t count = 2;
-  if (da != 0.0)
-    for (const double s : {-qa / da, (length - qa) / da})
+  // 0, the cuts strictly inside (at most two, in order), 1.
+  std::array<double, 4> cuts{0.0, 0.0, 0.0, 0.0};
+  std::size_t count = 1;
+  if (da != 0.0) {
+    const double first = -qa / da, second = (length - qa) / da;
+    for (const double s : {std::min(first, second), std::max(first, second)})
       if (s > 0.0 && s < 1.0) cuts[count++] = s;
-  std::sort(cuts.begin(), cuts.begin() + static_cast<std::ptrdiff_t>(count));
+  }
+  cuts[count++] = 1.0;
   double lower = std::numeric_limits<double>::infinity();
   for (std::size_t k = 0; k + 1 < count; ++k) {
     const double s0 = cuts[k], s1 = cuts[k + 1], along = qa + 0.5 * (s0 + s1) * da;
