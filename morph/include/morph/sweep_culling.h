@@ -86,8 +86,10 @@ class SweepCulling {
   };
   /// A candidate sweep's faces, in facet order, with what finds them from the tool's facets
   /// and edges: the side of each tool facet and the face of each silhouette edge (-1: none).
+  /// A tool facet's face is made from the tool and the side when read (against()): only the
+  /// silhouette faces, which cost a plane each to make, are kept.
   struct Faces {
-    std::vector<Face> face;
+    std::vector<Face> silhouette;  ///< the faces from index tool().facets.size() on
     std::vector<signed char> side;
     std::vector<int> face_of_edge;
     Eigen::Vector3d a, b;  ///< the ordered ends (both the start for a degenerate move)
@@ -142,6 +144,7 @@ class SweepCulling {
   std::vector<bool> exact_;  ///< the move's sweep carries exact planes (SweepPolytopeBuilder::exact())
   Eigen::AlignedBox3d stock_;
   ToolBounds bounds_;
+  std::vector<FacePlane> tool_planes_;  ///< the tool facets' (normal, offset), packed for against()
   std::vector<Eigen::AlignedBox3d> tool_facet_boxes_;
   std::vector<Eigen::Vector3d> tool_facet_centres_;
   std::vector<double> tool_facet_radii_;

@@ -46,12 +46,12 @@ std::vector<Vector3d> ordered_polygon(bool silhouette, const std::vector<Vector3
 // The centroid of the facet's part below the candidate's planes `meeting` (the convex polygon is
 // ordered from the facet's points), a point to prove inside the candidate; none when that part
 // vanishes.
-std::optional<Vector3d> clipped_centroid(std::vector<Vector3d> polygon,
-                                         const std::vector<SweepCulling::Face>& faces,
+template <class PlaneOf>
+std::optional<Vector3d> clipped_centroid(std::vector<Vector3d> polygon, const PlaneOf& plane_of,
                                          const std::vector<int>& meeting) {
   std::vector<Vector3d> below;
   for (int h : meeting) {
-    const SweepCulling::FacePlane& plane = faces[h].plane;
+    const SweepCulling::FacePlane plane = plane_of(h);
     below.clear();
     for (std::size_t k = 0; k < polygon.size(); ++k) {
       const Vector3d &x = polygon[k], &y = polygon[(k + 1) % polygon.size()];
@@ -121,6 +121,7 @@ SweepCulling::SweepCulling(const SweepPolytopeBuilder& sweeps, std::vector<Move>
     centre /= static_cast<double>(f.loop.size());
     double radius = 0.0;
     for (int v : f.loop) radius = std::max(radius, (tool.vertices[v] - centre).norm());
+    tool_planes_.push_back({f.normal, f.offset});
     tool_facet_boxes_.push_back(box);
     tool_facet_centres_.push_back(centre);
     tool_facet_radii_.push_back(radius);
@@ -232,14 +233,14 @@ const SweepCulling::Faces& SweepCulling::faces(std::uint32_t j, Scratch& scratch
   std::vector<Placed> placed;
   place(j, placed);
   Faces faces;
-  faces.face.reserve(placed.size());
   faces.side.assign(sweeps_.tool().facets.size(), -1);
   faces.face_of_edge.assign(sweeps_.edges().size(), -1);
   for (const Placed& p : placed) {
-    faces.face.push_back(
-        {p.plane, AlignedBox3d(p.box.min().array() - rounding_, p.box.max().array() + rounding_)});
     if (p.tool_facet >= 0) faces.side[p.tool_facet] = static_cast<signed char>(p.placement);
-    if (p.edge >= 0) faces.face_of_edge[p.edge] = p.facet;
+    if (p.edge < 0) continue;
+    faces.silhouette.push_back(
+        {p.plane, AlignedBox3d(p.box.min().array() - rounding_, p.box.max().array() + rounding_)});
+    faces.face_of_edge[p.edge] = p.facet;
   }
   const Move& m = moves_[j];
   const bool degenerate = sweeps_.degenerate(m.start, m.end);
@@ -268,28 +269,60 @@ SweepCulling::Against SweepCulling::against(const Placed& p, std::size_t i, std:
                                             const std::vector<Vector3d>& points, const Faces& candidate,
                                             std::vector<int>& near_faces, std::vector<int>& planes,
                                             CullingCounts& counts) const {
-  const std::vector<Face>& faces = candidate.face;
-  auto value = [](const FacePlane& h, const Vector3d& x) { return h.normal.dot(x) - h.offset; };
+  const auto first_silhouette = static_cast<int>(sweeps_.tool().facets.size());
+  const int face_count = first_silhouette + static_cast<int>(candidate.silhouette.size());
+  // Face h's plane and box: a tool facet's placed at the candidate's end by place()'s arithmetic
+  // (the same numbers, bit for bit), a silhouette face's as faces() keeps it. Made here rather
+  // than kept for each of a thread's recent candidates: reading ~700 kept faces of each was
+  // memory-bound (the first touch of a candidate's faces alone was a tenth of against()).
+  auto face_plane = [&](int h) -> FacePlane {
+    if (h >= first_silhouette)
+      return candidate.silhouette[static_cast<std::size_t>(h - first_silhouette)].plane;
+    const FacePlane& t = tool_planes_[static_cast<std::size_t>(h)];
+    const Vector3d& at = candidate.side[static_cast<std::size_t>(h)] > 0 ? candidate.b : candidate.a;
+    return {t.normal, t.offset + t.normal.dot(at)};
+  };
+  auto face_box = [&](int h) -> AlignedBox3d {
+    if (h >= first_silhouette)
+      return candidate.silhouette[static_cast<std::size_t>(h - first_silhouette)].box;
+    const AlignedBox3d& t = tool_facet_boxes_[static_cast<std::size_t>(h)];
+    const int side = candidate.side[static_cast<std::size_t>(h)];
+    AlignedBox3d box;
+    if (side == 0) {
+      box = AlignedBox3d(t.min() + candidate.a, t.max() + candidate.a);
+      box.extend(AlignedBox3d(t.min() + candidate.b, t.max() + candidate.b));
+    } else {
+      const Vector3d& at = side > 0 ? candidate.b : candidate.a;
+      box = AlignedBox3d(t.min() + at, t.max() + at);
+    }
+    return AlignedBox3d(box.min().array() - rounding_, box.max().array() + rounding_);
+  };
+  auto value = [&](int h, const Vector3d& x) {
+    const FacePlane plane = face_plane(h);
+    return plane.normal.dot(x) - plane.offset;
+  };
   // A face in the facet's own plane is the tie: below an earlier polytope's plane, above a later one's.
   // Only the same tool facet, or a silhouette face, can have the facet's plane bit for bit.
   int tie_face = -1;
   if (p.tool_facet >= 0) {
-    if (same_plane(faces[p.tool_facet].plane, p.plane)) tie_face = p.tool_facet;
+    if (same_plane(face_plane(p.tool_facet), p.plane)) tie_face = p.tool_facet;
   } else {
-    for (std::size_t h = sweeps_.tool().facets.size(); h < faces.size() && tie_face < 0; ++h)
-      if (same_plane(faces[h].plane, p.plane)) tie_face = static_cast<int>(h);
+    for (int h = first_silhouette; h < face_count && tie_face < 0; ++h)
+      if (same_plane(face_plane(h), p.plane)) tie_face = h;
   }
   auto tie = [&](int h) { return h == tie_face; };
   auto above = [&](int h) {
+    const FacePlane plane = face_plane(h);
     return std::all_of(points.begin(), points.end(),
-                       [&](const Vector3d& x) { return value(faces[h].plane, x) >= rounding_; });
+                       [&](const Vector3d& x) { return plane.normal.dot(x) - plane.offset >= rounding_; });
   };
   // A face's plane against the facet's points: true when the facet lies above it (apart); a plane
   // the facet straddles goes into `planes`.
   auto separates_or_crosses = [&](int h) {
     double lo = std::numeric_limits<double>::infinity(), hi = -lo;
+    const FacePlane plane = face_plane(h);
     for (const Vector3d& x : points) {
-      const double v = value(faces[h].plane, x);
+      const double v = plane.normal.dot(x) - plane.offset;
       lo = std::min(lo, v);
       hi = std::max(hi, v);
     }
@@ -299,16 +332,14 @@ SweepCulling::Against SweepCulling::against(const Placed& p, std::size_t i, std:
   };
   // The faces' loops below skip the tool facets' groups that cannot reach the threshold
   // (tool_facet_groups.h): the silhouette faces, from index `first_silhouette` on, go one by one.
-  const auto first_silhouette = static_cast<int>(sweeps_.tool().facets.size());
   auto inside = [&](const Vector3d& x) {
     // The inner bounds first: deeper than the slack inside the tool's inscribed ball or cylinder.
     if (ball_inside_sweep(bounds_, candidate.a, candidate.b, x, 0.0)) return true;
-    if (!facet_groups_->for_each_reaching(x, 0.0, candidate.a, candidate.b, -rounding_, [&](int h) {
-          return tie(h) || value(faces[h].plane, x) <= -rounding_;
-        }))
+    if (!facet_groups_->for_each_reaching(x, 0.0, candidate.a, candidate.b, -rounding_,
+                                          [&](int h) { return tie(h) || value(h, x) <= -rounding_; }))
       return false;
-    for (int h = first_silhouette; h < static_cast<int>(faces.size()); ++h)
-      if (!tie(h) && value(faces[h].plane, x) > -rounding_) return false;
+    for (int h = first_silhouette; h < face_count; ++h)
+      if (!tie(h) && value(h, x) > -rounding_) return false;
     return true;
   };
   // The candidate's planes of the facet's own tool facets first: where two sweeps are apart,
@@ -343,7 +374,7 @@ SweepCulling::Against SweepCulling::against(const Placed& p, std::size_t i, std:
   std::sort(near_faces.begin(), near_faces.end());
   planes.clear();
   for (int h : near_faces) {
-    if (!faces[h].box.intersects(box)) continue;
+    if (!face_box(h).intersects(box)) continue;
     if (tie(h)) {
       if (j > i) return Against::Apart;
       continue;
@@ -354,10 +385,10 @@ SweepCulling::Against SweepCulling::against(const Placed& p, std::size_t i, std:
   if (planes.empty()) {
     if (inside(centroid)) return Against::Inside;
     if (!facet_groups_->for_each_reaching(centroid, 0.0, candidate.a, candidate.b, rounding_,
-                                          [&](int h) { return value(faces[h].plane, centroid) < rounding_; }))
+                                          [&](int h) { return value(h, centroid) < rounding_; }))
       return Against::Apart;
-    for (int h = first_silhouette; h < static_cast<int>(faces.size()); ++h)
-      if (value(faces[h].plane, centroid) >= rounding_) return Against::Apart;
+    for (int h = first_silhouette; h < face_count; ++h)
+      if (value(h, centroid) >= rounding_) return Against::Apart;
   } else {
     // With a point of the facet inside the candidate, the facet's part inside it is its part
     // below the crossing planes (a segment from that point leaves the candidate through a face
@@ -367,16 +398,16 @@ SweepCulling::Against SweepCulling::against(const Placed& p, std::size_t i, std:
     // those certainly below, as in `inside`).
     auto below_every_face = [&](const Vector3d& x) {
       if (!facet_groups_->for_each_reaching(x, 0.0, candidate.a, candidate.b, -rounding_,
-                                            [&](int h) { return value(faces[h].plane, x) <= -rounding_; }))
+                                            [&](int h) { return value(h, x) <= -rounding_; }))
         return false;
-      for (int h = first_silhouette; h < static_cast<int>(faces.size()); ++h)
-        if (value(faces[h].plane, x) > -rounding_) return false;
+      for (int h = first_silhouette; h < face_count; ++h)
+        if (value(h, x) > -rounding_) return false;
       return true;
     };
     if (std::any_of(points.begin(), points.end(), inside)) return Against::Cuts;
     if (!swept) {
       const std::optional<Vector3d> centroid =
-          clipped_centroid(ordered_polygon(p.edge >= 0, points), faces, planes);
+          clipped_centroid(ordered_polygon(p.edge >= 0, points), face_plane, planes);
       if (centroid && below_every_face(*centroid)) return Against::Cuts;
     }
   }
@@ -388,7 +419,7 @@ SweepCulling::Against SweepCulling::against(const Placed& p, std::size_t i, std:
   if (!facet_groups_->for_each_reaching(centroid, radius, candidate.a, candidate.b, -rounding_,
                                         [&](int h) { return tie(h) || !separates_or_crosses(h); }))
     return Against::Apart;
-  for (int h = first_silhouette; h < static_cast<int>(faces.size()); ++h) {
+  for (int h = first_silhouette; h < face_count; ++h) {
     if (tie(h)) continue;
     if (separates_or_crosses(h)) return Against::Apart;
   }
