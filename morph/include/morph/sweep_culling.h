@@ -124,6 +124,7 @@ class SweepCulling {
  private:
   struct Placed;
   void place(std::size_t i, std::vector<Placed>& facets) const;
+  Placed silhouette_face(std::size_t e, int index, const Eigen::Vector3d& a, const Eigen::Vector3d& b) const;
   const Faces& faces(std::uint32_t j, Scratch& scratch, CullingCounts& counts) const;
   enum class Against { Apart, Inside, Cuts };
   enum class Culled { Open, Bound, Shared, Planes };

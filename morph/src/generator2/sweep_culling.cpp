@@ -204,25 +204,33 @@ void SweepCulling::place(std::size_t i, std::vector<Placed>& facets) const {
   if (degenerate) return;
   int index = static_cast<int>(tool.facets.size());
   const std::vector<SweepPolytopeBuilder::Edge>& edges = sweeps_.edges();
-  for (std::size_t e = 0; e < edges.size(); ++e) {
-    if (side[edges[e].left] * side[edges[e].right] >= 0) continue;
-    const Vector3d &u = tool.vertices[edges[e].from], &w = tool.vertices[edges[e].to];
-    Placed p;
-    p.facet = index;
-    p.edge = static_cast<int>(e);
-    ++index;
-    const Halfspace look = sweeps_.silhouette_look(edges[e], a, motion);  // the culling reads the look alone
-    p.plane = {look.normal, look.offset};
-    p.box = AlignedBox3d(u + a);
-    p.box.extend(w + a).extend(u + b).extend(w + b);
-    p.centre = 0.5 * (u + w) + middle;
-    p.radius = 0.5 * (u - w).norm() + half;
-    p.from = 0.5 * (u + w) + a;
-    p.to = 0.5 * (u + w) + b;
-    p.thickness = 0.5 * (u - w).norm();
-    p.cluster = {tool_facet_cell_[edges[e].left], 2};
-    facets.push_back(p);
-  }
+  for (std::size_t e = 0; e < edges.size(); ++e)
+    if (side[edges[e].left] * side[edges[e].right] < 0) facets.push_back(silhouette_face(e, index++, a, b));
+}
+
+// The face of silhouette edge e of the sweep along [a, b] (ordered ends of a move that is not
+// degenerate), facet `index` of the sweep.
+SweepCulling::Placed SweepCulling::silhouette_face(std::size_t e, int index, const Vector3d& a,
+                                                   const Vector3d& b) const {
+  const ConvexPolytope& tool = sweeps_.tool();
+  const SweepPolytopeBuilder::Edge& edge = sweeps_.edges()[e];
+  const Vector3d motion = b - a, middle = 0.5 * (a + b);
+  const double half = 0.5 * motion.norm();
+  const Vector3d &u = tool.vertices[edge.from], &w = tool.vertices[edge.to];
+  Placed p;
+  p.facet = index;
+  p.edge = static_cast<int>(e);
+  const Halfspace look = sweeps_.silhouette_look(edge, a, motion);  // the culling reads the look alone
+  p.plane = {look.normal, look.offset};
+  p.box = AlignedBox3d(u + a);
+  p.box.extend(w + a).extend(u + b).extend(w + b);
+  p.centre = 0.5 * (u + w) + middle;
+  p.radius = 0.5 * (u - w).norm() + half;
+  p.from = 0.5 * (u + w) + a;
+  p.to = 0.5 * (u + w) + b;
+  p.thickness = 0.5 * (u - w).norm();
+  p.cluster = {tool_facet_cell_[edge.left], 2};
+  return p;
 }
 
 const SweepCulling::Faces& SweepCulling::faces(std::uint32_t j, Scratch& scratch,
@@ -230,24 +238,35 @@ const SweepCulling::Faces& SweepCulling::faces(std::uint32_t j, Scratch& scratch
   const auto found = scratch.slot_of_.find(j);
   if (found != scratch.slot_of_.end()) return scratch.recent_[found->second].second;
   ++counts.candidates_placed;
-  std::vector<Placed> placed;
-  place(j, placed);
-  Faces faces;
-  faces.side.assign(sweeps_.tool().facets.size(), -1);
-  faces.face_of_edge.assign(sweeps_.edges().size(), -1);
-  for (const Placed& p : placed) {
-    if (p.tool_facet >= 0) faces.side[p.tool_facet] = static_cast<signed char>(p.placement);
-    if (p.edge < 0) continue;
-    faces.silhouette.push_back(
-        {p.plane, AlignedBox3d(p.box.min().array() - rounding_, p.box.max().array() + rounding_)});
-    faces.face_of_edge[p.edge] = p.facet;
-  }
+  // As place() places them, but only the sides of the tool facets (against() makes their faces)
+  // and the silhouette faces.
+  const ConvexPolytope& tool = sweeps_.tool();
   const Move& m = moves_[j];
   const bool degenerate = sweeps_.degenerate(m.start, m.end);
   const std::pair<Vector3d, Vector3d> ends =
       degenerate ? std::pair{m.start, m.start} : SweepPolytopeBuilder::ordered(m.start, m.end);
+  Faces faces;
   faces.a = ends.first;
   faces.b = ends.second;
+  faces.side.assign(tool.facets.size(), -1);
+  faces.face_of_edge.assign(sweeps_.edges().size(), -1);
+  if (!degenerate) {
+    const Vector3d motion = faces.b - faces.a;
+    for (std::size_t f = 0; f < tool.facets.size(); ++f)
+      faces.side[f] = static_cast<signed char>(motion_side(tool.facets[f].normal, motion));
+    int index = static_cast<int>(tool.facets.size());
+    const std::vector<SweepPolytopeBuilder::Edge>& edges = sweeps_.edges();
+    for (std::size_t e = 0; e < edges.size(); ++e) {
+      if (faces.side[static_cast<std::size_t>(edges[e].left)] *
+              faces.side[static_cast<std::size_t>(edges[e].right)] >=
+          0)
+        continue;
+      const Placed p = silhouette_face(e, index, faces.a, faces.b);
+      faces.silhouette.push_back(
+          {p.plane, AlignedBox3d(p.box.min().array() - rounding_, p.box.max().array() + rounding_)});
+      faces.face_of_edge[e] = index++;
+    }
+  }
   // The candidates of the last few hundred moves: a raster's neighbouring rows (about 60 kB each).
   constexpr std::size_t kRecent = 1024;
   std::size_t slot = scratch.recent_.size();
