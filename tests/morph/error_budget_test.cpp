@@ -1,10 +1,11 @@
 // SPDX-License-Identifier: Apache-2.0
-// Generator 2's error budget (morph/error_budget.h): the shares add up to the tolerance, a job
-// without arcs gives the chords' share to the tool, and generator 2's surface stays within the
-// tolerance of the exact one with either split, for every tool shape (the exact erosion field at
-// every vertex, edge midpoint and centroid).
+// Generator 2's error budget (morph/error_budget.h): the shares add up to at most the tolerance,
+// generator 2's surface stays within it of the exact one for every tool shape, with arcs and
+// without (the exact erosion field at every vertex, edge midpoint and centroid), and a pillar
+// thinner than the tolerance between V-bit grooves stands.
 #include <morph/erode2.h>
 #include <morph/error_budget.h>
+#include <morph/mesh_distance.h>
 #include <morph/quantize.h>
 #include <morph/sweep_distance.h>
 #include <morph/tool.h>
@@ -13,6 +14,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <limits>
 #include <string>
 #include <vector>
 
@@ -57,57 +59,56 @@ double largest_field_error(const morph::TriangleMesh& mesh, const morph::Erosion
   return worst;
 }
 
-TEST(ErrorBudget, SharesAddUpToTheToleranceAndArcsTakeTheCheapestSplit) {
+TEST(ErrorBudget, SharesAddUpToAtMostTheTolerance) {
   const morph::Tool tool = morph::ball_tool(1.5, 10.0);
   for (double tolerance : {0.1, 0.01, 0.003}) {
     const morph::ErrorBudget lines = morph::error_budget(slot_job(tool, tolerance), tolerance);
     EXPECT_EQ(lines.chords, 0.0);
-    EXPECT_NEAR(lines.tool, 0.8 * tolerance, 1e-15);
-    EXPECT_NEAR(lines.chords + lines.tool + lines.stock, tolerance, 1e-15);
+    EXPECT_NEAR(lines.tool, 0.4 * tolerance, 1e-15);
     EXPECT_EQ(lines.grid_exponent, morph::grid_exponent_for(lines.tool));
     const morph::Job job = slot_job_with_arc(tool, tolerance);
     const morph::ErrorBudget arcs = morph::error_budget(job, tolerance);
-    EXPECT_GE(arcs.chords, 0.05 * tolerance - 1e-15);
-    EXPECT_LE(arcs.chords, 0.4 * tolerance + 1e-15);
+    EXPECT_NEAR(arcs.chords, 0.4 * tolerance, 1e-15);
+    EXPECT_NEAR(arcs.tool, 0.4 * tolerance, 1e-15);
     EXPECT_NEAR(arcs.chords + arcs.tool + arcs.stock, tolerance, 1e-15);
     EXPECT_EQ(arcs.grid_exponent, morph::grid_exponent_for(arcs.tool));
-    // No other split of the candidates makes fewer sweep facets.
-    const double chosen = morph::count_sweeps(job, arcs).facets;
-    for (int k = 1; k <= 8; ++k) {
-      morph::ErrorBudget other = arcs;
-      other.chords = 0.05 * k * tolerance;
-      other.tool = 0.8 * tolerance - other.chords;
-      other.grid_exponent = morph::grid_exponent_for(other.tool);
-      EXPECT_LE(chosen, morph::count_sweeps(job, other).facets) << k;
-    }
+    // The count erode2's estimate uses: the arc's chords are more segments than its one move.
+    EXPECT_GT(morph::count_sweeps(job, arcs).segments,
+              morph::count_sweeps(slot_job(tool, tolerance), lines).segments);
   }
 }
 
-TEST(ErrorBudget, FewArcsGiveTheToolMostOfTheShareAndManyArcsTheChordsMore) {
-  // One quarter arc among 40 raster lines: its chords cost little, the tool's facets much.
-  const double tolerance = 0.01;
-  const morph::Tool tool = morph::ball_tool(1.5, 10.0);
-  morph::Job raster = slot_job_with_arc(tool, tolerance);
-  std::vector<morph::Move>& moves = raster.paths.front().moves;
-  for (int row = 0; row < 40; ++row) {
-    morph::Move m = moves.back();
-    m.start = m.end;
-    m.end = Vector3d(row % 2 ? 0.0 : 20.0, 0.3 * row, 4.5);
-    moves.push_back(m);
+// Stress seed 43, case 516: a 120-degree V-bit of radius 1.534 cuts a star {7/3} of radius 6.96
+// twice round, 1.996 deep in a 4.201 plate; its seven grooves' walls stand 1.549 from the centre,
+// leaving a heptagonal pillar 0.03 mm across from z = 3.09 to the top. With the tool's polytope
+// at 0.8 of the tolerance 0.05 its grooves swallowed the pillar: the exact surface 0.75 mm from
+// the output.
+TEST(ErrorBudget, AThinPillarBetweenGroovesStands) {
+  const std::vector<Vector3d> star{{4.891354105999358, -4.951389199984507, 2.2049999999999996},
+                                   {-2.2586305114765115, 6.583326530913331, 2.2049999999999996},
+                                   {-0.8214425561296447, -6.911355303193376, 2.2049999999999996},
+                                   {3.738818851162502, 5.870505395465701, 2.2049999999999996},
+                                   {-5.915676219118561, -3.666929897142176, 2.2049999999999996},
+                                   {6.920861360870523, 0.7370739607457393, 2.2049999999999996},
+                                   {-6.55528503130766, 2.338768513195294, 2.2049999999999996}};
+  std::vector<Vector3d> path;
+  for (int lap = 0; lap < 2; ++lap) path.insert(path.end(), star.begin(), star.end());
+  path.push_back(star.front());
+  const double tolerance = 0.05;
+  const morph::Job job =
+      morphmill_test::box_polyline_job(Eigen::AlignedBox3d(Vector3d(-11, -11, 0), Vector3d(11, 11, 4.201)),
+                                       morph::conical_tool(1.534, 120.0, 4.055), path, tolerance);
+  const morph::ErodeResult result = morph::erode2(job);
+  // Points of the pillar's exact surface: its top's centre and its foot.
+  for (const Vector3d& p : {Vector3d(0, 0, 4.201), Vector3d(0, 0.0147, 3.2)}) {
+    double nearest = std::numeric_limits<double>::infinity();
+    for (const auto& t : result.mesh.triangles)
+      nearest = std::min(nearest, (p - morph::closest_point_on_triangle(p, result.mesh.vertices[t[0]],
+                                                                        result.mesh.vertices[t[1]],
+                                                                        result.mesh.vertices[t[2]]))
+                                      .norm());
+    EXPECT_LE(nearest, tolerance) << p.transpose();
   }
-  const morph::ErrorBudget few = morph::error_budget(raster, tolerance);
-  EXPECT_LE(few.chords, 0.1 * tolerance + 1e-15);
-  // A helix of 40 turns and nothing else: its chords are the segments.
-  morph::Job helix = slot_job_with_arc(tool, tolerance);
-  morph::Move& arc = helix.paths.front().moves[1];
-  arc.sweep = -40 * 2 * M_PI;
-  arc.end = arc.start + Vector3d(0, 0, -2);
-  helix.paths.front().moves = {arc};
-  const morph::ErrorBudget many = morph::error_budget(helix, tolerance);
-  EXPECT_GT(many.chords, few.chords);
-  const morph::SweepCount counted = morph::count_sweeps(helix, many);
-  EXPECT_GT(counted.segments, 40.0);
-  EXPECT_GT(counted.facets, counted.segments);
 }
 
 TEST(ErrorBudget, EveryToolShapeStaysWithinTheToleranceWithEitherSplit) {
@@ -126,11 +127,11 @@ TEST(ErrorBudget, EveryToolShapeStaysWithinTheToleranceWithEitherSplit) {
       EXPECT_TRUE(topology.closed_manifold()) << name << (with_arc ? " with an arc" : "");
       const double error = largest_field_error(result.mesh, morph::ErosionField(job));
       EXPECT_LE(error, tolerance) << name << (with_arc ? " with an arc" : "");
-      // The larger share is spent, and no more: a ball's polytope straddles both its meridian's
-      // and its rings' chords, so its error nears the whole share, beyond the 0.4 of the arcs'
-      // split (a flat or conical side bulges one way only, about half its share).
+      // The share is spent, and no more: a ball's polytope straddles both its meridian's and its
+      // rings' chords, so its error nears the tool's whole share (a flat or conical side bulges
+      // one way only, about half of it).
       if (!with_arc && name == "ball") {
-        EXPECT_GT(error, 0.4 * tolerance);
+        EXPECT_GT(error, 0.5 * morph::error_budget(job, tolerance).tool);
       }
     }
 }

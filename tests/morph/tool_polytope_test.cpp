@@ -115,13 +115,10 @@ TEST(ToolPolytope, FinerDeviationMeansMoreFacetsAndTheSagittaFixesTheSectorCount
   const double r = 1.5875;
   EXPECT_LE(r * (1.0 - std::cos(M_PI / fine.sectors)), 0.875 * 0.004);
   EXPECT_GT(r * (1.0 - std::cos(M_PI / (fine.sectors - 4))), 0.875 * 0.004);
-  // A meridian of lines only bulges nowhere: the sectors take all of it, 1.75 x deviation.
-  for (const morph::Tool& straight : {morph::flat_tool(r, 25.4), morph::conical_tool(r, 60.0, 25.4)}) {
-    const morph::ToolPolytope lines = morph::tool_polytope(straight.profile, 0.004);
-    EXPECT_LE(r * (1.0 - std::cos(M_PI / lines.sectors)), 1.75 * 0.004);
-    EXPECT_GT(r * (1.0 - std::cos(M_PI / (lines.sectors - 4))), 1.75 * 0.004);
-    EXPECT_LT(lines.sectors, fine.sectors);
-  }
+  // A meridian of lines only keeps the same sectors: its rings do not take the meridian's half
+  // (error_budget.h: a coarser V-bit erased a thin pillar).
+  for (const morph::Tool& straight : {morph::flat_tool(r, 25.4), morph::conical_tool(r, 60.0, 25.4)})
+    EXPECT_EQ(morph::tool_polytope(straight.profile, 0.004).sectors, fine.sectors);
 }
 
 TEST(ToolPolytope, ItsSizeIsKnownWithoutBuildingIt) {

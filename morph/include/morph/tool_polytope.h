@@ -12,8 +12,7 @@
 /// The inscribed polytope lies inside the tool; it is pushed out by half its own sagitta (each
 /// chord's line offset by half the chord's sagitta, ring radii scaled by 2 / (1 + cos(π/N))), so
 /// it straddles the exact surface and its error is about half the sagitta both ways. The
-/// meridian's and the rings' sagittas share the budget (half each; the rings take all of it
-/// when the meridian is of lines only, as a flat or conical tool's is).
+/// meridian's and the rings' sagittas share the budget, half each.
 /// The vertices are then moved onto a power-of-two grid (quantize.h) with the rings kept
 /// homothetic, so every facet is exactly planar on it; that moves the surface by at most an
 /// eighth of the budget more.

@@ -1,13 +1,11 @@
 // SPDX-License-Identifier: Apache-2.0
 #include <morph/error_budget.h>
-#include <morph/exceptions.h>
 #include <morph/quantize.h>
 #include <morph/sweep_segments.h>
 #include <morph/tool_polytope.h>
 
 #include <algorithm>
 #include <map>
-#include <optional>
 
 namespace morph {
 
@@ -27,32 +25,12 @@ ErrorBudget error_budget(const Job& job, double tolerance) {
   const bool has_arcs = std::any_of(job.paths.begin(), job.paths.end(), [](const Path& path) {
     return std::any_of(path.moves.begin(), path.moves.end(), [](const Move& m) { return m.is_arc(); });
   });
-  auto split = [&](double chords) {
-    ErrorBudget budget;
-    budget.chords = chords;
-    budget.tool = 0.8 * tolerance - chords;
-    budget.stock = 0.2 * tolerance;
-    budget.grid_exponent = grid_exponent_for(budget.tool);
-    return budget;
-  };
-  if (!has_arcs) return split(0.0);
-  // Finer chords make more segments, a finer tool more facets to each: of the splits from 0.05 to
-  // 0.4 of the tolerance to the chords, the one with the fewest sweep facets (the generator's
-  // work), the coarser chords on a tie. A split the tool polytope cannot be made for is skipped.
-  std::optional<ErrorBudget> best;
-  double fewest = 0.0;
-  std::optional<LimitError> refused;
-  for (int k = 8; k >= 1; --k) {
-    const ErrorBudget budget = split(0.05 * k * tolerance);
-    try {
-      const double facets = count_sweeps(job, budget).facets;
-      if (!best || facets < fewest) best = budget, fewest = facets;
-    } catch (const LimitError& e) {
-      refused = e;
-    }
-  }
-  if (!best) throw *refused;
-  return *best;
+  ErrorBudget budget;
+  budget.chords = has_arcs ? 0.4 * tolerance : 0.0;
+  budget.tool = 0.4 * tolerance;
+  budget.stock = 0.2 * tolerance;
+  budget.grid_exponent = grid_exponent_for(budget.tool);
+  return budget;
 }
 
 }  // namespace morph

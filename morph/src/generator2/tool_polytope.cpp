@@ -178,19 +178,11 @@ std::vector<std::array<std::int64_t, 2>> ring_directions(int sectors) {
 
 // Every point of the polytope is within half a meridian chord's sagitta plus half a ring side's
 // (straddling halves both) plus the grid's eighth of the budget of the tool: so the sagittas may
-// add up to 1.75 budgets. Half each where the meridian bulges; a meridian of lines only (flat,
-// conical, tapered tools) bulges nowhere, and its rings take it all.
-constexpr double kSagittas = 2.0 * (1.0 - 1.0 / 8.0);
-
-double meridian_sagitta(double max_deviation) {
-  return 0.5 * kSagittas * max_deviation;
-}
-
-double ring_sagitta(const ToolProfile& profile, double max_deviation) {
-  const bool bulges =
-      std::any_of(profile.pieces().begin(), profile.pieces().end(),
-                  [](const ProfilePiece& p) { return p.kind != ProfilePiece::Kind::Segment; });
-  return (bulges ? 0.5 : 1.0) * kSagittas * max_deviation;
+// add up to 1.75 budgets, half each. (A meridian of lines only could give its rings all of it;
+// that doubles a flat or conical tool's radial error, and a thin pillar between V-bit grooves
+// vanished: error_budget.h.)
+double chord_sagitta(double max_deviation) {
+  return (1.0 - 1.0 / 8.0) * max_deviation;
 }
 
 // The inscribed meridian's chords within the budget (checked: the tool and the deviation).
@@ -202,7 +194,7 @@ std::vector<Chord> meridian_chords(const ToolProfile& profile, double max_deviat
   const double scale = std::max(profile.radius(), profile.height());
   std::vector<Chord> chords;
   for (const ProfilePiece& piece : profile.pieces())
-    append_chords(piece, meridian_sagitta(max_deviation), chords);
+    append_chords(piece, chord_sagitta(max_deviation), chords);
   chords = tidy(chords, scale);
   if (chords.size() > kMaxCount)
     throw LimitError("tool polytope: the meridian would need more than 65536 pieces");
@@ -211,8 +203,7 @@ std::vector<Chord> meridian_chords(const ToolProfile& profile, double max_deviat
 
 // Sectors of every ring, a multiple of 4 so the polytope keeps the tool's quarter symmetry.
 int sector_count(const ToolProfile& profile, double max_deviation) {
-  const double half_step =
-      std::acos(std::max(-1.0, 1.0 - ring_sagitta(profile, max_deviation) / profile.radius()));
+  const double half_step = std::acos(std::max(-1.0, 1.0 - chord_sagitta(max_deviation) / profile.radius()));
   return 4 * checked_count(M_PI / half_step / 4.0, "the rings");
 }
 
