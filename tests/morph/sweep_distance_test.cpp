@@ -166,6 +166,47 @@ TEST(ErosionField, MatchesBruteForceOverManyMoves) {
   }
 }
 
+// A fine raster: 0.01 mm steps along x (one run), then a turn, then steps along a line that
+// is collinear only to rounding (not joined), with a V-bit whose distance is a 1-D minimisation.
+// The field must equal the brute-force minimum over the moves, and name a move whose sweep is
+// the nearest.
+TEST(ErosionField, FineCollinearStepsGiveTheSameFieldAsTheirMoves) {
+  morph::Job job;
+  job.tools[1] = morph::conical_tool(2.0, 90.0, 6.0);
+  job.tools[1].number = 1;
+  job.stock.type = morph::StockType::Box;
+  job.stock.box = Eigen::AlignedBox3d(Vector3d(0, 0, 0), Vector3d(10, 10, 5));
+  morph::Path path;
+  Vector3d prev(1, 2, 4.2);
+  for (int i = 0; i < 400; ++i) {
+    const Vector3d next(1 + 0.01 * (i + 1), 2, 4.2);
+    path.moves.push_back(line(prev, next));
+    prev = next;
+  }
+  const Vector3d direction = Vector3d(0.3, 1, -0.1).normalized();
+  for (int i = 0; i < 50; ++i) {
+    const Vector3d next = prev + 0.03 * direction;
+    path.moves.push_back(line(prev, next));
+    prev = next;
+  }
+  job.paths.push_back(path);
+  const morph::ErosionField field(job);
+  std::mt19937_64 rng(11);
+  std::uniform_real_distribution<double> px(-1, 8), py(0, 6), pz(1.5, 5.5);
+  for (int k = 0; k < 200; ++k) {
+    const Vector3d p(px(rng), py(rng), pz(rng));
+    double brute = std::numeric_limits<double>::infinity();
+    for (const Move& m : job.paths[0].moves)
+      brute = std::min(brute, morph::swept_signed_distance(job.tools[1], m, p));
+    int nearest = -2;
+    const double d = field.sweep_distance(p, &nearest);
+    EXPECT_NEAR(d, brute, 1e-9) << p.transpose();
+    ASSERT_GE(nearest, 0);
+    EXPECT_NEAR(morph::swept_signed_distance(job.tools[1], job.paths[0].moves[nearest], p), brute, 1e-9)
+        << p.transpose() << " move " << nearest;
+  }
+}
+
 TEST(AabbTree, OverlapQueryFindsExactlyTheOverlappingBoxes) {
   std::mt19937_64 rng(5);
   std::uniform_real_distribution<double> u(0, 100), s(0.1, 8);

@@ -186,11 +186,10 @@ struct SweepPiece {
 
 std::vector<SweepPiece> sweep_pieces(const morph::Job& job, double chord_tolerance) {
   std::vector<SweepPiece> out;
-  for (const morph::Move* move : job.moves()) {
-    const morph::Tool* tool = &job.tool_of(*move);
-    for (const auto& [a, b] : straight_pieces(*move, chord_tolerance))
-      out.push_back({tool, detail::StraightSweep(*tool, a, b)});
-  }
+  // Runs, not moves: a fine raster's steps along one line sweep what the line sweeps.
+  for (const morph::SweptRun& run : morph::swept_runs(job))
+    for (const auto& [a, b] : straight_pieces(run.move, chord_tolerance))
+      out.push_back({run.tool, detail::StraightSweep(*run.tool, a, b)});
   return out;
 }
 

@@ -29,6 +29,22 @@ double closest_sweep_parameter(const Tool& tool, const Eigen::Vector3d& a, const
 /// Axis-aligned box containing the whole swept volume of `tool` along `move`.
 Eigen::AlignedBox3d swept_bounds(const Tool& tool, const Move& move);
 
+/// A run of consecutive line moves of one tool, each going on along the line of the run so far.
+/// The sweep of [a, c] is the union of those of [a, b] and [b, c] when b lies on [a, c], so a run
+/// sweeps exactly what its moves sweep; a query pays for one sweep, not for every step of a fine
+/// raster (0.01 mm steps under a 3 mm tool put ~600 moves' bounds around every point).
+struct SweptRun {
+  Move move;  ///< the whole run, from its first move's start to its last's end
+  const Tool* tool = nullptr;
+  std::size_t first = 0;  ///< global index (Job::moves()) of its first move
+  std::size_t count = 1;  ///< its moves; an arc is a run of its own
+};
+
+/// The job's moves as runs, in order. Joining is decided exactly (the doubles taken as exact
+/// rationals): a move joins when it starts where the run ends, has the run's tool, and the run's
+/// end lies on the segment from the run's start to the move's end.
+std::vector<SweptRun> swept_runs(const Job& job);
+
 /// The exact field of a whole job: f(p) = max(d_stock(p), -min_i d_sweep_i(p)). Its zero set is
 /// the boundary of the regularized partial erosion; f < 0 inside the result. |f| equals the
 /// distance to that boundary for points inside the result and is a lower bound elsewhere (it

@@ -5,6 +5,8 @@
 
 #include <morph/convex_minimum.h>
 
+#include "generator2/exact_determinant.h"
+
 #include <algorithm>
 #include <cmath>
 #include <limits>
@@ -130,24 +132,80 @@ Eigen::AlignedBox3d swept_bounds(const Tool& tool, const Move& move) {
   return Eigen::AlignedBox3d(lo, hi);
 }
 
+namespace {
+
+// Whether b lies on the closed segment [a, c], decided exactly: the three projections' orientation
+// determinants vanish (the doubles taken as exact rationals) and b is between a and c on each axis.
+bool on_segment(const Eigen::Vector3d& a, const Eigen::Vector3d& b, const Eigen::Vector3d& c) {
+  for (int axis = 0; axis < 3; ++axis)
+    if (b[axis] < std::min(a[axis], c[axis]) || b[axis] > std::max(a[axis], c[axis])) return false;
+  for (int axis = 0; axis < 3; ++axis) {
+    const int u = (axis + 1) % 3, v = (axis + 2) % 3;
+    const exact::ExactRows rows({exact::Row{a[u], a[v], 1.0, 0.0}, exact::Row{b[u], b[v], 1.0, 0.0},
+                                 exact::Row{c[u], c[v], 1.0, 0.0}, exact::Row{}},
+                                3);
+    if (rows.minor_sign(0, 1, 2) != 0) return false;
+  }
+  return true;
+}
+
+}  // namespace
+
+std::vector<SweptRun> swept_runs(const Job& job) {
+  const std::vector<const Move*> moves = job.moves();
+  std::vector<SweptRun> runs;
+  for (std::size_t i = 0; i < moves.size(); ++i) {
+    const Move& m = *moves[i];
+    const Tool* tool = &job.tool_of(m);
+    if (!runs.empty()) {
+      SweptRun& run = runs.back();
+      if (!m.is_arc() && !run.move.is_arc() && run.tool == tool && run.move.end == m.start &&
+          on_segment(run.move.start, m.start, m.end)) {
+        run.move.end = m.end;
+        ++run.count;
+        continue;
+      }
+    }
+    runs.push_back({m, tool, i, 1});
+  }
+  return runs;
+}
+
 struct ErosionField::Impl {
   const Job* job = nullptr;
   std::vector<const Move*> moves;
-  std::vector<const Tool*> tools;
+  std::vector<SweptRun> runs;
   AabbTree tree;
   double max_depth = 0.0;  // no sweep is deeper than its tool's radius
   std::optional<MeshDistance> stock_mesh;
+
+  // The global index of the move of `run` that holds its tool position nearest to p.
+  std::size_t move_nearest(const SweptRun& run, const Eigen::Vector3d& p) const {
+    if (run.count == 1) return run.first;
+    const Eigen::Vector3d& a = run.move.start;
+    const Eigen::Vector3d d = run.move.end - a;
+    const double t = closest_sweep_parameter(*run.tool, a, run.move.end, p) * d.squaredNorm();
+    std::size_t lo = run.first, hi = run.first + run.count - 1;
+    while (lo < hi) {  // the first move whose end is at or beyond t along the run
+      const std::size_t mid = lo + (hi - lo) / 2;
+      if ((moves[mid]->end - a).dot(d) < t)
+        lo = mid + 1;
+      else
+        hi = mid;
+    }
+    return lo;
+  }
 };
 
 ErosionField::ErosionField(const Job& job) : impl_(std::make_unique<Impl>()) {
   impl_->job = &job;
   impl_->moves = job.moves();
+  impl_->runs = swept_runs(job);
   std::vector<Eigen::AlignedBox3d> boxes;
-  boxes.reserve(impl_->moves.size());
-  for (const Move* m : impl_->moves) {
-    impl_->tools.push_back(&job.tool_of(*m));
-    impl_->max_depth = std::max(impl_->max_depth, impl_->tools.back()->radius);
-    boxes.push_back(swept_bounds(*impl_->tools.back(), *m));
+  boxes.reserve(impl_->runs.size());
+  for (const SweptRun& run : impl_->runs) {
+    impl_->max_depth = std::max(impl_->max_depth, run.tool->radius);
+    boxes.push_back(swept_bounds(*run.tool, run.move));
   }
   impl_->tree = AabbTree(std::move(boxes));
   if (job.stock.type == StockType::Mesh) impl_->stock_mesh.emplace(job.stock.mesh);
@@ -169,9 +227,10 @@ double ErosionField::stock_distance(const Eigen::Vector3d& p) const {
 double ErosionField::sweep_distance(const Eigen::Vector3d& p, int* nearest_move) const {
   double best = std::numeric_limits<double>::infinity();
   const std::int64_t item = impl_->tree.nearest(
-      p, [&](std::size_t i) { return swept_signed_distance(*impl_->tools[i], *impl_->moves[i], p); }, &best,
-      impl_->max_depth);
-  if (nearest_move) *nearest_move = static_cast<int>(item);
+      p, [&](std::size_t i) { return swept_signed_distance(*impl_->runs[i].tool, impl_->runs[i].move, p); },
+      &best, impl_->max_depth);
+  if (nearest_move)
+    *nearest_move = item < 0 ? -1 : static_cast<int>(impl_->move_nearest(impl_->runs[item], p));
   return best;
 }
 
