@@ -72,7 +72,7 @@ struct CaseResult {
   std::optional<double> expected_volume;
   double tolerance = 0, voxel_size = 0, agreement_bound = 0;
   std::size_t generator_pieces = 0, reference_pieces = 0, generator_triangles = 0;
-  /// Generator pieces too small for the reference's voxels, confirmed by the exact field
+  /// Pieces of either side too small for the reference's voxels, judged by the exact field
   /// (VerifyOutcome::pieces_below_resolution).
   std::size_t pieces_below_resolution = 0;
   double generator_volume = 0, reference_volume = 0;

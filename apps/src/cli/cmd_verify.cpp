@@ -103,7 +103,7 @@ void register_verify_command(CLI::App& app) {
               << outcome.reference_pieces.size() << (outcome.pieces_match ? " (match)" : " (MISMATCH)")
               << (outcome.pieces_below_resolution
                       ? ", " + std::to_string(outcome.pieces_below_resolution) +
-                            " of the generator's below the voxels' resolution, confirmed by the exact field"
+                            " piece(s) below the voxels' resolution (of both sides), judged by the exact field"
                       : std::string())
               << (outcome.design_path.empty()
                       ? std::string()

@@ -275,7 +275,7 @@ std::vector<Table> tables(const VerifyOutcome& o) {
          yes_no(o.sides_agree), number(o.resolvable_hausdorff), number(o.agreement_bound)},
         {"same pieces, volumes within half a voxel times area", yes_no(o.pieces_match),
          o.pieces_below_resolution
-             ? fmt::format("{} vs {} ({} below the voxels' resolution, confirmed by the exact field)",
+             ? fmt::format("{} vs {} ({} below the voxels' resolution, of both sides, judged by the exact field)",
                            o.morph_pieces.size(), o.reference_pieces.size(), o.pieces_below_resolution)
              : fmt::format("{} vs {}", o.morph_pieces.size(), o.reference_pieces.size()),
          "-"}}});

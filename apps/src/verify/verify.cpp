@@ -95,34 +95,6 @@ class StageClock {
   bool per_stage_peak_ = false;
 };
 
-std::vector<PieceRecord> mesh_pieces(const morph::TriangleMesh& mesh) {
-  std::vector<std::uint32_t> component;
-  const std::size_t count = morph::connected_components(mesh, component);
-  std::vector<morph::TriangleMesh> parts(count);
-  for (auto& part : parts)
-    part.vertices = mesh.vertices;  // shared vertex array: volume and area ignore unused ones
-  for (std::size_t t = 0; t < mesh.triangles.size(); ++t)
-    parts[component[t]].triangles.push_back(mesh.triangles[t]);
-  std::vector<PieceRecord> pieces;
-  for (const auto& part : parts) {
-    PieceRecord piece;
-    piece.volume = morph::enclosed_volume(part);
-    piece.area = morph::surface_area(part);
-    Eigen::Vector3d moment = Eigen::Vector3d::Zero();  // of the tetrahedra from the origin
-    for (const auto& tri : part.triangles) {
-      for (std::uint32_t v : tri) piece.bounds.extend(part.vertices[v]);
-      const Eigen::Vector3d &a = part.vertices[tri[0]], &b = part.vertices[tri[1]],
-                            &c = part.vertices[tri[2]];
-      moment += a.dot(b.cross(c)) / 6.0 * (a + b + c) / 4.0;
-    }
-    if (piece.volume != 0.0) piece.centroid = moment / piece.volume;
-    pieces.push_back(piece);
-  }
-  std::sort(pieces.begin(), pieces.end(),
-            [](const PieceRecord& a, const PieceRecord& b) { return a.volume > b.volume; });
-  return pieces;
-}
-
 // Moves points of (or near) the exact surface onto it: Newton steps on the exact field along its
 // numerical gradient. Points that do not converge (on creases, where the gradient jumps) are dropped.
 std::vector<Eigen::Vector3d> project_onto_exact_surface(const morph::ErosionField& field,
@@ -302,50 +274,6 @@ View3d view3d_of(ViewSurface surface, std::vector<double> values, double band, c
 }
 
 }  // namespace
-
-bool match_pieces(const std::vector<PieceRecord>& morph_pieces,
-                  const std::vector<PieceRecord>& reference_pieces, double voxel_size, double tolerance,
-                  const morph::ErosionField& field, std::size_t* below_resolution) {
-  if (below_resolution) *below_resolution = 0;
-  // Half a voxel of surface displacement over the whole piece bounds the level set's volume error.
-  auto same = [&](const std::vector<PieceRecord>& pieces) {
-    if (pieces.size() != reference_pieces.size()) return false;
-    for (std::size_t i = 0; i < pieces.size(); ++i)
-      if (!(std::abs(pieces[i].volume - reference_pieces[i].volume) <=
-            0.5 * voxel_size * reference_pieces[i].area))
-        return false;
-    return true;
-  };
-  if (same(morph_pieces)) return true;
-  // The voxels cannot see a piece much smaller than themselves, or see it swollen: the large
-  // pieces must match; each small one of the generator's must be material of the exact solid
-  // (else a phantom), and each small one of the reference's must lie on one of those.
-  const double unseen = std::pow(2.0 * voxel_size, 3);
-  auto split = [&](const std::vector<PieceRecord>& pieces, std::vector<PieceRecord>& large,
-                   std::vector<PieceRecord>& small) {
-    for (const PieceRecord& piece : pieces) (piece.volume >= unseen ? large : small).push_back(piece);
-  };
-  std::vector<PieceRecord> morph_large, morph_small, reference_large, reference_small;
-  split(morph_pieces, morph_large, morph_small);
-  split(reference_pieces, reference_large, reference_small);
-  if (morph_small.empty() || morph_large.size() != reference_large.size()) return false;
-  for (std::size_t i = 0; i < morph_large.size(); ++i)
-    if (!(std::abs(morph_large[i].volume - reference_large[i].volume) <=
-          0.5 * voxel_size * reference_large[i].area))
-      return false;
-  for (const PieceRecord& piece : morph_small)
-    if (!(field.value(piece.centroid) < -tolerance)) return false;
-  for (const PieceRecord& seen : reference_small) {
-    Eigen::AlignedBox3d near = seen.bounds;
-    near.min().array() -= voxel_size;
-    near.max().array() += voxel_size;
-    if (std::none_of(morph_small.begin(), morph_small.end(),
-                     [&](const PieceRecord& piece) { return near.intersects(piece.bounds); }))
-      return false;
-  }
-  if (below_resolution) *below_resolution = morph_small.size();
-  return true;
-}
 
 double auto_voxel_size(const morph::Job& job) {
   double smallest_radius = std::numeric_limits<double>::infinity();

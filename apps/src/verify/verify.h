@@ -18,6 +18,7 @@
 #include "io/provenance.h"
 #include "verify/compare.h"
 #include "verify/generator_choice.h"
+#include "verify/pieces.h"
 
 namespace morphmill {
 
@@ -44,15 +45,6 @@ struct StageRecord {
   std::string name;
   double seconds = 0.0;
   double peak_rss_mib = 0.0;  ///< process peak resident memory after the stage
-};
-
-/// One solid piece as a side sees it.
-struct PieceRecord {
-  double volume = 0.0;
-  double area = 0.0;
-  Eigen::AlignedBox3d bounds;
-  /// The centre of its volume (generator pieces only; zero for the reference's).
-  Eigen::Vector3d centroid = Eigen::Vector3d::Zero();
 };
 
 /// A gouge or excess region of the generator's surface against one truth, out of `band`.
@@ -93,9 +85,10 @@ struct VerifyOutcome {
   bool generator_within_tolerance = false;
   bool sides_agree = false;
   bool pieces_match = false;
-  /// Generator pieces under (2 voxels)^3, which the reference's voxels miss or swell, judged by
-  /// the exact field instead (match_pieces): real material, such as chips freed by undercutting
-  /// passes. 0 when the pieces matched without it.
+  /// Pieces of either side under (2 voxels)^3, which the reference's voxels miss, swell or cut off
+  /// at a narrow neck, judged by the exact field instead (match_pieces): the generator's chips
+  /// freed by undercutting passes, the reference's pieces the exact solid joins to more of itself.
+  /// 0 when the pieces matched without it.
   std::size_t pieces_below_resolution = 0;
   double agreement_bound = 0.0;  ///< tolerance + sqrt(3) * voxel
   /// Largest generator<->reference deviation over the samples where the surface is resolvable at
@@ -138,16 +131,6 @@ struct VerifyOutcome {
   /// Who made these outputs from what (filled by run_verify; written into every file).
   Provenance provenance;
 };
-
-/// Whether the generator's pieces are the reference's: as many, each (by volume, largest first)
-/// within half a voxel times its area of the reference's. Failing that, pieces under (2 voxels)^3,
-/// which the voxels miss or swell, are judged apart: the larger ones must match so; each small
-/// one of the generator's must have its centroid more than `tolerance` inside the exact solid (a
-/// chip; else a phantom), and each small one of the reference's must lie within a voxel of one of
-/// those. *below_resolution: the generator's small pieces when that decided.
-bool match_pieces(const std::vector<PieceRecord>& morph_pieces,
-                  const std::vector<PieceRecord>& reference_pieces, double voxel_size, double tolerance,
-                  const morph::ErosionField& field, std::size_t* below_resolution = nullptr);
 
 /// What evaluate_job needs: the verify pipeline without any file output.
 struct EvaluateOptions {

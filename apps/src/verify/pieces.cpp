@@ -1,0 +1,139 @@
+// SPDX-License-Identifier: Apache-2.0
+#include "verify/pieces.h"
+
+#include <morph/parallel.h>
+#include <morph/topology.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+
+namespace morphmill {
+
+std::vector<PieceRecord> mesh_pieces(const morph::TriangleMesh& mesh) {
+  std::vector<std::uint32_t> component;
+  const std::size_t count = morph::connected_components(mesh, component);
+  std::vector<morph::TriangleMesh> parts(count);
+  for (auto& part : parts)
+    part.vertices = mesh.vertices;  // shared vertex array: volume and area ignore unused ones
+  for (std::size_t t = 0; t < mesh.triangles.size(); ++t)
+    parts[component[t]].triangles.push_back(mesh.triangles[t]);
+  std::vector<PieceRecord> pieces;
+  for (const auto& part : parts) {
+    PieceRecord piece;
+    piece.volume = morph::enclosed_volume(part);
+    piece.area = morph::surface_area(part);
+    Eigen::Vector3d moment = Eigen::Vector3d::Zero();  // of the tetrahedra from the origin
+    for (const auto& tri : part.triangles) {
+      for (std::uint32_t v : tri) piece.bounds.extend(part.vertices[v]);
+      const Eigen::Vector3d &a = part.vertices[tri[0]], &b = part.vertices[tri[1]],
+                            &c = part.vertices[tri[2]];
+      moment += a.dot(b.cross(c)) / 6.0 * (a + b + c) / 4.0;
+    }
+    if (piece.volume != 0.0) piece.centroid = moment / piece.volume;
+    pieces.push_back(piece);
+  }
+  std::sort(pieces.begin(), pieces.end(),
+            [](const PieceRecord& a, const PieceRecord& b) { return a.volume > b.volume; });
+  return pieces;
+}
+
+bool material_reaches_out(const morph::ErosionField& field, const Eigen::AlignedBox3d& box, double margin,
+                          double step) {
+  const Eigen::Vector3d lo = box.min().array() - margin, hi = box.max().array() + margin;
+  // At most ~4 million points: a coarser step for a large box.
+  step = std::max(step, (hi - lo).maxCoeff() / 160.0);
+  const Eigen::Vector3i n = ((hi - lo) / step).array().ceil().cast<int>() + 1;
+  const std::size_t count = static_cast<std::size_t>(n.x()) * n.y() * n.z();
+  auto point = [&](std::size_t s) {
+    const std::size_t i = s % n.x(), j = (s / n.x()) % n.y(),
+                      k = s / (static_cast<std::size_t>(n.x()) * n.y());
+    return Eigen::Vector3d(lo + step * Eigen::Vector3d(double(i), double(j), double(k)));
+  };
+  std::vector<std::uint8_t> material(count);
+  morph::for_each_index(morph::ExecutionPolicy::Parallel, 0, count,
+                        [&](std::size_t s) { material[s] = field.value(point(s)) < 0.0; });
+  // Flood from the border; the box's material reaches out when any of it is reached.
+  std::vector<std::uint8_t> reached(count);
+  std::vector<std::size_t> front;
+  auto on_border = [&](std::size_t s) {
+    const std::size_t i = s % n.x(), j = (s / n.x()) % n.y(),
+                      k = s / (static_cast<std::size_t>(n.x()) * n.y());
+    return i == 0 || j == 0 || k == 0 || int(i) == n.x() - 1 || int(j) == n.y() - 1 || int(k) == n.z() - 1;
+  };
+  for (std::size_t s = 0; s < count; ++s)
+    if (material[s] && on_border(s)) reached[s] = 1, front.push_back(s);
+  const std::int64_t stride[3] = {1, n.x(), std::int64_t(n.x()) * n.y()};
+  while (!front.empty()) {
+    const std::size_t s = front.back();
+    front.pop_back();
+    const std::int64_t coordinate[3] = {std::int64_t(s % n.x()), std::int64_t((s / n.x()) % n.y()),
+                                        std::int64_t(s / stride[2])};
+    for (int axis = 0; axis < 3; ++axis)
+      for (int side : {-1, 1}) {
+        const std::int64_t c = coordinate[axis] + side;
+        if (c < 0 || c >= n[axis]) continue;
+        const std::size_t t = static_cast<std::size_t>(std::int64_t(s) + side * stride[axis]);
+        if (material[t] && !reached[t]) reached[t] = 1, front.push_back(t);
+      }
+  }
+  bool any_material = false;
+  for (std::size_t s = 0; s < count; ++s) {
+    if (!material[s] || !box.contains(point(s))) continue;
+    if (!reached[s]) return false;
+    any_material = true;
+  }
+  return any_material;
+}
+
+bool match_pieces(const std::vector<PieceRecord>& morph_pieces,
+                  const std::vector<PieceRecord>& reference_pieces, double voxel_size, double tolerance,
+                  const morph::ErosionField& field, std::size_t* below_resolution) {
+  if (below_resolution) *below_resolution = 0;
+  // Half a voxel of surface displacement over the whole piece bounds the level set's volume error.
+  auto same = [&](const std::vector<PieceRecord>& pieces) {
+    if (pieces.size() != reference_pieces.size()) return false;
+    for (std::size_t i = 0; i < pieces.size(); ++i)
+      if (!(std::abs(pieces[i].volume - reference_pieces[i].volume) <=
+            0.5 * voxel_size * reference_pieces[i].area))
+        return false;
+    return true;
+  };
+  if (same(morph_pieces)) return true;
+  // The voxels cannot see a piece much smaller than themselves, see it swollen, or cut a piece
+  // off at a neck narrower than themselves: the large pieces must match; each small one of the
+  // generator's must be material of the exact solid (else a phantom), and each small one of the
+  // reference's must lie on one of those or be material the exact solid joins to more of itself.
+  const double unseen = std::pow(2.0 * voxel_size, 3);
+  auto split = [&](const std::vector<PieceRecord>& pieces, std::vector<PieceRecord>& large,
+                   std::vector<PieceRecord>& small) {
+    for (const PieceRecord& piece : pieces) (piece.volume >= unseen ? large : small).push_back(piece);
+  };
+  std::vector<PieceRecord> morph_large, morph_small, reference_large, reference_small;
+  split(morph_pieces, morph_large, morph_small);
+  split(reference_pieces, reference_large, reference_small);
+  if (morph_small.empty() && reference_small.empty()) return false;
+  if (morph_large.size() != reference_large.size()) return false;
+  for (std::size_t i = 0; i < morph_large.size(); ++i)
+    if (!(std::abs(morph_large[i].volume - reference_large[i].volume) <=
+          0.5 * voxel_size * reference_large[i].area))
+      return false;
+  for (const PieceRecord& piece : morph_small)
+    if (!(field.value(piece.centroid) < -tolerance)) return false;
+  // The exact solid decides what the reference's small pieces are, at a step as fine as the
+  // tolerance allows (a neck narrower than the step may be missed: the check then fails).
+  const double step = std::max(tolerance, voxel_size / 16.0);
+  for (const PieceRecord& seen : reference_small) {
+    Eigen::AlignedBox3d near = seen.bounds;
+    near.min().array() -= voxel_size;
+    near.max().array() += voxel_size;
+    if (std::none_of(morph_small.begin(), morph_small.end(),
+                     [&](const PieceRecord& piece) { return near.intersects(piece.bounds); }) &&
+        !material_reaches_out(field, seen.bounds, 2.0 * voxel_size, step))
+      return false;
+  }
+  if (below_resolution) *below_resolution = morph_small.size() + reference_small.size();
+  return true;
+}
+
+}  // namespace morphmill
