@@ -42,6 +42,26 @@ struct Move {
 
 /// Position on the move at parameter t in [0, 1].
 Eigen::Vector3d point_at(const Move& move, double t);
+
+/// point_at for many parameters of one move (the arc's frame made once): the same values, bit
+/// for bit. Holds a reference to the move.
+class MovePoints {
+ public:
+  explicit MovePoints(const Move& move);
+  Eigen::Vector3d operator()(double t) const;
+
+  /// An arc's frame: what its points share.
+  struct Frame {
+    Eigen::Vector3d u, v;     ///< in-plane unit vectors, v = axis x u
+    double r0, r1, rise;      ///< start radius, end radius, axial travel
+    Eigen::Vector3d closure;  ///< end - unclosed point at t=1, spread linearly so the point at 1 is the end
+  };
+
+ private:
+  const Move& move_;
+  Frame frame_{};
+  Eigen::Vector3d base_ = Eigen::Vector3d::Zero();  ///< the centre moved to the start's height
+};
 /// Derivative of point_at with respect to t (not normalised).
 Eigen::Vector3d derivative_at(const Move& move, double t);
 /// Arc length of the move (exact for lines and circular arcs; helices by closed form when the

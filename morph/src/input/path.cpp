@@ -26,11 +26,7 @@ const char* to_string(MoveKind kind) {
 
 namespace {
 
-struct ArcFrame {
-  Eigen::Vector3d u, v;     // in-plane unit vectors, v = axis x u
-  double r0, r1, rise;      // start radius, end radius, axial travel
-  Eigen::Vector3d closure;  // end - unclosed point at t=1, spread linearly so point_at(1)==end
-};
+using ArcFrame = MovePoints::Frame;
 
 ArcFrame arc_frame(const Move& m) {
   ArcFrame f;
@@ -51,15 +47,27 @@ ArcFrame arc_frame(const Move& m) {
 
 }  // namespace
 
-Eigen::Vector3d point_at(const Move& m, double t) {
+MovePoints::MovePoints(const Move& move) : move_(move) {
+  if (!move.is_arc()) return;
+  frame_ = arc_frame(move);
+  base_ = move.center + (move.start - move.center).dot(move.axis) * move.axis;
+}
+
+Eigen::Vector3d MovePoints::operator()(double t) const {
+  const Move& m = move_;
   if (!m.is_arc()) return m.start + t * (m.end - m.start);
   if (t <= 0.0) return m.start;
   if (t >= 1.0) return m.end;
-  const ArcFrame f = arc_frame(m);
+  const ArcFrame& f = frame_;
   const double phi = t * m.sweep;
   const double r = f.r0 + t * (f.r1 - f.r0);
-  const Eigen::Vector3d base = m.center + (m.start - m.center).dot(m.axis) * m.axis;
-  return base + r * (std::cos(phi) * f.u + std::sin(phi) * f.v) + t * f.rise * m.axis + t * f.closure;
+  return base_ + r * (std::cos(phi) * f.u + std::sin(phi) * f.v) + t * f.rise * m.axis + t * f.closure;
+}
+
+Eigen::Vector3d point_at(const Move& m, double t) {
+  if (!m.is_arc() || t <= 0.0 || t >= 1.0)
+    return m.is_arc() ? (t <= 0.0 ? m.start : m.end) : m.start + t * (m.end - m.start);
+  return MovePoints(m)(t);
 }
 
 Eigen::Vector3d derivative_at(const Move& m, double t) {

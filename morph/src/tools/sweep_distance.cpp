@@ -59,7 +59,8 @@ std::pair<double, double> segment_sweep(const Tool& tool, const Eigen::Vector3d&
 // of path length L around a sample with value f cannot go below f - L/2.
 std::pair<double, double> arc_sweep(const Tool& tool, const Move& move, const Eigen::Vector3d& p) {
   const double total = length(move);
-  auto f = [&](double t) { return tool_signed_distance(tool, point_at(move, t), p); };
+  const MovePoints point_at_t(move);
+  auto f = [&](double t) { return tool_signed_distance(tool, point_at_t(t), p); };
   struct Piece {
     double t0, t1, value, bound;
   };

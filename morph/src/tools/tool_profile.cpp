@@ -49,11 +49,15 @@ double piece_distance(const ProfilePiece& piece, const Vector2d& p) {
       const Vector2d q = p - piece.centre;
       const double norm = q.norm();
       if (norm == 0.0) return piece.radii.x();
-      double phi = std::atan2(q.y(), q.x());
-      while (phi < piece.angle0) phi += 2.0 * M_PI;
-      while (phi > piece.angle0 + 2.0 * M_PI) phi -= 2.0 * M_PI;
-      if (phi <= piece.angle1) return std::abs(norm - piece.radii.x());
-      return endpoint_distance(piece, p);
+      // Whether q's direction is within the arc's turn from its start to its end (counter-
+      // clockwise), by signs of cross products rather than angles: on either bounding ray both
+      // answers give the same distance.
+      const Vector2d start = piece.from - piece.centre, end = piece.to - piece.centre;
+      auto cross = [](const Vector2d& a, const Vector2d& b) { return a.x() * b.y() - a.y() * b.x(); };
+      const bool within = piece.angle1 - piece.angle0 <= M_PI
+                              ? cross(start, q) >= 0.0 && cross(q, end) >= 0.0
+                              : !(cross(end, q) > 0.0 && cross(q, start) > 0.0);
+      return within ? std::abs(norm - piece.radii.x()) : endpoint_distance(piece, p);
     }
     case ProfilePiece::Kind::Ellipse: {
       // A quarter ellipse: a point in the quadrant has its nearest ellipse point in that quadrant
