@@ -49,7 +49,8 @@ std::vector<SweptRun> swept_runs(const Job& job);
 /// the boundary of the regularized partial erosion; f < 0 inside the result. |f| equals the
 /// distance to that boundary for points inside the result and is a lower bound elsewhere (it
 /// is 1-Lipschitz), exact away from the creases where sweeps meet each other or the stock.
-/// Queries are thread-safe; moves are found through a bounding-volume hierarchy.
+/// Queries are thread-safe; the sweeps of the job's runs (swept_runs) are found through a
+/// bounding-volume hierarchy.
 class ErosionField {
  public:
   explicit ErosionField(const Job& job);
