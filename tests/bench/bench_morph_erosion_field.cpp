@@ -12,26 +12,13 @@
 
 #include <random>
 
+#include "common/test_jobs.h"
+
 namespace {
 
 using Eigen::Vector3d;
 
-morph::Job box_job(const morph::Tool& tool) {
-  morph::Job job;
-  job.tools[1] = tool;
-  job.tools[1].number = 1;
-  job.stock.type = morph::StockType::Box;
-  job.stock.box = Eigen::AlignedBox3d(Vector3d(-5, -5, 0), Vector3d(30, 5, 6));
-  return job;
-}
-
-morph::Move line(const Vector3d& a, const Vector3d& b) {
-  morph::Move m;
-  m.start = a;
-  m.end = b;
-  m.tool = 1;
-  return m;
-}
+const Eigen::AlignedBox3d kStock(Vector3d(-5, -5, 0), Vector3d(30, 5, 6));
 
 // Points spread around the cut's surface: the tool's points at random positions along the path,
 // moved by up to a tenth of the tool's radius.
@@ -69,16 +56,10 @@ void evaluate(benchmark::State& state, const morph::Job& job) {
 
 void BM_ErosionFieldFineRaster(benchmark::State& state) {
   const bool nudged = state.range(0) != 0;
-  morph::Job job = box_job(morph::conical_tool(2.6, 90.0, 8.0));
-  morph::Path path;
-  Vector3d previous(0, 0, 3);
-  for (int i = 0; i < 2000; ++i) {
-    Vector3d next(0.01 * (i + 1), 0, 3);
-    if (nudged) next.y() = (i % 2 ? 1e-9 : 0.0);
-    path.moves.push_back(line(previous, next));
-    previous = next;
-  }
-  job.paths.push_back(path);
+  std::vector<Vector3d> raster;
+  for (int i = 0; i <= 2000; ++i) raster.emplace_back(0.01 * i, nudged && i % 2 ? 1e-9 : 0.0, 3.0);
+  const morph::Job job =
+      morphmill_test::box_polyline_job(kStock, morph::conical_tool(2.6, 90.0, 8.0), raster, 0.01);
   evaluate(state, job);
 }
 BENCHMARK(BM_ErosionFieldFineRaster)->ArgName("nudged")->Arg(0)->Arg(1)->Unit(benchmark::kMillisecond);
@@ -86,7 +67,8 @@ BENCHMARK(BM_ErosionFieldFineRaster)->ArgName("nudged")->Arg(0)->Arg(1)->Unit(be
 void BM_ErosionFieldArc(benchmark::State& state) {
   const morph::Tool tool =
       state.range(0) == 0 ? morph::ball_tool(1.9, 10.0) : morph::bullnose_tool(2.3, 1.0, 10.0);
-  morph::Job job = box_job(tool);
+  morph::Job job = morphmill_test::box_polyline_job(kStock, tool, {}, 0.01);
+  job.paths.clear();
   morph::Move arc;
   arc.kind = morph::MoveKind::Arc;
   arc.tool = 1;
