@@ -75,9 +75,17 @@ int limit_side_at_vertex(const ExactPlane& a, const ExactPlane& b, const ExactPl
 /// plane of v passes exactly through u's point (three independent planes meet in one point).
 bool same_limit_point(const std::array<ExactPlane, 3>& u, const std::array<ExactPlane, 3>& v);
 
-/// The vertex of three planes rounded to doubles (Cramer's rule in long double); for output and
-/// tests, never for decisions. Throws std::invalid_argument when it does not exist.
+/// The vertex of three planes rounded to doubles: Cramer's rule in long double where its error
+/// bound is within 1e-12 of the coordinates' size, otherwise (normals nearly dependent, as a tool
+/// facet, its neighbour and the silhouette plane of their common edge) the exact rational, within
+/// an ulp. For output, looks and tests, never for decisions. Throws std::invalid_argument when the
+/// vertex does not exist.
 Eigen::Vector3d vertex_point(const ExactPlane& a, const ExactPlane& b, const ExactPlane& c);
+
+/// Cramer's rule in long double alone: for corners whose normals' determinant is above 1e-7 of the
+/// product of their lengths, where it errs by less than about 1e-11·(|offset| + |corner|) (the
+/// float looks' margins, RoughCorners). The same point as vertex_point() there.
+Eigen::Vector3d conditioned_vertex_point(const ExactPlane& a, const ExactPlane& b, const ExactPlane& c);
 
 /// A vertex rounded to doubles and a bound on its distance from the exact vertex (job units).
 struct BoundedPoint {

@@ -247,7 +247,7 @@ std::optional<std::pair<std::vector<Vector3d>, double>> rounded_corners(const Co
     const double scale = piece.support.normal.norm() * a.normal.norm() * b.normal.norm();
     conditioned = det > 1e-7 * scale;
     if (!conditioned) break;
-    points.push_back(vertex_point(piece.support, a, b));
+    points.push_back(conditioned_vertex_point(piece.support, a, b));
     largest = std::max(largest, points.back().norm());
   }
   if (conditioned) return std::pair{std::move(points), 1e-9 * (1.0 + max_offset + largest)};

@@ -126,6 +126,35 @@ int ExactRows::minor_sign_in(int a, int b, int c) const {
   return sign_of(det3(normal(a), normal(b), normal(c)));
 }
 
+std::array<double, 3> ExactRows::meeting_point() const {
+  std::array<std::array<cpp_int, 3>, 3> normal;
+  std::array<cpp_int, 3> offset;
+  for (int r = 0; r < 3; ++r) {
+    for (int c = 0; c < 3; ++c) normal[r][c] = shifted<cpp_int>(mantissa_[r][c], shift_[r][c]);
+    offset[r] =
+        shifted<cpp_int>(mantissa_[r][3], shift_[r][3]) + shifted<cpp_int>(mantissa_[r][4], shift_[r][4]);
+  }
+  const cpp_int denominator = det3(normal[0], normal[1], normal[2]);
+  if (denominator == 0)
+    throw std::invalid_argument("meeting_point: the three planes have no single common point");
+  const cpp_int divisor = abs(denominator);
+  std::array<double, 3> x{};
+  for (int col = 0; col < 3; ++col) {
+    std::array<std::array<cpp_int, 3>, 3> m = normal;
+    for (int r = 0; r < 3; ++r) m[r][col] = offset[r];
+    const cpp_int numerator = det3(m[0], m[1], m[2]);
+    if (numerator == 0) continue;
+    // A quotient of at least 64 bits, then scaled back: the double is within an ulp of it.
+    const cpp_int magnitude = abs(numerator);
+    const long shift =
+        std::max<long>(0, 64 + static_cast<long>(msb(divisor)) - static_cast<long>(msb(magnitude)));
+    const cpp_int quotient = (magnitude << shift) / divisor;
+    const double value = std::ldexp(quotient.convert_to<double>(), -static_cast<int>(shift));
+    x[col] = (numerator < 0) != (denominator < 0) ? -value : value;
+  }
+  return x;
+}
+
 int ExactRows::det4_sign(Width width) const {
   if (count_ != 4) throw std::logic_error("exact determinant: det4 of three rows");
   const int needed = width_[0] + width_[1] + width_[2] + width_[3] + 5;

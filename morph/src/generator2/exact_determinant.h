@@ -48,6 +48,11 @@ class ExactRows {
   /// Sign of det[normals of rows a, b, c] (in that order).
   int minor_sign(int a, int b, int c, Width width = Width::Auto) const;
 
+  /// The point where the planes of rows 0, 1, 2 meet (the planes are normal·x = offset), each
+  /// coordinate the exact rational by Cramer's rule in unbounded integers, rounded to a double
+  /// within an ulp. Throws std::invalid_argument when their normals are dependent.
+  std::array<double, 3> meeting_point() const;
+
   /// The width W of row r (bits; 0 for a zero row).
   int width(int r) const { return width_[r]; }
 

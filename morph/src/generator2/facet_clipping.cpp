@@ -24,7 +24,7 @@ RoughCorners::RoughCorners(const ConvexPiece& piece, const RoughCorners* old,
     const double scale = piece.support.normal.norm() * a.normal.norm() * b.normal.norm();
     Corner c;
     if (det > 1e-7 * scale) {
-      c.point = vertex_point(piece.support, a, b);
+      c.point = conditioned_vertex_point(piece.support, a, b);
     } else {
       const auto bounded = bounded_vertex_point(piece.support, a, b);
       if (!bounded) {

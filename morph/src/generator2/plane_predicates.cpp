@@ -344,6 +344,20 @@ bool same_limit_point(const std::array<ExactPlane, 3>& u, const std::array<Exact
 }
 
 Eigen::Vector3d vertex_point(const ExactPlane& a, const ExactPlane& b, const ExactPlane& c) {
+  // Where the normals are nearly dependent (three planes nearly through one line, as a tool
+  // facet, its neighbour and the silhouette plane of their common edge), long double Cramer can
+  // be off by far more than the tolerance; there the exact rational, rounded.
+  double error = 0.0;
+  const Eigen::Vector3d x = cramer(a, b, c, &error);
+  if (error <= 1e-12 * (1.0 + x.cwiseAbs().maxCoeff())) return x;
+  const ExactRow ra = row_of(a), rb = row_of(b), rc = row_of(c);
+  const std::array<double, 3> exact = exact::ExactRows({ra.row, rb.row, rc.row, exact::Row{}}, 3,
+                                                       {ra.offset_low, rb.offset_low, rc.offset_low, 0.0})
+                                          .meeting_point();
+  return Eigen::Vector3d(exact[0], exact[1], exact[2]);
+}
+
+Eigen::Vector3d conditioned_vertex_point(const ExactPlane& a, const ExactPlane& b, const ExactPlane& c) {
   return cramer(a, b, c, nullptr);
 }
 
