@@ -91,6 +91,34 @@ TEST(VerifyPieces, ASmallPieceOutsideTheExactSolidIsAPhantom) {
   EXPECT_FALSE(morphmill::match_pieces({body}, {reference}, voxel, 0.02, field, &below));
 }
 
+// Stress seed 53, case 816: a star {7/3} twice round under a sphere whose centre runs 1.667 below
+// the top frees seven chips 0.17 mm thin (0.0044 mm^3) whose centroids lie 0.043 mm deep in the
+// exact solid, less than the tolerance 0.05: material all the same, and the generator within the
+// tolerance of the exact surface both ways; the reference's voxels see one piece.
+TEST(VerifyPieces, ThinChipsAreMaterialOfTheExactSolid) {
+  std::vector<Vector3d> star;
+  const double phase = std::atan2(16.757532994911724, -4.684558455654589);
+  for (int j = 0; j <= 14; ++j) {
+    const double a = phase + 2 * M_PI * (j % 7) * 3 / 7;
+    star.emplace_back(17.4 * std::cos(a), 17.4 * std::sin(a), 7.918000000000001);
+  }
+  morphmill::EvaluateOptions options;
+  options.voxel_size = 0.69475;
+  options.generator = 2;
+  options.face_samples = 20000;
+  const morphmill::VerifyOutcome o =
+      morphmill::evaluate_job(morphmill_test::box_polyline_job(
+                                  Eigen::AlignedBox3d(Vector3d(-21, -22, 0), Vector3d(23, 22, 9.585)),
+                                  morph::sphere_tool(2.779), star, 0.05),
+                              options)
+          .outcome;
+  ASSERT_EQ(o.morph_pieces.size(), 8u);
+  EXPECT_EQ(o.reference_pieces.size(), 1u);
+  EXPECT_TRUE(o.generator_within_tolerance);
+  EXPECT_TRUE(o.pieces_match);
+  EXPECT_EQ(o.pieces_below_resolution, 7u);
+}
+
 // A star {11/4} twice round, cut by a sphere whose centre runs 1.692 below the top (stress seed
 // 47, case 716): the material between the grooves near the top narrows to necks thinner than the
 // reference's 0.747 mm voxels, and its level set cuts off a piece of 1.57 mm^3 there, while the

@@ -118,8 +118,11 @@ bool match_pieces(const std::vector<PieceRecord>& morph_pieces,
     if (!(std::abs(morph_large[i].volume - reference_large[i].volume) <=
           0.5 * voxel_size * reference_large[i].area))
       return false;
+  // A chip is material of the exact solid: its centroid inside it. How it is parted from the rest
+  // is the generator's geometry, held within the tolerance both ways by the deviation checks (a
+  // neck or gap narrower than twice the tolerance may go either way).
   for (const PieceRecord& piece : morph_small)
-    if (!(field.value(piece.centroid) < -tolerance)) return false;
+    if (!(field.value(piece.centroid) < 0.0)) return false;
   // The exact solid decides what the reference's small pieces are, at a step as fine as the
   // tolerance allows (a neck narrower than the step may be missed: the check then fails).
   const double step = std::max(tolerance, voxel_size / 16.0);
