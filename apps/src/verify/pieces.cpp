@@ -45,11 +45,12 @@ bool material_reaches_out(const morph::ErosionField& field, const Eigen::Aligned
   step = std::max(step, (hi - lo).maxCoeff() / 160.0);
   const Eigen::Vector3i n = ((hi - lo) / step).array().ceil().cast<int>() + 1;
   const std::size_t count = static_cast<std::size_t>(n.x()) * n.y() * n.z();
-  auto point = [&](std::size_t s) {
-    const std::size_t i = s % n.x(), j = (s / n.x()) % n.y(),
-                      k = s / (static_cast<std::size_t>(n.x()) * n.y());
-    return Eigen::Vector3d(lo + step * Eigen::Vector3d(double(i), double(j), double(k)));
+  const std::int64_t stride[3] = {1, n.x(), std::int64_t(n.x()) * n.y()};
+  auto index3 = [&](std::size_t s) {
+    const std::int64_t v = static_cast<std::int64_t>(s);
+    return Eigen::Array3i(int(v % n.x()), int((v / n.x()) % n.y()), int(v / stride[2]));
   };
+  auto point = [&](std::size_t s) { return Eigen::Vector3d(lo + step * index3(s).cast<double>().matrix()); };
   std::vector<std::uint8_t> material(count);
   morph::for_each_index(morph::ExecutionPolicy::Parallel, 0, count,
                         [&](std::size_t s) { material[s] = field.value(point(s)) < 0.0; });
@@ -57,18 +58,15 @@ bool material_reaches_out(const morph::ErosionField& field, const Eigen::Aligned
   std::vector<std::uint8_t> reached(count);
   std::vector<std::size_t> front;
   auto on_border = [&](std::size_t s) {
-    const std::size_t i = s % n.x(), j = (s / n.x()) % n.y(),
-                      k = s / (static_cast<std::size_t>(n.x()) * n.y());
-    return i == 0 || j == 0 || k == 0 || int(i) == n.x() - 1 || int(j) == n.y() - 1 || int(k) == n.z() - 1;
+    const Eigen::Array3i c = index3(s);
+    return (c == 0).any() || (c == n.array() - 1).any();
   };
   for (std::size_t s = 0; s < count; ++s)
     if (material[s] && on_border(s)) reached[s] = 1, front.push_back(s);
-  const std::int64_t stride[3] = {1, n.x(), std::int64_t(n.x()) * n.y()};
   while (!front.empty()) {
     const std::size_t s = front.back();
     front.pop_back();
-    const std::int64_t coordinate[3] = {std::int64_t(s % n.x()), std::int64_t((s / n.x()) % n.y()),
-                                        std::int64_t(s / stride[2])};
+    const Eigen::Array3i coordinate = index3(s);
     for (int axis = 0; axis < 3; ++axis)
       for (int side : {-1, 1}) {
         const std::int64_t c = coordinate[axis] + side;

@@ -28,10 +28,10 @@ std::vector<PieceRecord> mesh_pieces(const morph::TriangleMesh& mesh);
 /// within half a voxel times its area of the reference's. Failing that, pieces under (2 voxels)^3,
 /// which the voxels miss, swell or cut off, are judged by the exact field: the larger ones must
 /// match so; each small one of the generator's must have its centroid inside the exact solid (a
-/// chip; else a phantom); each small one of the reference's must lie
-/// within a voxel of one of those, or be material that the exact solid joins to more of itself
-/// two voxels around (material_reaches_out: a neck narrower than the voxels, which the level set
-/// cut). *below_resolution: the small pieces judged so, of both sides, when that decided.
+/// chip; else a phantom); each small one of the reference's must lie within a voxel of one of
+/// those, or be material that the exact solid joins to more of itself two voxels around
+/// (material_reaches_out: a neck narrower than the voxels, which the level set cut).
+/// *below_resolution: the small pieces judged so, of both sides, when that decided.
 bool match_pieces(const std::vector<PieceRecord>& morph_pieces,
                   const std::vector<PieceRecord>& reference_pieces, double voxel_size, double tolerance,
                   const morph::ErosionField& field, std::size_t* below_resolution = nullptr);

@@ -65,8 +65,7 @@ Eigen::Vector3d MovePoints::operator()(double t) const {
 }
 
 Eigen::Vector3d point_at(const Move& m, double t) {
-  if (!m.is_arc() || t <= 0.0 || t >= 1.0)
-    return m.is_arc() ? (t <= 0.0 ? m.start : m.end) : m.start + t * (m.end - m.start);
+  if (m.is_arc() && (t <= 0.0 || t >= 1.0)) return t <= 0.0 ? m.start : m.end;  // no frame needed
   return MovePoints(m)(t);
 }
 
