@@ -162,3 +162,32 @@ TEST(GeneratorChoice, AutoKeepsASoundSurfaceAndReplacesAnUnsoundOne) {
   const morph::TopologyReport exact_two = morph::topology_report(morph::erode2(through_slots, options).mesh);
   EXPECT_DOUBLE_EQ(chosen.topology.volume, exact_two.volume);
 }
+
+// Auto gives generator 1 a search limit where it would try generator 2: a job that costs generator
+// 1 more searches (slots.json with the caller's limit of 100; heart.camotics runs 834 million on
+// its own, ten minutes) goes to generator 2, and the choice says why. Without the limit
+// generator 1 keeps slots.json. The limit auto sets follows generator 2's estimate.
+TEST(GeneratorChoice, AutoStopsGenerator1AtItsSearchLimit) {
+  const morph::Job slots = morphmill::load_job(std::string(MORPHMILL_TEST_DATA) + "/jobs/slots.json");
+  morph::ErodeOptions options;
+  const morph::ErodeResult first = morph::erode(slots, options);
+  ASSERT_GT(first.stats.searches, 100u) << "slots.json no longer costs generator 1 searches";
+  options.search_limit = 100;
+  const morphmill::GeneratedSurface chosen =
+      morphmill::run_generator(slots, options, morphmill::kAutoGenerator);
+  EXPECT_EQ(chosen.generator, 2) << chosen.choice;
+  EXPECT_NE(chosen.choice.find("generator 1 was stopped after 100 searches"), std::string::npos)
+      << chosen.choice;
+  EXPECT_NE(chosen.choice.find("generator 2 built it instead"), std::string::npos) << chosen.choice;
+  const morphmill::SurfaceSoundness sound = morphmill::check_soundness(chosen.result.mesh);
+  EXPECT_TRUE(sound.sound()) << sound.describe();
+
+  morph::Erode2Estimate estimate;
+  estimate.sweep_facets = 1e7;
+  EXPECT_EQ(morphmill::auto_search_limit(estimate), 50000000u);
+  estimate.sweep_facets = 1000;
+  EXPECT_EQ(morphmill::auto_search_limit(estimate), 1000000u);
+  // slots.json runs about 0.2 searches a facet generator 2 would make: far within auto's limit.
+  EXPECT_LT(static_cast<double>(first.stats.searches),
+            morphmill::auto_search_limit(morph::estimate_erode2(slots, slots.tolerance)) / 10.0);
+}

@@ -717,6 +717,45 @@ TEST(ErodeSphere, SelfCrossingPathIsClosedAndWithinTolerance) {
   expect_within_tolerance_both_ways(job, result.mesh, 1500);
 }
 
+// A pocket's outline ramped down in three laps by a long ball end: its body sweeps along the walls
+// the deeper laps leave, where the trimming's distances need searches along the sloping moves.
+Job ramped_pocket_job() {
+  std::vector<Vector3d> ramp;
+  for (int lap = 0; lap < 3; ++lap)
+    for (const auto& [x, y] : std::vector<std::pair<double, double>>{{5, 5}, {15, 5}, {15, 15}, {5, 15}})
+      ramp.push_back({x, y, -0.25 * static_cast<double>(ramp.size())});
+  return box_job({0, 0, -6}, {20, 20, 0}, ballend_tool(1.27, 15.0), {ramp}, 0.01);
+}
+
+// The searches a job costs are counted patch by patch, so their sum is the same on one thread
+// and on many; a search limit at that sum lets the job through unchanged, one below stops it.
+TEST(Erode, SearchesAreCountedAlikeOnAnyThreadsAndStopAtTheLimit) {
+  const Job job = ramped_pocket_job();
+  morph::ErodeOptions sequential;
+  sequential.policy = morph::ExecutionPolicy::Sequential;
+  const morph::ErodeResult one = morph::erode(job, sequential);
+  const morph::ErodeResult many = morph::erode(job);
+  ASSERT_GT(one.stats.searches, 0u);
+  EXPECT_EQ(one.stats.searches, many.stats.searches);
+  morph::ErodeOptions at_limit;
+  at_limit.search_limit = one.stats.searches;
+  const morph::ErodeResult limited = morph::erode(job, at_limit);
+  EXPECT_EQ(limited.stats.searches, one.stats.searches);
+  EXPECT_EQ(limited.mesh.vertices, one.mesh.vertices);
+  EXPECT_EQ(limited.mesh.triangles, one.mesh.triangles);
+  morph::ErodeOptions below = at_limit;
+  below.search_limit = one.stats.searches - 1;
+  try {
+    morph::erode(job, below);
+    ADD_FAILURE() << "a limit below the searches the job runs lets it through";
+  } catch (const morph::SearchLimitError& e) {
+    EXPECT_NE(
+        std::string(e.what()).find("more than " + std::to_string(below.search_limit) + " distance searches"),
+        std::string::npos)
+        << e.what();
+  }
+}
+
 TEST(Erode, RejectsUnsupportedToolsAndTolerances) {
   Tool flat = morph::flat_tool(1.0, 5.0);
   flat.number = 1;

@@ -7,7 +7,9 @@
 #include <tbb/task_group.h>
 #include <CLI/CLI.hpp>
 
+#include <algorithm>
 #include <chrono>
+#include <cmath>
 #include <map>
 #include <sstream>
 
@@ -20,10 +22,11 @@ std::string generator_option_help(int default_generator) {
   auto marked = [&](int generator) { return generator == default_generator ? " (default)" : ""; };
   return std::string("auto") + marked(kAutoGenerator) +
          ": generator 1's surface when it is sound (closed, oriented, no self-intersections),\n"
-         "  otherwise generator 2's (also for tools generator 1 cannot build; not tried when generator 2\n"
-         "  would sweep more than " +
+         "  otherwise generator 2's; generator 2's also for tools generator 1 cannot build, and when\n"
+         "  generator 1 passes its search limit (about what generator 2 costs in all). Generator 2 is\n"
+         "  not tried when it would sweep more than " +
          std::to_string(static_cast<long long>(kAutoRetryFacets / 1e6)) +
-         " million facets: pass 2 to run it anyway);\n"
+         " million facets: pass 2 to run it anyway;\n"
          "1" +
          marked(1) + ": today's generator (sphere and ball-end tools);\n" + "2" + marked(2) +
          ": generator 2, the union of exact sweep polytopes (closed by construction; every tool of\n"
@@ -119,18 +122,28 @@ GeneratedSurface run_generator(const morph::Job& job, const morph::ErodeOptions&
     return out;
   }
   const auto start = std::chrono::steady_clock::now();
-  out.generator = 1;
-  out.result = morph::erode(job, options);
-  out.soundness = check_soundness(out.result.mesh);
-  if (out.soundness->sound()) {
-    out.choice = "its surface is sound";
-    return out;
-  }
   const double tolerance = options.tolerance > 0.0 ? options.tolerance : job.tolerance;
   const morph::Erode2Estimate estimate = morph::estimate_erode2(job, tolerance);
+  const bool retry = estimate.sweep_facets <= kAutoRetryFacets;
+  // Where generator 2 would be tried, generator 1 may spend on its searches about what generator
+  // 2 would cost in all (auto_search_limit(), or the caller's limit), and no more.
+  morph::ErodeOptions first = options;
+  if (retry && first.search_limit == 0) first.search_limit = auto_search_limit(estimate);
   std::ostringstream choice;
-  choice << "generator 1's surface is unsound (" << out.soundness->describe() << ")";
-  if (estimate.sweep_facets > kAutoRetryFacets) {
+  out.generator = 1;
+  try {
+    out.result = morph::erode(job, first);
+    out.soundness = check_soundness(out.result.mesh);
+    if (out.soundness->sound()) {
+      out.choice = "its surface is sound";
+      return out;
+    }
+    choice << "generator 1's surface is unsound (" << out.soundness->describe() << ")";
+  } catch (const morph::SearchLimitError&) {
+    choice << "generator 1 was stopped after " << first.search_limit
+           << " searches of its sweep distances, about what generator 2 costs in all on this job";
+  }
+  if (!retry) {
     choice << "; generator 2 was not tried: it would sweep about "
            << static_cast<long long>(estimate.sweep_facets) << " facets, over auto's limit of "
            << static_cast<long long>(kAutoRetryFacets) << " (--generator 2 runs it anyway)";
@@ -142,11 +155,17 @@ GeneratedSurface run_generator(const morph::Job& job, const morph::ErodeOptions&
   out.generator = 2;
   out.result = {};  // generator 1's surface goes before generator 2 builds its own
   out.result = morph::erode2(job, options);
-  out.result.stats.steps.insert(out.result.stats.steps.begin(), {"generator_1_unsound", 1, true});
+  if (out.soundness)
+    out.result.stats.steps.insert(out.result.stats.steps.begin(), {"generator_1_unsound", 1, true});
   out.result.stats.seconds_total += first_seconds;
   out.soundness.reset();
   out.choice = choice.str();
   return out;
+}
+
+std::uint64_t auto_search_limit(const morph::Erode2Estimate& estimate) {
+  return static_cast<std::uint64_t>(
+      std::max(kAutoSearchFloor, std::ceil(kAutoSearchesPerFacet * estimate.sweep_facets)));
 }
 
 }  // namespace morphmill

@@ -6,10 +6,12 @@
 // or auto (the default), which takes generator 1's surface when it is sound and generator 2's
 // otherwise. One place decides what each can build, so erode, verify, compare, stress and study agree.
 #include <morph/erode.h>
+#include <morph/erode2.h>
 #include <morph/job.h>
 #include <morph/topology.h>
 #include <morphmill/self_intersections.h>
 
+#include <cstdint>
 #include <optional>
 #include <string>
 
@@ -30,6 +32,19 @@ constexpr int kDefaultGenerator = kAutoGenerator;
 /// whose generator-1 surface is unsound to generator 2: about a minute of generator 2 on this
 /// project's 2-core machine at today's speed (bear.nc at 0.01 has 12 million and takes minutes).
 constexpr double kAutoRetryFacets = 3e6;
+
+/// Generator 1's searches of its exact sweep distances (ErodeOptions::search_limit) that auto
+/// allows per sweep facet generator 2 would make, where it would try generator 2: about what
+/// generator 2 costs in all. Measured on this 2-core machine (2026-11-27): generator 1 runs about
+/// 1.7 million searches a second where they are its time, generator 2 sweeps 200,000 to 400,000
+/// facets a second. Most jobs need far fewer (bear.nc at 0.01: 0.12 a facet, slots.json 0.19); heart's
+/// deep ball-end pockets 572, ten minutes of generator 1 where generator 2 takes eight seconds.
+constexpr double kAutoSearchesPerFacet = 5.0;
+/// ... and at least this many (well under a second), so that a small job is not judged by them.
+constexpr double kAutoSearchFloor = 1e6;
+
+/// The search limit auto gives generator 1 on a job of this estimate.
+std::uint64_t auto_search_limit(const morph::Erode2Estimate& estimate);
 
 /// Adds `--generator auto|1|2` to `command`, stored as kAutoGenerator, 1 or 2.
 CLI::Option* add_generator_option(CLI::App& command, int& generator);
@@ -68,9 +83,10 @@ struct GeneratedSurface {
 };
 
 /// Runs the generator chosen (checked with check_generator). Auto runs generator 2 for a job
-/// generator 1 cannot build; otherwise generator 1, and when its surface is unsound and generator
-/// 2's estimate is within kAutoRetryFacets, generator 2, whose surface is then returned with a
-/// fallback step `generator_1_unsound` counted in its stats.
+/// generator 1 cannot build; otherwise generator 1, and when generator 2's estimate is within
+/// kAutoRetryFacets and generator 1's surface is unsound (then a fallback step
+/// `generator_1_unsound` is counted in generator 2's stats) or generator 1 passes its search limit
+/// (auto_search_limit(), or options.search_limit when the caller gives one), generator 2.
 GeneratedSurface run_generator(const morph::Job& job, const morph::ErodeOptions& options, int generator);
 
 }  // namespace morphmill

@@ -18,6 +18,7 @@
 #include <morph/progress.h>
 
 #include <cstddef>
+#include <cstdint>
 #include <string>
 #include <vector>
 
@@ -36,6 +37,11 @@ struct ErodeOptions {
   /// bytes; 0: no cap. The estimate comes from the job alone: segments after splitting arcs,
   /// then the patches' tessellation grids (ErodeStats::estimated_bytes).
   std::size_t memory_cap_bytes = 0;
+  /// Generator 1 only: the most golden-section searches of the exact sweep distance its trimming
+  /// may run (the bulk of its time where a tool's body nears many sweeps: deep pockets of a ball
+  /// end); past it, erode throws SearchLimitError. 0: no limit. The count depends on the job and
+  /// the tolerance alone, not on threads or timing, so whether a job passes it does too.
+  std::uint64_t search_limit = 0;
 };
 
 /// How often one step of the surface's assembly fired. A fallback repairs what the construction
@@ -61,9 +67,10 @@ struct ErodeStats {
   std::size_t defects_repaired = 0;         ///< small open / non-manifold spots replaced by a fan
   std::size_t flat_components_removed = 0;  ///< closed zero-volume slivers left by tangent contacts
   std::size_t open_edges = 0;               ///< boundary edges left (0 for a closed surface)
-  double seconds_setup = 0.0;               ///< segments, patches, spatial index
-  double seconds_trim = 0.0;                ///< evaluating and contouring the patches
-  double seconds_assemble = 0.0;            ///< concatenation and welding
+  std::uint64_t searches = 0;     ///< generator 1: golden-section searches of the trimming's sweep distances
+  double seconds_setup = 0.0;     ///< segments, patches, spatial index
+  double seconds_trim = 0.0;      ///< evaluating and contouring the patches
+  double seconds_assemble = 0.0;  ///< concatenation and welding
   double seconds_total = 0.0;
   double grid_cells = 0.0;       ///< cells of the patches' tessellation grids before trimming
   double estimated_bytes = 0.0;  ///< the up-front estimate of the peak memory

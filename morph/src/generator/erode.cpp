@@ -251,8 +251,10 @@ BallEndParts ball_end_parts(const Tool& tool, const Vector3d& a, const Vector3d&
 // the body's golden-section search only runs while a lower bound of the body's distance could
 // beat the tip's capsule (closed form) and `cap`. Bit for bit the value of the full search
 // wherever that is below `cap`; elsewhere possibly only a lower bound of it that is >= cap.
+// `searches`, when given, counts the golden-section searches run (the cost of the value).
 double sweep_distance(const Tool& tool, const Vector3d& a, const Vector3d& b, const Vector3d& p,
-                      double cap = std::numeric_limits<double>::infinity()) {
+                      double cap = std::numeric_limits<double>::infinity(),
+                      std::uint64_t* searches = nullptr) {
   if (tool.type == ToolType::Sphere) {
     const Vector3d d = b - a;
     const double dd = d.squaredNorm();
@@ -292,6 +294,7 @@ double sweep_distance(const Tool& tool, const Vector3d& a, const Vector3d& b, co
   // Otherwise golden section on the convex body distance along the move, stopped once the body
   // is proven no nearer than the tip (then the tip's value, as the full search gives it) or
   // than the cap (then a lower bound >= cap).
+  if (searches) ++*searches;
   return std::min(ball, golden_minimum_above(body, std::min(ball, cap), parts.margin));
 }
 
@@ -776,6 +779,9 @@ class Trimmer {
     return distance(term, x, u, v);
   }
 
+  /// The golden-section searches the distances asked so far ran (ErodeOptions::search_limit).
+  std::uint64_t searches() const { return searches_; }
+
  private:
   static constexpr std::size_t kListLimit = 64;
   // An upper bound of the least sweep term at x from the sweeps whose bounds hold x: the tip's
@@ -875,7 +881,7 @@ class Trimmer {
     const Segment& s = ctx_.segments[j];
     // The shift is at least -tie: any distance from cap on ends at or above `below`.
     const double cap = below + 2.0 * ctx_.tie;
-    const double d = sweep_distance(*s.tool, s.a, s.b, x, cap);
+    const double d = sweep_distance(*s.tool, s.a, s.b, x, cap, &searches_);
     if (d >= cap) return d - ctx_.tie;
     bool lean_keep = j > patch_.owner || j == patch_.adjacent[0] || j == patch_.adjacent[1];
     if (std::abs(d) <= 4.0 * ctx_.tie) {
@@ -905,12 +911,15 @@ class Trimmer {
     Vector3d gradient;
     for (int k = 0; k < 3; ++k) {
       const Vector3d step = h * Vector3d::Unit(k);
-      gradient[k] = sweep_distance(*s.tool, s.a, s.b, x + step) - sweep_distance(*s.tool, s.a, s.b, x - step);
+      gradient[k] = sweep_distance(*s.tool, s.a, s.b, x + step, kNoCap, &searches_) -
+                    sweep_distance(*s.tool, s.a, s.b, x - step, kNoCap, &searches_);
     }
     return gradient;
   }
+  static constexpr double kNoCap = std::numeric_limits<double>::infinity();
   const Context& ctx_;
   const Patch& patch_;
+  mutable std::uint64_t searches_ = 0;  ///< golden-section searches of the distances asked
   std::vector<int> candidates_;
   bool use_tree_ = false;
 };
@@ -919,6 +928,7 @@ struct PatchMesh {
   std::vector<Vector3d> vertices;
   std::vector<Triangle> triangles;
   std::vector<std::uint8_t> border;  // per triangle: bit k set if edge k -> k+1 is on the patch's border
+  std::uint64_t searches = 0;        // the golden-section searches its trimming ran
 };
 
 void mark_border(PatchMesh& mesh) {
@@ -1350,6 +1360,7 @@ PatchMesh trim_patch(const Context& ctx, const Patch& patch) {
   for (int round = 0;; ++round) {
     std::vector<double> extra_u, extra_v;
     PatchMesh out = trim_on_grid(ctx, patch, g, us, vs, round < 3 ? &extra_u : nullptr, &extra_v, &memory);
+    out.searches = g.searches();
     if (extra_u.empty() && extra_v.empty()) return out;
     us.insert(us.end(), extra_u.begin(), extra_u.end());
     vs.insert(vs.end(), extra_v.begin(), extra_v.end());
@@ -2598,13 +2609,25 @@ ErodeResult erode(const Job& job, const ErodeOptions& options) {
   const auto t_trim = Clock::now();
   std::vector<PatchMesh> pieces(patches.size());
   progress.begin("erode: patches", patches.size());
+  // The searches are counted patch by patch: their sum depends on the job alone, so whether it
+  // passes the limit does too (the running sum only stops the work early once it has).
+  std::atomic<std::uint64_t> searches{0};
+  const std::uint64_t search_limit = options.search_limit;
+  auto over_limit = [&] {
+    return search_limit > 0 && searches.load(std::memory_order_relaxed) > search_limit;
+  };
   for_each_index(options.policy, 0, patches.size(), [&](std::size_t i) {
-    if (progress.interrupted()) return;
+    if (progress.interrupted() || over_limit()) return;
     pieces[i] = trim_patch(ctx, patches[i]);
+    searches.fetch_add(pieces[i].searches, std::memory_order_relaxed);
     progress.advance(1);
   });
   progress.end();
   if (progress.interrupted()) throw Interrupted("erode: interrupted");
+  if (over_limit())
+    throw SearchLimitError(job.file + ": generator 1 ran more than " + std::to_string(search_limit) +
+                           " distance searches (its search limit)");
+  stats.searches = searches.load();
   stats.seconds_trim = seconds_since(t_trim);
 
   // Assemble in patch order, then join the patches along their trimming curves.
