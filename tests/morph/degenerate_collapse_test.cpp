@@ -160,4 +160,64 @@ TEST(DegenerateCollapse, CuttersTouchingAlongAnEdgeStayApart) {
   EXPECT_NEAR(s.topology.volume, 1000.0 - 2 * 54.0, 1e-9);
 }
 
+// Conform numbers the vertices by sorting, and the limit step finds its classes and slivers in
+// parallel: the surfaces are the same under either policy, vertex for vertex, and the vertices
+// are numbered in the order the pieces' corners first name them. A ball end's zigzag inside the
+// stock, its poles and turns splitting points (thousands of corners: the parallel sorts run).
+TEST(DegenerateCollapse, TheSameSurfaceUnderEitherPolicy) {
+  const Eigen::AlignedBox3d box(Vector3d(0, 0, 0), Vector3d(40, 30, 20));
+  const morph::Tool tool = morph::ball_tool(2.0, 10.0);
+  std::vector<std::vector<morph::ExactPlane>> sweeps;
+  std::vector<Eigen::AlignedBox3d> boxes;
+  for (const auto& h : sweeps_of(tool, {Vector3d(5, 5, 12), Vector3d(35, 8, 12), Vector3d(6, 14, 11),
+                                        Vector3d(34, 20, 12), Vector3d(34, 20, 6), Vector3d(5, 25, 12)})) {
+    sweeps.push_back(morph::sweep_planes(h, static_cast<std::uint32_t>(sweeps.size())));
+    boxes.push_back(box);
+  }
+  const std::vector<morph::CarvedPiece> pieces = morph::carve_box(box, sweeps, boxes);
+  const morph::ConformedSurface one = morph::conform(pieces, morph::ExecutionPolicy::Sequential);
+  const morph::ConformedSurface many = morph::conform(pieces, morph::ExecutionPolicy::Parallel);
+  ASSERT_GT(one.vertices.size(), 1000u);
+  auto ranks = [](const morph::ConformedSurface& s) {
+    std::vector<std::uint64_t> out;
+    for (const auto& v : s.vertices)
+      for (const morph::ExactPlane& p : v) out.push_back(p.rank);
+    return out;
+  };
+  EXPECT_EQ(ranks(one), ranks(many));
+  ASSERT_EQ(one.polygons.size(), many.polygons.size());
+  for (std::size_t i = 0; i < one.polygons.size(); ++i)
+    EXPECT_EQ(one.polygons[i].loop, many.polygons[i].loop);
+  // Numbered by first use: piece by piece, corner by corner, each new vertex the next number.
+  std::uint32_t next = 0;
+  for (const morph::CarvedPiece& piece : pieces) {
+    const std::size_t n = piece.piece.edges.size();
+    for (std::size_t k = 0; k < n; ++k) {
+      std::array<std::uint64_t, 3> key{piece.piece.support.rank, piece.piece.edges[(k + n - 1) % n].rank,
+                                       piece.piece.edges[k].rank};
+      std::sort(key.begin(), key.end());
+      std::uint32_t v = 0;
+      while (v < one.vertices.size() &&
+             !(one.vertices[v][0].rank == key[0] && one.vertices[v][1].rank == key[1] &&
+               one.vertices[v][2].rank == key[2]))
+        ++v;
+      ASSERT_LT(v, one.vertices.size());
+      ASSERT_LE(v, next);
+      if (v == next) ++next;
+    }
+  }
+  EXPECT_EQ(next, one.vertices.size());
+  const morph::LimitSurface limit_one = morph::collapse_degenerates(one, morph::ExecutionPolicy::Sequential);
+  const morph::LimitSurface limit_many = morph::collapse_degenerates(one, morph::ExecutionPolicy::Parallel);
+  EXPECT_GT(limit_one.counts.merged_vertices, 0u);
+  EXPECT_EQ(limit_one.counts.merged_vertices, limit_many.counts.merged_vertices);
+  EXPECT_EQ(limit_one.counts.zipped_slivers, limit_many.counts.zipped_slivers);
+  EXPECT_EQ(limit_one.counts.removed_polygons, limit_many.counts.removed_polygons);
+  ASSERT_EQ(limit_one.polygons.size(), limit_many.polygons.size());
+  for (std::size_t i = 0; i < limit_one.polygons.size(); ++i) {
+    EXPECT_EQ(limit_one.polygons[i].loop, limit_many.polygons[i].loop);
+    EXPECT_EQ(limit_one.polygons[i].strictly_convex, limit_many.polygons[i].strictly_convex);
+  }
+}
+
 }  // namespace

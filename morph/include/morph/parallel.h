@@ -3,6 +3,9 @@
 /// \file parallel.h
 /// Sequential or parallel execution, chosen by the caller (results are identical either way).
 #include <tbb/parallel_for.h>
+#include <tbb/parallel_sort.h>
+
+#include <algorithm>
 
 #include <cstddef>
 
@@ -18,6 +21,16 @@ void for_each_index(ExecutionPolicy policy, std::size_t begin, std::size_t end, 
     return;
   }
   tbb::parallel_for(begin, end, [&](std::size_t i) { f(i); });
+}
+
+/// Sorts [begin, end) by `less` under `policy`. Not stable: give `less` a total order where the
+/// result must not depend on the policy.
+template <class It, class Less>
+void sort_under(ExecutionPolicy policy, It begin, It end, Less&& less) {
+  if (policy == ExecutionPolicy::Sequential)
+    std::sort(begin, end, less);
+  else
+    tbb::parallel_sort(begin, end, less);
 }
 
 }  // namespace morph

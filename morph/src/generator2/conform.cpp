@@ -3,7 +3,6 @@
 #include <morph/parallel.h>
 
 #include <algorithm>
-#include <unordered_map>
 #include <utility>
 
 namespace morph {
@@ -11,19 +10,6 @@ namespace {
 
 using Key = std::array<std::uint64_t, 3>;
 using Pair = std::pair<std::uint64_t, std::uint64_t>;
-
-struct KeyHash {
-  std::size_t operator()(const Key& k) const {
-    std::size_t h = 0;
-    for (std::uint64_t r : k) h = h * 1000003u ^ std::hash<std::uint64_t>()(r);
-    return h;
-  }
-};
-struct PairHash {
-  std::size_t operator()(const Pair& p) const {
-    return std::hash<std::uint64_t>()(p.first) * 1000003u ^ std::hash<std::uint64_t>()(p.second);
-  }
-};
 
 Pair pair_of(std::uint64_t a, std::uint64_t b) {
   return a < b ? Pair{a, b} : Pair{b, a};
@@ -41,26 +27,51 @@ int slot_of(const std::array<ExactPlane, 3>& v, std::uint64_t s, std::uint64_t e
 // predicates), so an edge finds the vertices strictly inside it by two positions.
 class Builder {
  public:
-  std::uint32_t vertex(const ExactPlane& a, const ExactPlane& b, const ExactPlane& c) {
-    std::array<ExactPlane, 3> planes{a, b, c};
-    std::sort(planes.begin(), planes.end(),
-              [](const ExactPlane& x, const ExactPlane& y) { return x.rank < y.rank; });
-    const Key key{planes[0].rank, planes[1].rank, planes[2].rank};
-    auto [it, added] = index_.emplace(key, static_cast<std::uint32_t>(surface_.vertices.size()));
-    if (added) {
-      surface_.vertices.push_back(planes);
-      std::array<std::uint32_t, 3> lines{};
-      for (int slot = 0; slot < 3; ++slot) {
-        // The line of the two planes other than planes[slot].
-        const Pair line = pair_of(key[(slot + 1) % 3], key[(slot + 2) % 3]);
-        auto [found, new_line] = line_of_.emplace(line, static_cast<std::uint32_t>(lines_.size()));
-        if (new_line) lines_.emplace_back();
-        lines_[found->second].push_back(it->second);
-        lines[slot] = found->second;
+  // Numbers the pieces' corners: each distinct plane triple is one vertex, numbered in the order
+  // the corners (piece by piece, edge by edge) first name it; then lists each plane-pair line's
+  // vertices. Sorts instead of hash tables, so both run in parallel; the numbers are the same.
+  // Returns each corner's vertex, the corners of piece i from first_corner[i].
+  std::vector<std::uint32_t> number(const std::vector<CarvedPiece>& pieces,
+                                    const std::vector<std::size_t>& first_corner, ExecutionPolicy policy) {
+    struct Corner {
+      Key key;
+      std::size_t index;  // piece by piece, edge by edge
+    };
+    std::vector<Corner> corners(first_corner.back());
+    for_each_index(policy, 0, pieces.size(), [&](std::size_t i) {
+      const ConvexPiece& piece = pieces[i].piece;
+      const std::size_t n = piece.edges.size();
+      for (std::size_t k = 0; k < n; ++k) {
+        const std::array<ExactPlane, 3> planes =
+            sorted(piece.support, piece.edges[(k + n - 1) % n], piece.edges[k]);
+        corners[first_corner[i] + k] = {Key{planes[0].rank, planes[1].rank, planes[2].rank},
+                                        first_corner[i] + k};
       }
-      vertex_lines_.push_back(lines);
-    }
-    return it->second;
+    });
+    sort_under(policy, corners.begin(), corners.end(), [](const Corner& a, const Corner& b) {
+      return a.key < b.key || (a.key == b.key && a.index < b.index);
+    });
+    // Runs of one key, ordered by their first corner: the vertices.
+    std::vector<std::pair<std::size_t, std::size_t>> runs;  // first corner, start in `corners`
+    for (std::size_t c = 0; c < corners.size(); ++c)
+      if (c == 0 || corners[c].key != corners[c - 1].key) runs.emplace_back(corners[c].index, c);
+    sort_under(policy, runs.begin(), runs.end(),
+               [](const auto& a, const auto& b) { return a.first < b.first; });
+    std::vector<std::uint32_t> vertex_of(corners.size());
+    surface_.vertices.resize(runs.size());
+    for_each_index(policy, 0, runs.size(), [&](std::size_t v) {
+      const std::size_t first = runs[v].first;
+      const std::size_t i = static_cast<std::size_t>(
+          std::upper_bound(first_corner.begin(), first_corner.end(), first) - first_corner.begin() - 1);
+      const ConvexPiece& piece = pieces[i].piece;
+      const std::size_t n = piece.edges.size(), k = first - first_corner[i];
+      surface_.vertices[v] = sorted(piece.support, piece.edges[(k + n - 1) % n], piece.edges[k]);
+      for (std::size_t c = runs[v].second;
+           c < corners.size() && corners[c].key == corners[runs[v].second].key; ++c)
+        vertex_of[corners[c].index] = static_cast<std::uint32_t>(v);
+    });
+    make_lines(policy);
+    return vertex_of;
   }
 
   // Sorts every line's vertices along the direction lo × hi of its planes (lo the lower rank):
@@ -117,9 +128,41 @@ class Builder {
     return surface_.vertices[r][slot_of_line(r, l)];
   }
 
+  static std::array<ExactPlane, 3> sorted(const ExactPlane& a, const ExactPlane& b, const ExactPlane& c) {
+    std::array<ExactPlane, 3> planes{a, b, c};
+    std::sort(planes.begin(), planes.end(),
+              [](const ExactPlane& x, const ExactPlane& y) { return x.rank < y.rank; });
+    return planes;
+  }
+
+  // Each line of two of a vertex's planes with its vertices in increasing order (each vertex once:
+  // its three lines are distinct), and each vertex's line by slot (the slot of the third plane).
+  void make_lines(ExecutionPolicy policy) {
+    struct OnLine {
+      Pair line;
+      std::uint32_t vertex;
+      int slot;
+    };
+    std::vector<OnLine> entries(3 * surface_.vertices.size());
+    for_each_index(policy, 0, surface_.vertices.size(), [&](std::size_t v) {
+      const std::array<ExactPlane, 3>& planes = surface_.vertices[v];
+      for (int slot = 0; slot < 3; ++slot)
+        entries[3 * v + slot] = {pair_of(planes[(slot + 1) % 3].rank, planes[(slot + 2) % 3].rank),
+                                 static_cast<std::uint32_t>(v), slot};
+    });
+    sort_under(policy, entries.begin(), entries.end(), [](const OnLine& a, const OnLine& b) {
+      return a.line < b.line || (a.line == b.line && a.vertex < b.vertex);
+    });
+    vertex_lines_.resize(surface_.vertices.size());
+    for (std::size_t e = 0; e < entries.size(); ++e) {
+      if (e == 0 || entries[e].line != entries[e - 1].line) lines_.emplace_back();
+      lines_.back().push_back(entries[e].vertex);
+      vertex_lines_[entries[e].vertex][static_cast<std::size_t>(entries[e].slot)] =
+          static_cast<std::uint32_t>(lines_.size() - 1);
+    }
+  }
+
   ConformedSurface surface_;
-  std::unordered_map<Key, std::uint32_t, KeyHash> index_;
-  std::unordered_map<Pair, std::uint32_t, PairHash> line_of_;
   std::vector<std::vector<std::uint32_t>> lines_;           ///< each line's vertices, sorted by order_lines()
   std::vector<std::array<std::uint32_t, 3>> vertex_lines_;  ///< per vertex, its line by slot
   std::vector<std::array<std::uint32_t, 3>> position_;      ///< per vertex, its index on each line
@@ -129,21 +172,18 @@ class Builder {
 
 ConformedSurface conform(const std::vector<CarvedPiece>& pieces, ExecutionPolicy policy) {
   Builder builder;
-  std::vector<std::vector<std::uint32_t>> corner_ids(pieces.size());
-  for (std::size_t i = 0; i < pieces.size(); ++i) {
-    const ConvexPiece& piece = pieces[i].piece;
-    const std::size_t n = piece.edges.size();
-    for (std::size_t k = 0; k < n; ++k)
-      corner_ids[i].push_back(builder.vertex(piece.support, piece.edges[(k + n - 1) % n], piece.edges[k]));
-  }
+  std::vector<std::size_t> first_corner(pieces.size() + 1, 0);
+  for (std::size_t i = 0; i < pieces.size(); ++i)
+    first_corner[i + 1] = first_corner[i] + pieces[i].piece.edges.size();
+  const std::vector<std::uint32_t> vertex_of = builder.number(pieces, first_corner, policy);
   builder.order_lines(policy);
   ConformedSurface& surface = builder.surface();
   surface.polygons.resize(pieces.size());
   std::vector<std::size_t> inserted(pieces.size(), 0);
   for_each_index(policy, 0, pieces.size(), [&](std::size_t i) {
     const ConvexPiece& piece = pieces[i].piece;
-    const std::vector<std::uint32_t>& ids = corner_ids[i];
-    const std::size_t n = ids.size();
+    const std::uint32_t* ids = vertex_of.data() + first_corner[i];
+    const std::size_t n = piece.edges.size();
     ConformedPolygon polygon{{}, n, pieces[i].move, pieces[i].face};
     for (std::size_t k = 0; k < n; ++k) {  // edge k runs from corner k to corner k+1
       polygon.loop.push_back(ids[k]);

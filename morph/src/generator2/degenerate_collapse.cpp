@@ -85,8 +85,9 @@ class UnionFind {
 // than any rounding error; whether they are one point is decided exactly. Each pair of candidates
 // is tested once, in any order: the classes are the connected parts of the pairs found to be one
 // point, each represented by its smallest vertex (UnionFind), whatever the order. The points are
-// found in parallel, and the cells sorted, so each occupied cell looks up its 13 neighbours after
-// it (bear.nc at 0.01: 778k vertices, 27 hash look-ups each took a second).
+// found in parallel, and the cells sorted, so each occupied cell holding a vertex near its faces
+// looks up its 13 neighbours after it (bear.nc at 0.01: 778k vertices, 27 hash look-ups each
+// took a second; 13 each still took most of this step's 1 s).
 std::vector<std::uint32_t> limit_classes(const std::vector<Triple>& vertices, ExecutionPolicy policy) {
   constexpr double kCell = 1e-6;
   using Cell = std::array<std::int64_t, 3>;
@@ -97,39 +98,76 @@ std::vector<std::uint32_t> limit_classes(const std::vector<Triple>& vertices, Ex
     }
   };
   std::vector<std::pair<Cell, std::uint32_t>> cells(vertices.size());
+  // Per vertex: its rounded point lies near a face of its cell. vertex_point() is within 1e-12 of
+  // its size of the exact point, so two vertices of one exact point in different cells are both
+  // within a millionth of that of the face between: only cells holding such a vertex look at
+  // their neighbours.
+  std::vector<char> near_face(vertices.size(), 0);
   for_each_index(policy, 0, vertices.size(), [&](std::size_t v) {
     const Eigen::Vector3d x = vertex_point(vertices[v][0], vertices[v][1], vertices[v][2]);
+    const double reach = 1e-9 * std::max(1.0, x.cwiseAbs().maxCoeff()) / kCell;
     Cell c{};
-    for (int i = 0; i < 3; ++i) c[i] = static_cast<std::int64_t>(std::floor(x[i] / kCell));
+    for (int i = 0; i < 3; ++i) {
+      const double at = x[i] / kCell, below = std::floor(at);
+      c[i] = static_cast<std::int64_t>(below);
+      if (at - below <= reach || below + 1.0 - at <= reach) near_face[v] = 1;
+    }
     cells[v] = {c, static_cast<std::uint32_t>(v)};
   });
-  std::sort(cells.begin(), cells.end());
+  sort_under(policy, cells.begin(), cells.end(), std::less<std::pair<Cell, std::uint32_t>>());
+
+  // Each occupied cell's pairs, in parallel: the pairs found to be one point that join two parts
+  // not yet joined by the cell's earlier pairs (a forest of them, with the same connected parts).
+  std::vector<std::size_t> starts;
+  for (std::size_t k = 0; k < cells.size(); ++k)
+    if (k == 0 || cells[k].first != cells[k - 1].first) starts.push_back(k);
   std::unordered_map<Cell, std::pair<std::size_t, std::size_t>, CellHash> range;  // in `cells`
-  range.reserve(cells.size());
-  for (std::size_t k = 0, end; k < cells.size(); k = end) {
-    for (end = k + 1; end < cells.size() && cells[end].first == cells[k].first;) ++end;
-    range.emplace(cells[k].first, std::pair{k, end});
-  }
-  UnionFind classes(vertices.size());
-  auto test = [&](std::uint32_t u, std::uint32_t v) {
-    if (u > v) std::swap(u, v);
-    if (classes.find(u) != classes.find(v) && same_limit_point(vertices[u], vertices[v])) classes.unite(u, v);
-  };
-  for (std::size_t k = 0, end; k < cells.size(); k = end) {
+  range.reserve(starts.size());
+  for (std::size_t r = 0; r < starts.size(); ++r)
+    range.emplace(cells[starts[r]].first,
+                  std::pair{starts[r], r + 1 < starts.size() ? starts[r + 1] : cells.size()});
+  std::vector<std::vector<std::pair<std::uint32_t, std::uint32_t>>> joined(starts.size());
+  for_each_index(policy, 0, starts.size(), [&](std::size_t r) {
+    const std::size_t k = starts[r];
     const Cell& c = cells[k].first;
-    end = range.at(c).second;
-    for (std::size_t i = k; i < end; ++i)
-      for (std::size_t j = i + 1; j < end; ++j) test(cells[i].second, cells[j].second);
-    for (std::int64_t dx = 0; dx <= 1; ++dx)
+    const std::size_t end = r + 1 < starts.size() ? starts[r + 1] : cells.size();
+    std::vector<std::pair<std::size_t, std::size_t>> others;  // the neighbour cells' ranges
+    const bool near = std::any_of(cells.begin() + static_cast<std::ptrdiff_t>(k),
+                                  cells.begin() + static_cast<std::ptrdiff_t>(end),
+                                  [&](const auto& cell) { return near_face[cell.second] != 0; });
+    for (std::int64_t dx = 0; near && dx <= 1; ++dx)
       for (std::int64_t dy = dx == 0 ? 0 : -1; dy <= 1; ++dy)
         for (std::int64_t dz = dx == 0 && dy == 0 ? 1 : -1; dz <= 1; ++dz) {
           const auto it = range.find({c[0] + dx, c[1] + dy, c[2] + dz});
-          if (it == range.end()) continue;
-          for (std::size_t i = k; i < end; ++i)
-            for (std::size_t j = it->second.first; j < it->second.second; ++j)
-              test(cells[i].second, cells[j].second);
+          if (it != range.end()) others.push_back(it->second);
         }
-  }
+    if (end - k == 1 && others.empty()) return;
+    std::vector<std::uint32_t> members;
+    for (std::size_t i = k; i < end; ++i) members.push_back(cells[i].second);
+    for (const auto& [from, to] : others)
+      for (std::size_t j = from; j < to; ++j) members.push_back(cells[j].second);
+    std::sort(members.begin(), members.end());
+    UnionFind local(members.size());
+    auto local_index = [&](std::uint32_t v) {
+      return static_cast<std::uint32_t>(std::lower_bound(members.begin(), members.end(), v) -
+                                        members.begin());
+    };
+    auto test = [&](std::uint32_t u, std::uint32_t v) {
+      const std::uint32_t a = local_index(u), b = local_index(v);
+      if (local.find(a) != local.find(b) && same_limit_point(vertices[u], vertices[v])) {
+        local.unite(a, b);
+        joined[r].emplace_back(u, v);
+      }
+    };
+    for (std::size_t i = k; i < end; ++i)
+      for (std::size_t j = i + 1; j < end; ++j) test(cells[i].second, cells[j].second);
+    for (const auto& [from, to] : others)
+      for (std::size_t i = k; i < end; ++i)
+        for (std::size_t j = from; j < to; ++j) test(cells[i].second, cells[j].second);
+  });
+  UnionFind classes(vertices.size());
+  for (const auto& pairs : joined)
+    for (const auto& [u, v] : pairs) classes.unite(u, v);
   std::vector<std::uint32_t> root(vertices.size());
   for (std::uint32_t v = 0; v < vertices.size(); ++v) root[v] = classes.find(v);
   return root;
@@ -140,8 +178,8 @@ std::vector<std::uint32_t> limit_classes(const std::vector<Triple>& vertices, Ex
 class Limit {
  public:
   Limit(const ConformedSurface& surface, const std::vector<PlanarLoop>& planar,
-        const std::vector<std::uint32_t>& root, const std::set<std::uint32_t>& apart)
-      : surface_(surface) {
+        const std::vector<std::uint32_t>& root, const std::set<std::uint32_t>& apart, ExecutionPolicy policy)
+      : surface_(surface), policy_(policy) {
     rep_.resize(root.size());
     apart_.resize(root.size());
     for (std::uint32_t v = 0; v < root.size(); ++v) {
@@ -155,11 +193,20 @@ class Limit {
   }
 
   // Step 3, until no sliver is left that can be zipped.
+  // A polygon's flatness does not change as zips split its edges (the points put in lie on the
+  // edges), so it is found once, in parallel.
   void zip_slivers(bool enabled) {
-    for (bool changed = enabled; changed;) {
+    if (!enabled) return;
+    std::vector<char> is_flat(polygons_.size(), 0);
+    for_each_index(policy_, 0, polygons_.size(),
+                   [&](std::size_t i) { is_flat[i] = !removed_[i] && flat(polygons_[i]); });
+    std::vector<std::size_t> slivers;
+    for (std::size_t i = 0; i < polygons_.size(); ++i)
+      if (is_flat[i]) slivers.push_back(i);
+    for (bool changed = true; changed;) {
       changed = false;
-      for (std::size_t i = 0; i < polygons_.size(); ++i)
-        if (!removed_[i] && flat(polygons_[i]) && zip(i)) changed = true;
+      for (std::size_t i : slivers)
+        if (!removed_[i] && zip(i)) changed = true;
     }
   }
 
@@ -193,7 +240,7 @@ class Limit {
       }
     }
     // Each directed edge used once, and its reverse once.
-    std::sort(edges.begin(), edges.end());
+    sort_under(policy_, edges.begin(), edges.end(), std::less<Edge>());
     std::vector<std::pair<Edge, std::size_t>> uses;
     for (std::size_t k = 0, end; k < edges.size(); k = end) {
       for (end = k + 1; end < edges.size() && edges[end] == edges[k];) ++end;
@@ -234,14 +281,21 @@ class Limit {
     return bad;
   }
 
-  LimitSurface result(LimitCounts counts) const {
+  // The limit surface, its polygons moved out (the last use of this).
+  LimitSurface result(LimitCounts counts) {
     LimitSurface out;
     out.vertices = surface_.vertices;
+    std::vector<char> convex(polygons_.size(), 0), still_flat(polygons_.size(), 0);
+    for_each_index(policy_, 0, polygons_.size(), [&](std::size_t i) {
+      if (removed_[i]) return;
+      convex[i] = strictly_convex(polygons_[i]);
+      still_flat[i] = flat(polygons_[i]);
+    });
     for (std::size_t i = 0; i < polygons_.size(); ++i)
       if (!removed_[i]) {
-        LimitPolygon p = polygons_[i];
-        p.strictly_convex = strictly_convex(p);
-        counts.flat_polygons_left += flat(p);
+        LimitPolygon p = std::move(polygons_[i]);
+        p.strictly_convex = convex[i] != 0;
+        counts.flat_polygons_left += still_flat[i];
         out.polygons.push_back(std::move(p));
       } else if (zipped_[i]) {
         ++counts.zipped_slivers;
@@ -369,6 +423,7 @@ class Limit {
   }
 
   const ConformedSurface& surface_;
+  ExecutionPolicy policy_;
   std::vector<std::uint32_t> rep_;
   std::vector<LimitPolygon> polygons_;
   std::vector<bool> apart_;  // per vertex: its class is kept apart
@@ -394,7 +449,7 @@ LimitSurface collapse_degenerates(const ConformedSurface& surface, ExecutionPoli
   // Merge every class, then keep apart those where the limit is not a 2-manifold, until none is.
   std::set<std::uint32_t> apart;
   for (;;) {
-    Limit limit(surface, planar, root, apart);
+    Limit limit(surface, planar, root, apart, policy);
     limit.zip_slivers(true);
     const std::set<std::uint32_t> bad = limit.non_manifold(root);
     if (bad.empty()) {
@@ -411,7 +466,7 @@ LimitSurface collapse_degenerates(const ConformedSurface& surface, ExecutionPoli
   // surface itself, a 2-manifold by construction.
   for (std::uint32_t v = 0; v < root.size(); ++v)
     if (class_size[root[v]] > 1) apart.insert(root[v]);
-  Limit limit(surface, planar, root, apart);
+  Limit limit(surface, planar, root, apart, policy);
   limit.zip_slivers(false);
   LimitCounts counts;
   counts.kept_apart = apart.size();
