@@ -124,7 +124,8 @@ GeneratedSurface run_generator(const morph::Job& job, const morph::ErodeOptions&
   const auto start = std::chrono::steady_clock::now();
   const double tolerance = options.tolerance > 0.0 ? options.tolerance : job.tolerance;
   const morph::Erode2Estimate estimate = morph::estimate_erode2(job, tolerance);
-  const bool retry = estimate.sweep_facets <= kAutoRetryFacets;
+  const bool over_cap = options.memory_cap_bytes > 0 && estimate.bytes > double(options.memory_cap_bytes);
+  const bool retry = estimate.sweep_facets <= kAutoRetryFacets && !over_cap;
   // Where generator 2 would be tried, generator 1 may spend on its searches about what generator
   // 2 would cost in all (auto_search_limit(), or the caller's limit), and no more.
   morph::ErodeOptions first = options;
@@ -140,13 +141,19 @@ GeneratedSurface run_generator(const morph::Job& job, const morph::ErodeOptions&
     }
     choice << "generator 1's surface is unsound (" << out.soundness->describe() << ")";
   } catch (const morph::SearchLimitError&) {
+    if (!retry) throw;  // the caller's own limit, with no generator to take the job instead
     choice << "generator 1 was stopped after " << first.search_limit
            << " searches of its sweep distances, about what generator 2 costs in all on this job";
   }
   if (!retry) {
-    choice << "; generator 2 was not tried: it would sweep about "
-           << static_cast<long long>(estimate.sweep_facets) << " facets, over auto's limit of "
-           << static_cast<long long>(kAutoRetryFacets) << " (--generator 2 runs it anyway)";
+    if (over_cap)
+      choice << "; generator 2 was not tried: it would need about "
+             << static_cast<long long>(estimate.bytes / (1 << 20)) << " MiB, over the memory cap of "
+             << static_cast<long long>(options.memory_cap_bytes >> 20) << " MiB";
+    else
+      choice << "; generator 2 was not tried: it would sweep about "
+             << static_cast<long long>(estimate.sweep_facets) << " facets, over auto's limit of "
+             << static_cast<long long>(kAutoRetryFacets) << " (--generator 2 runs it anyway)";
     out.choice = choice.str();
     return out;
   }

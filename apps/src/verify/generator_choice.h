@@ -30,8 +30,10 @@ constexpr int kDefaultGenerator = kAutoGenerator;
 
 /// Generator 2's estimated sweep facets (morph::estimate_erode2) up to which `auto` hands a job
 /// whose generator-1 surface is unsound to generator 2: about a minute of generator 2 on this
-/// project's 2-core machine at today's speed (bear.nc at 0.01 has 12 million and takes minutes).
-constexpr double kAutoRetryFacets = 3e6;
+/// project's 2-core machine at today's speed (2026-11-27: bear.nc at 0.01 is estimated at 11.8
+/// million and takes 30 s; generator 1 leaves it with 1,316 intersecting triangle pairs). Nor is
+/// generator 2 tried when its estimated memory is over the caller's cap.
+constexpr double kAutoRetryFacets = 2e7;
 
 /// Generator 1's searches of its exact sweep distances (ErodeOptions::search_limit) that auto
 /// allows per sweep facet generator 2 would make, where it would try generator 2: about what
