@@ -32,6 +32,30 @@ morph::Job undercut_star() {
                                           morph::sphere_tool(1.979), star, 0.02);
 }
 
+// A star {n/k} of `radius` at height z, driven twice round from the angle of (x, y).
+std::vector<Vector3d> star_twice_round(int n, int k, double radius, double z, double x, double y) {
+  std::vector<Vector3d> star;
+  const double phase = std::atan2(y, x);
+  for (int j = 0; j <= 2 * n; ++j) {
+    const double a = phase + 2 * M_PI * (j % n) * k / n;
+    star.emplace_back(radius * std::cos(a), radius * std::sin(a), z);
+  }
+  return star;
+}
+
+// verify's outcome with generator 2 for a sphere of `radius` cutting `star` in `box`.
+morphmill::VerifyOutcome sphere_star_outcome(const Eigen::AlignedBox3d& box, double radius,
+                                             const std::vector<Vector3d>& star, double tolerance,
+                                             double voxel, std::size_t face_samples = 0) {
+  morphmill::EvaluateOptions options;
+  options.voxel_size = voxel;
+  options.generator = 2;
+  if (face_samples > 0) options.face_samples = face_samples;
+  return morphmill::evaluate_job(
+             morphmill_test::box_polyline_job(box, morph::sphere_tool(radius), star, tolerance), options)
+      .outcome;
+}
+
 TEST(VerifyPieces, ChipsBelowTheVoxelsAreConfirmedByTheExactField) {
   morphmill::EvaluateOptions options;
   options.voxel_size = 0.49475;
@@ -96,22 +120,10 @@ TEST(VerifyPieces, ASmallPieceOutsideTheExactSolidIsAPhantom) {
 // exact solid, less than the tolerance 0.05: material all the same, and the generator within the
 // tolerance of the exact surface both ways; the reference's voxels see one piece.
 TEST(VerifyPieces, ThinChipsAreMaterialOfTheExactSolid) {
-  std::vector<Vector3d> star;
-  const double phase = std::atan2(16.757532994911724, -4.684558455654589);
-  for (int j = 0; j <= 14; ++j) {
-    const double a = phase + 2 * M_PI * (j % 7) * 3 / 7;
-    star.emplace_back(17.4 * std::cos(a), 17.4 * std::sin(a), 7.918000000000001);
-  }
-  morphmill::EvaluateOptions options;
-  options.voxel_size = 0.69475;
-  options.generator = 2;
-  options.face_samples = 20000;
-  const morphmill::VerifyOutcome o =
-      morphmill::evaluate_job(morphmill_test::box_polyline_job(
-                                  Eigen::AlignedBox3d(Vector3d(-21, -22, 0), Vector3d(23, 22, 9.585)),
-                                  morph::sphere_tool(2.779), star, 0.05),
-                              options)
-          .outcome;
+  const morphmill::VerifyOutcome o = sphere_star_outcome(
+      Eigen::AlignedBox3d(Vector3d(-21, -22, 0), Vector3d(23, 22, 9.585)), 2.779,
+      star_twice_round(7, 3, 17.4, 7.918000000000001, -4.684558455654589, 16.757532994911724), 0.05, 0.69475,
+      20000);
   ASSERT_EQ(o.morph_pieces.size(), 8u);
   EXPECT_EQ(o.reference_pieces.size(), 1u);
   EXPECT_TRUE(o.generator_within_tolerance);
@@ -124,12 +136,8 @@ TEST(VerifyPieces, ThinChipsAreMaterialOfTheExactSolid) {
 // reference's 0.747 mm voxels, and its level set cuts off a piece of 1.57 mm^3 there, while the
 // exact solid (and the generator) is one piece.
 TEST(VerifyPieces, APieceTheVoxelsCutOffAtANeckIsJoinedByTheExactField) {
-  std::vector<Vector3d> star;
-  const double phase = std::atan2(-1.572519851838418, 23.28696591047391);
-  for (int j = 0; j <= 22; ++j) {
-    const double a = phase + 2 * M_PI * (j % 11) * 4 / 11;
-    star.emplace_back(23.34 * std::cos(a), 23.34 * std::sin(a), 6.791);
-  }
+  const std::vector<Vector3d> star =
+      star_twice_round(11, 4, 23.34, 6.791, 23.28696591047391, -1.572519851838418);
   const morph::Job job =
       morphmill_test::box_polyline_job(Eigen::AlignedBox3d(Vector3d(-28, -28, 0), Vector3d(29, 29, 8.483)),
                                        morph::sphere_tool(2.989), star, 0.01);
@@ -158,21 +166,9 @@ TEST(VerifyPieces, APieceTheVoxelsCutOffAtANeckIsJoinedByTheExactField) {
 // (0.024) missed and one at the tolerance (0.01) finds; the generator is one piece, within the
 // tolerance both ways.
 TEST(VerifyPieces, NecksFinerThanASixteenthOfAVoxelAreFoundAtTheTolerance) {
-  std::vector<Vector3d> star;
-  const double phase = std::atan2(-9.559580174645761, 4.48407268947769);
-  for (int j = 0; j <= 14; ++j) {
-    const double a = phase + 2 * M_PI * (j % 7) * 2 / 7;
-    star.emplace_back(10.559 * std::cos(a), 10.559 * std::sin(a), 4.315);
-  }
-  morphmill::EvaluateOptions options;
-  options.voxel_size = 0.38;
-  options.generator = 2;
-  const morphmill::VerifyOutcome o =
-      morphmill::evaluate_job(morphmill_test::box_polyline_job(
-                                  Eigen::AlignedBox3d(Vector3d(-14, -14, 0), Vector3d(14, 15, 5.227)),
-                                  morph::sphere_tool(1.52), star, 0.01),
-                              options)
-          .outcome;
+  const morphmill::VerifyOutcome o = sphere_star_outcome(
+      Eigen::AlignedBox3d(Vector3d(-14, -14, 0), Vector3d(14, 15, 5.227)), 1.52,
+      star_twice_round(7, 2, 10.559, 4.315, 4.48407268947769, -9.559580174645761), 0.01, 0.38);
   ASSERT_EQ(o.morph_pieces.size(), 1u);
   ASSERT_EQ(o.reference_pieces.size(), 4u);
   EXPECT_TRUE(o.generator_within_tolerance);
