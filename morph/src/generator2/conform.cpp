@@ -42,10 +42,9 @@ class Builder {
       const ConvexPiece& piece = pieces[i].piece;
       const std::size_t n = piece.edges.size();
       for (std::size_t k = 0; k < n; ++k) {
-        const std::array<ExactPlane, 3> planes =
-            sorted(piece.support, piece.edges[(k + n - 1) % n], piece.edges[k]);
-        corners[first_corner[i] + k] = {Key{planes[0].rank, planes[1].rank, planes[2].rank},
-                                        first_corner[i] + k};
+        Key key{piece.support.rank, piece.edges[(k + n - 1) % n].rank, piece.edges[k].rank};
+        std::sort(key.begin(), key.end());
+        corners[first_corner[i] + k] = {key, first_corner[i] + k};
       }
     });
     sort_under(policy, corners.begin(), corners.end(), [](const Corner& a, const Corner& b) {

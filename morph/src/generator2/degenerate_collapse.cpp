@@ -118,19 +118,19 @@ std::vector<std::uint32_t> limit_classes(const std::vector<Triple>& vertices, Ex
 
   // Each occupied cell's pairs, in parallel: the pairs found to be one point that join two parts
   // not yet joined by the cell's earlier pairs (a forest of them, with the same connected parts).
-  std::vector<std::size_t> starts;
+  std::vector<std::size_t> starts;  // of each cell's run in `cells`, and last the end
   for (std::size_t k = 0; k < cells.size(); ++k)
     if (k == 0 || cells[k].first != cells[k - 1].first) starts.push_back(k);
+  starts.push_back(cells.size());
+  const std::size_t runs = starts.size() - 1;
   std::unordered_map<Cell, std::pair<std::size_t, std::size_t>, CellHash> range;  // in `cells`
-  range.reserve(starts.size());
-  for (std::size_t r = 0; r < starts.size(); ++r)
-    range.emplace(cells[starts[r]].first,
-                  std::pair{starts[r], r + 1 < starts.size() ? starts[r + 1] : cells.size()});
-  std::vector<std::vector<std::pair<std::uint32_t, std::uint32_t>>> joined(starts.size());
-  for_each_index(policy, 0, starts.size(), [&](std::size_t r) {
-    const std::size_t k = starts[r];
+  range.reserve(runs);
+  for (std::size_t r = 0; r < runs; ++r)
+    range.emplace(cells[starts[r]].first, std::pair{starts[r], starts[r + 1]});
+  std::vector<std::vector<std::pair<std::uint32_t, std::uint32_t>>> joined(runs);
+  for_each_index(policy, 0, runs, [&](std::size_t r) {
+    const std::size_t k = starts[r], end = starts[r + 1];
     const Cell& c = cells[k].first;
-    const std::size_t end = r + 1 < starts.size() ? starts[r + 1] : cells.size();
     std::vector<std::pair<std::size_t, std::size_t>> others;  // the neighbour cells' ranges
     const bool near = std::any_of(cells.begin() + static_cast<std::ptrdiff_t>(k),
                                   cells.begin() + static_cast<std::ptrdiff_t>(end),
