@@ -177,3 +177,27 @@ TEST(VerifyPieces, NecksFinerThanASixteenthOfAVoxelAreFoundAtTheTolerance) {
 }
 
 }  // namespace
+
+// Stress seed 53, case 1566: a star {5/2} twice round, undercut by a sphere. The reference cuts
+// off a piece one voxel thick, so its bounds (its voxels' centres) are flat: a grid at the
+// tolerance held no point of them, and the piece was judged a phantom though the exact solid
+// joins it to the rest.
+TEST(VerifyPieces, APieceOneVoxelThickIsJudgedOverItsVoxels) {
+  const morph::Job job = morphmill_test::box_polyline_job(
+      Eigen::AlignedBox3d(Vector3d(-15, -14, 0), Vector3d(13, 14, 8.227)), morph::sphere_tool(1.622),
+      star_twice_round(5, 2, 10.514, 7.254, -2.6171552162086895, 10.183059195265027), 0.01);
+  const morph::ErosionField field(job);
+  const double voxel = 0.4055;
+  morphmill::PieceRecord body, reference, flat;
+  body.volume = 5895.31;
+  reference.volume = 5891.19;
+  reference.area = 2598.92;
+  flat.volume = 0.180611;
+  flat.area = 1.38734;
+  flat.bounds = Eigen::AlignedBox3d(Vector3d(-2.0275, -5.2715, 8.11), Vector3d(-1.622, -4.4605, 8.11));
+  // Material under the flat box, joined to the rest.
+  EXPECT_TRUE(morphmill::material_reaches_out(field, flat.bounds, 2 * voxel, 0.01));
+  std::size_t below = 99;
+  EXPECT_TRUE(morphmill::match_pieces({body}, {reference, flat}, voxel, 0.01, field, &below));
+  EXPECT_EQ(below, 1u);
+}

@@ -75,9 +75,12 @@ bool material_reaches_out(const morph::ErosionField& field, const Eigen::Aligned
         if (material[t] && !reached[t]) reached[t] = 1, front.push_back(t);
       }
   }
+  // The box holds the points within half a step of it: a flat box (a piece one voxel thick, its
+  // voxels' centres on one plane) held none, and its material was judged a phantom.
+  const Eigen::AlignedBox3d held(box.min().array() - 0.5 * step, box.max().array() + 0.5 * step);
   bool any_material = false;
   for (std::size_t s = 0; s < count; ++s) {
-    if (!material[s] || !box.contains(point(s))) continue;
+    if (!material[s] || !held.contains(point(s))) continue;
     if (!reached[s]) return false;
     any_material = true;
   }
@@ -125,6 +128,8 @@ bool match_pieces(const std::vector<PieceRecord>& morph_pieces,
   // tolerance (a neck narrower than the step may be missed: the check then fails). A sixteenth
   // of a voxel was coarser than that (stress seed 59, case 206: 0.024 at tolerance 0.01 missed a
   // neck that 0.01 finds); material_reaches_out() bounds the points for a large box.
+  // A reference piece's bounds are its voxels' centres: its material lies within a voxel of them
+  // (stress seed 53, case 1566: a piece one voxel thick, its bounds flat).
   const double step = tolerance;
   for (const PieceRecord& seen : reference_small) {
     Eigen::AlignedBox3d near = seen.bounds;
@@ -132,7 +137,7 @@ bool match_pieces(const std::vector<PieceRecord>& morph_pieces,
     near.max().array() += voxel_size;
     if (std::none_of(morph_small.begin(), morph_small.end(),
                      [&](const PieceRecord& piece) { return near.intersects(piece.bounds); }) &&
-        !material_reaches_out(field, seen.bounds, 2.0 * voxel_size, step))
+        !material_reaches_out(field, near, 2.0 * voxel_size, step))
       return false;
   }
   if (below_resolution) *below_resolution = morph_small.size() + reference_small.size();
