@@ -36,4 +36,24 @@ inline morph::Job box_polyline_job(const Eigen::AlignedBox3d& box, const morph::
   return polyline_job(stock, tool, polyline, tolerance);
 }
 
+/// Stress seed 53, case 2106: a tapered tool (tip 0.682, radius 2.035) six times round a triangle
+/// of radius 12.65 at tolerance 0.01, its corners as the campaign drew them (the laps' corners
+/// differ in their last digits). Its long moves in general directions have silhouette normals
+/// wider than 53 bits on generator 2's grid.
+inline morph::Job tapered_triangle_six_times_round() {
+  const std::vector<Eigen::Vector3d> corners{
+      {0.03570871122111897, -12.64994960021355, 3.021},  {10.937323354767177, 6.355899451160668, 3.021},
+      {-10.973032065988294, 6.294050149052889, 3.021},   {0.0357087112211271, -12.64994960021355, 3.021},
+      {10.937323354767189, 6.355899451160647, 3.021},    {-10.973032065988292, 6.294050149052891, 3.021},
+      {0.035708711221124005, -12.64994960021355, 3.021}, {10.937323354767168, 6.355899451160682, 3.021},
+      {-10.97303206598829, 6.294050149052893, 3.021},    {0.03570871122111897, -12.64994960021355, 3.021},
+      {10.937323354767177, 6.355899451160668, 3.021},    {-10.973032065988294, 6.294050149052889, 3.021},
+      {0.0357087112211271, -12.64994960021355, 3.021},   {10.937323354767189, 6.355899451160647, 3.021},
+      {-10.973032065988292, 6.294050149052891, 3.021},   {0.035708711221124005, -12.64994960021355, 3.021},
+      {10.937323354767168, 6.355899451160682, 3.021},    {-10.97303206598829, 6.294050149052893, 3.021},
+      {0.03570871122111897, -12.64994960021355, 3.021}};
+  return box_polyline_job(Eigen::AlignedBox3d(Eigen::Vector3d(-16, -17, 0), Eigen::Vector3d(15, 11, 4.835)),
+                          morph::tapered_tool(0.682, 2.035, 11.72), corners, 0.01);
+}
+
 }  // namespace morphmill_test

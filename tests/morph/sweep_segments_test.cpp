@@ -3,15 +3,20 @@
 // solid is the same, decided exactly on the grid; the count made without listing them agrees.
 #include <morph/erode.h>
 #include <morph/erode2.h>
+#include <morph/error_budget.h>
 #include <morph/quantize.h>
+#include <morph/sweep_polytope.h>
 #include <morph/sweep_segments.h>
 #include <morph/tool.h>
+#include <morph/tool_polytope.h>
 #include <morph/topology.h>
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <map>
+#include <memory>
 
 #include "common/test_jobs.h"
 
@@ -158,6 +163,78 @@ TEST(SweepSegments, GeneratorOneJoinsTheSameRuns) {
   EXPECT_EQ(from_fine.stats.segments, 1u);
   EXPECT_EQ(from_fine.mesh.vertices, from_one.mesh.vertices);
   EXPECT_EQ(from_fine.mesh.triangles, from_one.mesh.triangles);
+}
+
+// Long moves in general directions (tapered_triangle_six_times_round(), test_jobs.h): their
+// silhouette planes were rounded to doubles, and the rounding had to repair the surface.
+struct Star {
+  morph::Job job;
+  morph::ErrorBudget budget;
+  std::unique_ptr<morph::SweepPolytopeBuilder> builder;
+  std::map<int, std::int64_t> largest_step;
+};
+
+Star tapered_star() {
+  Star star;
+  star.job = morphmill_test::tapered_triangle_six_times_round();
+  star.budget = morph::error_budget(star.job, 0.01);
+  star.builder = std::make_unique<morph::SweepPolytopeBuilder>(
+      morph::tool_polytope(star.job.tools.begin()->second.profile, star.budget.tool).polytope);
+  star.largest_step[star.job.tools.begin()->first] = star.builder->largest_exact_step();
+  return star;
+}
+
+TEST(SettleSegmentEnds, LongMovesInGeneralDirectionsGetExactPlanesAndLapsStillMeet) {
+  const Star star = tapered_star();
+  const std::vector<morph::SweepSegment> before =
+      morph::sweep_segments(star.job, star.budget.chords, star.budget.grid_exponent);
+  ASSERT_EQ(before.size(), 18u);
+  EXPECT_TRUE(std::any_of(before.begin(), before.end(),
+                          [&](const morph::SweepSegment& s) { return !star.builder->exact(s.from, s.to); }));
+  std::vector<morph::SweepSegment> after = before;
+  const morph::SettledEnds settled =
+      morph::settle_segment_ends(after, star.largest_step, star.budget.grid_exponent, star.budget.ends);
+  EXPECT_GT(settled.aligned, 0u);
+  EXPECT_EQ(settled.collapsed, 0u);
+  ASSERT_EQ(after.size(), before.size());
+  for (std::size_t i = 0; i < after.size(); ++i) {
+    EXPECT_TRUE(star.builder->exact(after[i].from, after[i].to)) << i;
+    EXPECT_LE((after[i].from - before[i].from).norm(), star.budget.ends) << i;
+    EXPECT_LE((after[i].to - before[i].to).norm(), star.budget.ends) << i;
+    // Where the path met itself it still does: the moves join, and each lap meets the others.
+    if (i + 1 < after.size()) {
+      EXPECT_EQ(after[i].to, after[i + 1].from) << i;
+    }
+    for (std::size_t j = 0; j < i; ++j) {
+      EXPECT_EQ(after[i].from == after[j].from, before[i].from == before[j].from) << i << ' ' << j;
+      EXPECT_EQ(after[i].to == after[j].to, before[i].to == before[j].to) << i << ' ' << j;
+    }
+  }
+  EXPECT_EQ(after.back().to == after.front().from, before.back().to == before.front().from);
+}
+
+TEST(SettleSegmentEnds, AMoveShorterThanTheShareEndsWhereItStarts) {
+  const Star star = tapered_star();
+  const int grid = star.budget.grid_exponent;
+  // A 1e-6 mm step down at a turn, then back over the same points (a retrace).
+  const Vector3d a(-5, -5, 3), b(5, -5, 3), c = b - Vector3d(0, 0, 1e-6), d(5, 5, 3);
+  std::vector<morph::SweepSegment> segments;
+  const std::vector<Vector3d> path{a, b, c, d, c, b};
+  for (std::size_t k = 0; k + 1 < path.size(); ++k)
+    segments.push_back({morph::snap_to_grid(path[k], grid), morph::snap_to_grid(path[k + 1], grid),
+                        static_cast<std::int32_t>(k), 0, star.job.tools.begin()->first});
+  const morph::SettledEnds settled =
+      morph::settle_segment_ends(segments, star.largest_step, grid, star.budget.ends);
+  EXPECT_EQ(settled.collapsed, 1u);
+  // a-b, b-d, d-b: the step is gone, its end joined to b everywhere it occurs.
+  ASSERT_EQ(segments.size(), 3u);
+  const Vector3d sb = morph::snap_to_grid(b, grid), sd = morph::snap_to_grid(d, grid);
+  EXPECT_EQ(segments[0].to, sb);
+  EXPECT_EQ(segments[1].from, sb);
+  EXPECT_EQ(segments[1].to, sd);
+  EXPECT_EQ(segments[2].from, sd);
+  EXPECT_EQ(segments[2].to, sb);
+  EXPECT_EQ(segments[2].move, 3);
 }
 
 }  // namespace

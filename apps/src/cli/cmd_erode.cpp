@@ -214,7 +214,7 @@ void run_erode(const ErodeCommandOptions& options) {
     std::cout << "  fallbacks fired: " << describe_steps(s, true);
     if (std::any_of(s.steps.begin(), s.steps.end(),
                     [](const morph::StepCount& step) { return !step.fallback; }))
-      std::cout << "; exact limit steps: " << describe_steps(s, false);
+      std::cout << "; exact steps: " << describe_steps(s, false);
     std::cout << '\n';
   }
   if (options.json_option->count() > 0)

@@ -86,6 +86,12 @@ class SweepPolytopeBuilder {
   /// False may also be said of a sweep whose planes happen to be exact.
   bool exact(const Eigen::Vector3d& start, const Eigen::Vector3d& end) const;
 
+  /// The largest component (grid steps) of a motion reduced to coprime integers whose silhouette
+  /// planes exact() holds exact: kMaxIntegerNormal / (2 × the largest tool edge component); 0
+  /// when the tool is not on a grid. A long move in a general direction passes it
+  /// (align_long_segments() in sweep_segments.h moves its end so that it does not).
+  std::int64_t largest_exact_step() const;
+
   const ConvexPolytope& tool() const { return tool_; }
 
   struct Edge {

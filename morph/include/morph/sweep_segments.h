@@ -47,6 +47,32 @@ bool goes_on_straight(const Eigen::Vector3d& a, const Eigen::Vector3d& b, const 
 /// segments dropped where a neighbour of their tool covers them (see the file comment).
 std::vector<SweepSegment> sweep_segments(const Job& job, double chord_tolerance, int grid_exponent);
 
+/// Segment ends moved within `max_shift` (job units; the error budget's `ends` share) so that
+/// every sweep is built from exact planes and no move shorter than the share is swept:
+/// - A sweep's silhouette plane through a tool edge has the normal reduced(edge) ×
+///   reduced(motion) in grid integers, exact only while it fits the predicates' 53 bits
+///   (SweepPolytopeBuilder::largest_exact_step(), `largest_step` per tool). A longer move in a
+///   general direction got a plane rounded to doubles that misses the tool vertices it holds by
+///   construction: the vertex and that plane's corner became two points ~1e-15 apart, needles
+///   the rounding to doubles had to repair (the self-crossing stars of the stress campaign). Such
+///   a segment's end goes to the grid point from + k·d, d its motion divided by k and rounded, k
+///   the smallest integer that brings every component of d within the limit (k/2 grid steps
+///   per component).
+/// - A segment shorter than the share (a 1e-6 mm step at a turn) ends where it starts: its sweep
+///   is the tool there, within the share of the move's, and the needles between its planes and
+///   its neighbours' (thinner than the doubles' spacing) are not built.
+/// Ends are measured from the job's points, so moves do not add up: every end stays within the
+/// share of its move's. The next segments starting (and a zero-length one ending) at a moved end
+/// move with it; a segment left of zero length is dropped where a neighbour of its tool covers
+/// its point. A tool missing from `largest_step` (or at 0) keeps its long segments as they are.
+struct SettledEnds {
+  std::size_t aligned = 0;    ///< long segments' ends moved to make their planes exact
+  std::size_t collapsed = 0;  ///< segments shorter than the share, made a point
+};
+SettledEnds settle_segment_ends(std::vector<SweepSegment>& segments,
+                                const std::map<int, std::int64_t>& largest_step, int grid_exponent,
+                                double max_shift);
+
 /// How many segments sweep_segments() gives of each tool (by tool number), counted without
 /// listing the chords (an arc is never joined, so its chords are counted, not made): for
 /// estimates made before anything large is built. Doubles, as chord_count() is.

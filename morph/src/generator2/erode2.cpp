@@ -27,10 +27,15 @@ double seconds_since(std::chrono::steady_clock::time_point start) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 }
 
-// The limit step's merges, removals and zips are exact (the construction's ε → 0); what it keeps
-// apart or leaves flat, and every change the rounding to doubles makes, is a fallback.
-std::vector<StepCount> steps_counted(const LimitCounts& limit, const EmitCounts& rounding) {
-  return {{"limit_merged_vertices", limit.merged_vertices, false},
+// Moving segment ends within the budget (every plane exact, no sub-share move) is part of the
+// construction; so are the limit
+// step's merges, removals and zips (the construction's ε → 0). What the limit keeps apart or
+// leaves flat, and every change the rounding to doubles makes, is a fallback.
+std::vector<StepCount> steps_counted(const SettledEnds& settled, const LimitCounts& limit,
+                                     const EmitCounts& rounding) {
+  return {{"ends_aligned", settled.aligned, false},
+          {"short_segments_collapsed", settled.collapsed, false},
+          {"limit_merged_vertices", limit.merged_vertices, false},
           {"limit_removed_polygons", limit.removed_polygons, false},
           {"limit_zipped_slivers", limit.zipped_slivers, false},
           {"limit_kept_apart", limit.kept_apart, true},
@@ -74,16 +79,22 @@ ErodeResult erode2(const Job& job, const ErodeOptions& options) {
   // Ends on the tools' grid (quantize.h), so the sweeps' planes are exact there; straight runs
   // joined (sweep_segments.h).
   const ErrorBudget budget = error_budget(job, tolerance);
-  const std::vector<SweepSegment> segments = sweep_segments(job, budget.chords, budget.grid_exponent);
+  std::vector<SweepSegment> segments = sweep_segments(job, budget.chords, budget.grid_exponent);
   stats.segments = segments.size();
 
   // One polytope per tool, within its share of the tolerance of the exact tool.
   std::map<int, std::unique_ptr<SweepPolytopeBuilder>> builders;
+  std::map<int, std::int64_t> largest_step;
   for (const SweepSegment& s : segments)
-    if (!builders.count(s.tool))
-      builders.emplace(s.tool,
-                       std::make_unique<SweepPolytopeBuilder>(
-                           tool_polytope(job.tool_of(*job.moves()[s.move]).profile, budget.tool).polytope));
+    if (!builders.count(s.tool)) {
+      auto builder = std::make_unique<SweepPolytopeBuilder>(
+          tool_polytope(job.tool_of(*job.moves()[s.move]).profile, budget.tool).polytope);
+      largest_step[s.tool] = builder->largest_exact_step();
+      builders.emplace(s.tool, std::move(builder));
+    }
+  // Every sweep's planes exact, long moves in general directions too; no sub-share moves.
+  const SettledEnds settled = settle_segment_ends(segments, largest_step, budget.grid_exponent, budget.ends);
+  stats.segments = segments.size();
   // The stock's share: a cylinder's prism, a mesh's vertices on a grid.
   const StockPolytope stock_polytope = generator2_stock(job.stock, budget.stock);
   const Eigen::AlignedBox3d stock = stock_polytope.bounds;
@@ -128,7 +139,7 @@ ErodeResult erode2(const Job& job, const ErodeOptions& options) {
                              {"stock_faces", stages.seconds_stock},
                              {"conform", conform_cpu},
                              {"limit_and_emit", process_cpu_seconds() - cpu}};
-  stats.steps = steps_counted(limit.counts, rounding);
+  stats.steps = steps_counted(settled, limit.counts, rounding);
   stats.triangles = result.mesh.triangle_count();
   stats.vertices = result.mesh.vertex_count();
   stats.seconds_total = seconds_since(start);

@@ -26,9 +26,10 @@ ErrorBudget error_budget(const Job& job, double tolerance) {
     return std::any_of(path.moves.begin(), path.moves.end(), [](const Move& m) { return m.is_arc(); });
   });
   ErrorBudget budget;
-  budget.chords = has_arcs ? 0.4 * tolerance : 0.0;
+  budget.chords = has_arcs ? 0.39 * tolerance : 0.0;
   budget.tool = 0.4 * tolerance;
   budget.stock = 0.2 * tolerance;
+  budget.ends = 0.01 * tolerance;
   budget.grid_exponent = grid_exponent_for(budget.tool);
   return budget;
 }

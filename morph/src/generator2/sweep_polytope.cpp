@@ -159,6 +159,11 @@ bool SweepPolytopeBuilder::exact(const Vector3d& start, const Vector3d& end) con
   return static_cast<__int128>(2) * largest_edge_ * step <= kMaxIntegerNormal;
 }
 
+std::int64_t SweepPolytopeBuilder::largest_exact_step() const {
+  if (!grid_ || largest_edge_ == 0) return 0;
+  return kMaxIntegerNormal / (2 * largest_edge_);
+}
+
 Halfspace SweepPolytopeBuilder::silhouette_look(const Edge& e, const Vector3d& a,
                                                 const Vector3d& motion) const {
   Vector3d normal = (tool_.vertices[e.to] - tool_.vertices[e.from]).cross(motion).normalized();

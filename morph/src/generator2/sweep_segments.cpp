@@ -2,7 +2,11 @@
 #include <morph/quantize.h>
 #include <morph/sweep_segments.h>
 
+#include <algorithm>
+#include <cmath>
+#include <cstdlib>
 #include <optional>
+#include <set>
 
 namespace morph {
 namespace {
@@ -126,6 +130,124 @@ std::vector<SweepSegment> sweep_segments(const Job& job, double chord_tolerance,
     }
   }
   return out;
+}
+
+namespace {
+
+Eigen::Vector3d point_of(const GridPoint& x, int grid_exponent) {
+  return {std::ldexp(double(x[0]), grid_exponent), std::ldexp(double(x[1]), grid_exponent),
+          std::ldexp(double(x[2]), grid_exponent)};
+}
+
+double grid_distance(const GridPoint& a, const GridPoint& b) {
+  double sum = 0.0;
+  for (int c = 0; c < 3; ++c) sum += std::pow(double(a[c]) - double(b[c]), 2);
+  return std::sqrt(sum);
+}
+
+// The largest component of b - a reduced to coprime integers, and of b - a itself (0, 0 when the
+// difference is out of range).
+std::pair<std::int64_t, std::int64_t> motion_components(const GridPoint& a, const GridPoint& b) {
+  const std::optional<GridPoint> motion = difference(b, a);
+  if (!motion) return {0, 0};
+  const GridPoint direction = reduced(*motion);
+  std::int64_t longest_reduced = 0, longest = 0;
+  for (int c = 0; c < 3; ++c) {
+    longest_reduced = std::max(longest_reduced, std::abs(direction[c]));
+    longest = std::max(longest, std::abs((*motion)[c]));
+  }
+  return {longest_reduced, longest};
+}
+
+// x rounded to the nearest multiple of `spacing` (a power of two), ties up.
+GridPoint coarse(const GridPoint& x, std::int64_t spacing) {
+  GridPoint out{};
+  for (int c = 0; c < 3; ++c) {
+    const std::int64_t low =
+        x[c] >= 0 ? x[c] / spacing * spacing : -((-x[c] + spacing - 1) / spacing) * spacing;
+    out[c] = x[c] - low >= spacing / 2 ? low + spacing : low;
+  }
+  return out;
+}
+
+}  // namespace
+
+SettledEnds settle_segment_ends(std::vector<SweepSegment>& segments,
+                                const std::map<int, std::int64_t>& largest_step, int grid_exponent,
+                                double max_shift) {
+  SettledEnds settled;
+  // Each share of the shift in grid steps: half to join short segments' ends, half to the
+  // coarser grid.
+  const double half_share = 0.5 * std::ldexp(max_shift, -grid_exponent);
+  std::vector<std::array<GridPoint, 2>> ends;
+  ends.reserve(segments.size());
+  for (const SweepSegment& s : segments) {
+    const std::optional<GridPoint> a = grid_point(s.from, grid_exponent), b = grid_point(s.to, grid_exponent);
+    if (!a || !b) return settled;  // off the grid (out of range): nothing is moved
+    ends.push_back({*a, *b});
+  }
+  // A point is moved the same way wherever it occurs, so that a retrace, a closed loop or a second
+  // lap still meets its first exactly.
+  std::map<GridPoint, GridPoint> joined;  // point -> the earlier point it joins
+  const auto image = [&](const GridPoint& x) {
+    const auto found = joined.find(x);
+    return found == joined.end() ? x : found->second;
+  };
+  for (const auto& [a, b] : ends) {
+    if (a == b || joined.count(b)) continue;
+    const GridPoint to = image(a);
+    if (to != b && grid_distance(b, to) <= half_share) joined.emplace(b, to), ++settled.collapsed;
+  }
+  // The coarser grid: the finest power of two on which every long segment's motion, divided by
+  // it and rounded, fits the tool's limit; none when that is coarser than the share allows.
+  const auto limit_of = [&](int tool) {
+    const auto found = largest_step.find(tool);
+    return found == largest_step.end() ? std::int64_t{0} : found->second;
+  };
+  std::int64_t spacing = 1;
+  for (std::size_t i = 0; i < ends.size(); ++i) {
+    const std::int64_t limit = limit_of(segments[i].tool);
+    const auto [longest_reduced, longest] = motion_components(image(ends[i][0]), image(ends[i][1]));
+    if (limit <= 1 || longest_reduced <= limit) continue;
+    while (spacing <= (std::int64_t{1} << 40) && longest / spacing > limit - 1) spacing *= 2;
+  }
+  std::set<GridPoint> snapped;  // images put on the coarser grid
+  const auto moved = [&](const GridPoint& x) {
+    const GridPoint y = image(x);
+    return snapped.count(y) ? coarse(y, spacing) : y;
+  };
+  if (spacing > 1 && 0.5 * std::sqrt(3.0) * double(spacing) <= half_share) {
+    // A segment whose ends are both on the coarser grid fits its limit; one with an end moved may
+    // now need it: until none does.
+    for (bool changed = true; changed;) {
+      changed = false;
+      for (std::size_t i = 0; i < ends.size(); ++i) {
+        const std::int64_t limit = limit_of(segments[i].tool);
+        if (limit <= 1 || motion_components(moved(ends[i][0]), moved(ends[i][1])).first <= limit) continue;
+        for (const GridPoint& x : ends[i]) changed = snapped.insert(image(x)).second || changed;
+      }
+    }
+    for (const GridPoint& y : snapped) settled.aligned += coarse(y, spacing) != y;
+  }
+  if (joined.empty() && settled.aligned == 0) return settled;
+  for (std::size_t i = 0; i < segments.size(); ++i) {
+    segments[i].from = point_of(moved(ends[i][0]), grid_exponent);
+    segments[i].to = point_of(moved(ends[i][1]), grid_exponent);
+  }
+  // A segment now of zero length goes where a neighbour of its tool covers its point, as
+  // sweep_segments() drops one.
+  std::vector<SweepSegment> kept;
+  kept.reserve(segments.size());
+  for (std::size_t i = 0; i < segments.size(); ++i) {
+    const SweepSegment& s = segments[i];
+    const bool covered =
+        s.from == s.to &&
+        ((!kept.empty() && kept.back().tool == s.tool && kept.back().to == s.from) ||
+         (i + 1 < segments.size() && segments[i + 1].tool == s.tool && segments[i + 1].from == s.to));
+    if (!covered) kept.push_back(s);
+  }
+  segments = std::move(kept);
+  return settled;
 }
 
 std::map<int, double> sweep_segment_counts(const Job& job, double chord_tolerance, int grid_exponent) {
