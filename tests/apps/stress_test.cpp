@@ -10,6 +10,7 @@
 #include <vdb_ref/reference.h>
 #include "apps/command_support.h"
 
+#include <algorithm>
 #include <array>
 #include <atomic>
 #include <csignal>
@@ -132,6 +133,32 @@ TEST(StressCases, KnownPieceCountsMatchTheReference) {
       EXPECT_NEAR(reference.volume(), *c.expected_volume, 0.5 * c.voxel_size * reference.area()) << c.family;
     }
   }
+}
+
+// Seed 59, case 133 of version 1: a third pass of the overlap family reached past the box's side,
+// cut it below the top and sliced a wedge off along the whole pass (2 pieces where 1 was
+// expected). Every partial-depth pass now keeps its tool inside the top face.
+TEST(StressCases, OverlappingPassesKeepTheirToolOffTheStocksSides) {
+  const auto& families = case_families();
+  const std::size_t overlap =
+      static_cast<std::size_t>(std::find(families.begin(), families.end(), "overlap") - families.begin());
+  ASSERT_LT(overlap, families.size());
+  std::size_t checked = 0;
+  for (std::size_t index = overlap; index < 2000; index += families.size()) {
+    const StressCase c = make_case(59, index);
+    if (c.variant.find("at different depths") == std::string::npos || c.job["stock"]["type"] != "box")
+      continue;
+    const double radius = c.job["tools"]["1"]["radius"].get<double>();
+    const double y0 = c.job["stock"]["min"][1].get<double>(), y1 = c.job["stock"]["max"][1].get<double>();
+    for (const auto& path : c.job["paths"])
+      for (const auto& point : path["polyline"]) {
+        const double y = point[1].get<double>();
+        EXPECT_LT(y + radius, y1) << case_name(index) << ": " << c.variant;
+        EXPECT_GT(y - radius, y0) << case_name(index) << ": " << c.variant;
+      }
+    ++checked;
+  }
+  EXPECT_GT(checked, 20u);
 }
 
 TEST(StressShards, ShardsPartitionTheCases) {

@@ -515,9 +515,15 @@ void overlap(CaseRandom& rng, Builder& b) {
   }
   const TopFace t = partial_depth_stock(rng, b, true);
   partial_tool(rng, b, t.top);
-  const int passes = rng.integer(2, 4);
+  const int drawn = rng.integer(2, 4);
+  int passes = 0;
   double y = (t.y0 + t.y1) / 2 - b.radius();
-  for (int i = 0; i < passes; ++i) {
+  for (int i = 0; i < drawn; ++i) {
+    // A tool reaching past the top face's side cuts that side below the top (a sphere's centre
+    // lies below it) and slices a wedge off along the whole pass: 2 pieces, not 1 (seed 59, case
+    // 133 of version 1).
+    if (i > 0 && y + b.radius() >= t.y1 - 0.1) break;
+    ++passes;
     const PartialCut cut = draw_partial_cut(rng, b, t.top);
     const double x0 = t.x0 - 2.0, x1 = t.x1 + 2.0;
     if (rng.chance(0.5))

@@ -53,7 +53,7 @@ struct StressCase {
 
 /// The version of the case generator: raise it with every change to make_case() that changes a
 /// job, so shards drawn by different generators are never merged as one campaign.
-constexpr int kCaseGeneratorVersion = 1;
+constexpr int kCaseGeneratorVersion = 2;
 
 /// The classic families (splits, islands, removed pieces, self-crossing, coincident, tangent and
 /// grazing passes, features at the tolerance, passes outside; box, cylinder and mesh stock), in

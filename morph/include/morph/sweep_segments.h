@@ -48,26 +48,28 @@ bool goes_on_straight(const Eigen::Vector3d& a, const Eigen::Vector3d& b, const 
 std::vector<SweepSegment> sweep_segments(const Job& job, double chord_tolerance, int grid_exponent);
 
 /// Segment ends moved within `max_shift` (job units; the error budget's `ends` share) so that
-/// every sweep is built from exact planes and no move shorter than the share is swept:
-/// - A sweep's silhouette plane through a tool edge has the normal reduced(edge) ×
+/// every sweep is built from exact planes and no move shorter than half the share is swept. A
+/// point moves the same way wherever it occurs (a function of the point, not of the segment), so
+/// a retrace, a closed loop or a second lap still meets its first exactly; moving each segment's
+/// end by itself left laps ~1e-7 apart, and their needles for the rounding to repair.
+/// - Short: a segment's end within half the share of (the image of) its start joins it, in job
+///   order: a 1e-6 mm step at a turn is not swept, nor the needles between its planes and its
+///   neighbours', thinner than the doubles' spacing. Measured from the job's point, so chains
+///   of short moves do not add up.
+/// - Long: a sweep's silhouette plane through a tool edge has the normal reduced(edge) ×
 ///   reduced(motion) in grid integers, exact only while it fits the predicates' 53 bits
 ///   (SweepPolytopeBuilder::largest_exact_step(), `largest_step` per tool). A longer move in a
-///   general direction got a plane rounded to doubles that misses the tool vertices it holds by
-///   construction: the vertex and that plane's corner became two points ~1e-15 apart, needles
-///   the rounding to doubles had to repair (the self-crossing stars of the stress campaign). Such
-///   a segment's end goes to the grid point from + k·d, d its motion divided by k and rounded, k
-///   the smallest integer that brings every component of d within the limit (k/2 grid steps
-///   per component).
-/// - A segment shorter than the share (a 1e-6 mm step at a turn) ends where it starts: its sweep
-///   is the tool there, within the share of the move's, and the needles between its planes and
-///   its neighbours' (thinner than the doubles' spacing) are not built.
-/// Ends are measured from the job's points, so moves do not add up: every end stays within the
-/// share of its move's. The next segments starting (and a zero-length one ending) at a moved end
-/// move with it; a segment left of zero length is dropped where a neighbour of its tool covers
-/// its point. A tool missing from `largest_step` (or at 0) keeps its long segments as they are.
+///   general direction got a plane rounded to doubles that missed the tool vertices it holds by
+///   construction: the vertex and that plane's corner became two points ~1e-15 apart (the
+///   self-crossing stars of the stress campaign). The ends of such segments go to the finest
+///   power-of-two grid, coarser than the tools', on which every such motion fits its limit
+///   (then reduced(motion) ≤ motion / spacing), and so on until no segment needs it; not at all
+///   when that grid's half diagonal exceeds half the share.
+/// A segment left of zero length is dropped where a neighbour of its tool covers its point. A
+/// tool missing from `largest_step` (or at 0) keeps its long segments as they are.
 struct SettledEnds {
-  std::size_t aligned = 0;    ///< long segments' ends moved to make their planes exact
-  std::size_t collapsed = 0;  ///< segments shorter than the share, made a point
+  std::size_t aligned = 0;    ///< points put on the coarser grid (long segments' ends)
+  std::size_t collapsed = 0;  ///< points joined to an earlier one (short segments' ends)
 };
 SettledEnds settle_segment_ends(std::vector<SweepSegment>& segments,
                                 const std::map<int, std::int64_t>& largest_step, int grid_exponent,
