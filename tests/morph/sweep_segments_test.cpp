@@ -42,6 +42,10 @@ double counted(const morph::Job& job) {
   return total;
 }
 
+Vector3d snapped_at(const Vector3d& x, int grid) {
+  return morph::snap_to_grid(x, grid);
+}
+
 Vector3d snapped(const Vector3d& x) {
   return morph::snap_to_grid(x, kGrid);
 }
@@ -211,6 +215,29 @@ TEST(SettleSegmentEnds, LongMovesInGeneralDirectionsGetExactPlanesAndLapsStillMe
     }
   }
   EXPECT_EQ(after.back().to == after.front().from, before.back().to == before.front().from);
+}
+
+TEST(SettleSegmentEnds, LevelAndAxisMovesNextToALongOneStayLevelAndOnTheirAxis) {
+  const Star star = tapered_star();
+  const int grid = star.budget.grid_exponent;
+  const Vector3d a(-12, -9, 3.021), b(11.3, 7.7, 3.021), c = b + Vector3d(1, 0, 0), d = c + Vector3d(0, 1, 0);
+  std::vector<morph::SweepSegment> segments;
+  const std::vector<Vector3d> path{a, b, c, d};
+  for (std::size_t k = 0; k + 1 < path.size(); ++k)
+    segments.push_back({morph::snap_to_grid(path[k], grid), morph::snap_to_grid(path[k + 1], grid),
+                        static_cast<std::int32_t>(k), 0, star.job.tools.begin()->first});
+  ASSERT_FALSE(star.builder->exact(segments[0].from, segments[0].to));
+  const morph::SettledEnds settled =
+      morph::settle_segment_ends(segments, star.largest_step, grid, star.budget.ends);
+  EXPECT_GT(settled.aligned, 0u);
+  ASSERT_EQ(segments.size(), 3u);
+  for (const morph::SweepSegment& s : segments) {
+    EXPECT_TRUE(star.builder->exact(s.from, s.to));
+    EXPECT_EQ(s.from.z(), s.to.z());  // level
+  }
+  EXPECT_EQ(segments[1].from.y(), segments[1].to.y());  // along x
+  EXPECT_EQ(segments[2].from.x(), segments[2].to.x());  // along y
+  EXPECT_LE((segments[1].from - snapped_at(b, grid)).norm(), star.budget.ends);
 }
 
 TEST(SettleSegmentEnds, AMoveShorterThanTheShareEndsWhereItStarts) {

@@ -61,14 +61,15 @@ std::vector<SweepSegment> sweep_segments(const Job& job, double chord_tolerance,
 ///   (SweepPolytopeBuilder::largest_exact_step(), `largest_step` per tool). A longer move in a
 ///   general direction got a plane rounded to doubles that missed the tool vertices it holds by
 ///   construction: the vertex and that plane's corner became two points ~1e-15 apart (the
-///   self-crossing stars of the stress campaign). The ends of such segments go to the finest
-///   power-of-two grid, coarser than the tools', on which every such motion fits its limit
-///   (then reduced(motion) ≤ motion / spacing), and so on until no segment needs it; not at all
-///   when that grid's half diagonal exceeds half the share.
+///   self-crossing stars of the stress campaign). When any segment is so, every end goes to the
+///   finest power-of-two grid, coarser than the tools', on which every segment's motion divided
+///   by the spacing fits its tool's limit (nothing moves when that grid's half diagonal exceeds
+///   half the share). Every end, not only the long segments': a level move between a moved end
+///   and one left on the finer grid became a ramp of 1e-8 beside level ones.
 /// A segment left of zero length is dropped where a neighbour of its tool covers its point. A
 /// tool missing from `largest_step` (or at 0) keeps its long segments as they are.
 struct SettledEnds {
-  std::size_t aligned = 0;    ///< points put on the coarser grid (long segments' ends)
+  std::size_t aligned = 0;    ///< points moved to the coarser grid
   std::size_t collapsed = 0;  ///< points joined to an earlier one (short segments' ends)
 };
 SettledEnds settle_segment_ends(std::vector<SweepSegment>& segments,

@@ -198,36 +198,32 @@ SettledEnds settle_segment_ends(std::vector<SweepSegment>& segments,
     const GridPoint to = image(a);
     if (to != b && grid_distance(b, to) <= half_share) joined.emplace(b, to), ++settled.collapsed;
   }
-  // The coarser grid: the finest power of two on which every long segment's motion, divided by
-  // it and rounded, fits the tool's limit; none when that is coarser than the share allows.
+  // When a long segment's planes would not be exact: every point to the coarser grid, the finest
+  // power of two on which every segment's motion, divided by it and rounded, fits its tool's
+  // limit (the motion between two points rounded to it is then within the limit); none when that
+  // grid is coarser than the share allows. Every point, not only long segments' ends: a level
+  // path stays level and an axis move on its axis (a level move between a moved end and one left
+  // on the finer grid became a ramp of 1e-8, nearly parallel to its neighbours, and its needles
+  // needed the rounding).
   const auto limit_of = [&](int tool) {
     const auto found = largest_step.find(tool);
     return found == largest_step.end() ? std::int64_t{0} : found->second;
   };
+  bool needed = false;
   std::int64_t spacing = 1;
   for (std::size_t i = 0; i < ends.size(); ++i) {
     const std::int64_t limit = limit_of(segments[i].tool);
+    if (limit <= 1) continue;
     const auto [longest_reduced, longest] = motion_components(image(ends[i][0]), image(ends[i][1]));
-    if (limit <= 1 || longest_reduced <= limit) continue;
+    needed = needed || longest_reduced > limit;
     while (spacing <= (std::int64_t{1} << 40) && longest / spacing > limit - 1) spacing *= 2;
   }
-  std::set<GridPoint> snapped;  // images put on the coarser grid
-  const auto moved = [&](const GridPoint& x) {
-    const GridPoint y = image(x);
-    return snapped.count(y) ? coarse(y, spacing) : y;
-  };
-  if (spacing > 1 && 0.5 * std::sqrt(3.0) * double(spacing) <= half_share) {
-    // A segment whose ends are both on the coarser grid fits its limit; one with an end moved may
-    // now need it: until none does.
-    for (bool changed = true; changed;) {
-      changed = false;
-      for (std::size_t i = 0; i < ends.size(); ++i) {
-        const std::int64_t limit = limit_of(segments[i].tool);
-        if (limit <= 1 || motion_components(moved(ends[i][0]), moved(ends[i][1])).first <= limit) continue;
-        for (const GridPoint& x : ends[i]) changed = snapped.insert(image(x)).second || changed;
-      }
-    }
-    for (const GridPoint& y : snapped) settled.aligned += coarse(y, spacing) != y;
+  if (!needed || 0.5 * std::sqrt(3.0) * double(spacing) > half_share) spacing = 1;
+  const auto moved = [&](const GridPoint& x) { return spacing > 1 ? coarse(image(x), spacing) : image(x); };
+  if (spacing > 1) {
+    std::set<GridPoint> points;
+    for (const auto& [a, b] : ends) points.insert(image(a)), points.insert(image(b));
+    for (const GridPoint& y : points) settled.aligned += coarse(y, spacing) != y;
   }
   if (joined.empty() && settled.aligned == 0) return settled;
   for (std::size_t i = 0; i < segments.size(); ++i) {
