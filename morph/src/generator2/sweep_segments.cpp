@@ -6,7 +6,6 @@
 #include <cmath>
 #include <cstdlib>
 #include <optional>
-#include <set>
 
 namespace morph {
 namespace {
@@ -221,8 +220,11 @@ SettledEnds settle_segment_ends(std::vector<SweepSegment>& segments,
   if (!needed || 0.5 * std::sqrt(3.0) * double(spacing) > half_share) spacing = 1;
   const auto moved = [&](const GridPoint& x) { return spacing > 1 ? coarse(image(x), spacing) : image(x); };
   if (spacing > 1) {
-    std::set<GridPoint> points;
-    for (const auto& [a, b] : ends) points.insert(image(a)), points.insert(image(b));
+    std::vector<GridPoint> points;
+    points.reserve(2 * ends.size());
+    for (const auto& [a, b] : ends) points.push_back(image(a)), points.push_back(image(b));
+    std::sort(points.begin(), points.end());
+    points.erase(std::unique(points.begin(), points.end()), points.end());
     for (const GridPoint& y : points) settled.aligned += coarse(y, spacing) != y;
   }
   if (joined.empty() && settled.aligned == 0) return settled;
