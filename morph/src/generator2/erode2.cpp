@@ -28,9 +28,9 @@ double seconds_since(std::chrono::steady_clock::time_point start) {
 }
 
 // Moving segment ends within the budget (every plane exact, no sub-share move) is part of the
-// construction; so are the limit
-// step's merges, removals and zips (the construction's ε → 0). What the limit keeps apart or
-// leaves flat, and every change the rounding to doubles makes, is a fallback.
+// construction; so are the limit step's merges, removals and zips (the construction's ε → 0).
+// What the limit keeps apart or leaves flat, and every change the rounding to doubles makes, is a
+// fallback.
 std::vector<StepCount> steps_counted(const SettledEnds& settled, const LimitCounts& limit,
                                      const EmitCounts& rounding) {
   return {{"ends_aligned", settled.aligned, false},
@@ -80,7 +80,6 @@ ErodeResult erode2(const Job& job, const ErodeOptions& options) {
   // joined (sweep_segments.h).
   const ErrorBudget budget = error_budget(job, tolerance);
   std::vector<SweepSegment> segments = sweep_segments(job, budget.chords, budget.grid_exponent);
-  stats.segments = segments.size();
 
   // One polytope per tool, within its share of the tolerance of the exact tool.
   std::map<int, std::unique_ptr<SweepPolytopeBuilder>> builders;
