@@ -40,8 +40,8 @@ bool match_pieces(const std::vector<PieceRecord>& morph_pieces,
 /// Whether the exact solid's material in `box` reaches out of it: the points of a grid of `step`
 /// over the box grown by `margin` where the field is negative, 6-connected, include some in the
 /// box (or within half a step of it: a flat box holds points too) and join those to the grown
-/// box's border. False when none is material (a phantom) or when
-/// the material in the box is a piece of its own there. A gap narrower than `step` may be bridged.
+/// box's border. False when none is material (a phantom) or when the material in the box is a
+/// piece of its own there. A gap narrower than `step` may be bridged.
 bool material_reaches_out(const morph::ErosionField& field, const Eigen::AlignedBox3d& box, double margin,
                           double step);
 

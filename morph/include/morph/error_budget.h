@@ -23,15 +23,16 @@ struct ErrorBudget {
   double chords = 0.0;  ///< an arc's chords within this of it (0: the job has no arcs)
   double tool = 0.0;    ///< every tool polytope within this of its tool (tool_polytope.h)
   double stock = 0.0;   ///< a cylinder stock's prism, a mesh stock's grid (stock_polytope.h)
-  /// A long segment's end moved so that its sweep's planes are exact (align_long_segments()).
+  /// Segment ends moved so that every sweep's planes are exact and no sub-share move is swept
+  /// (settle_segment_ends(), sweep_segments.h).
   double ends = 0.0;
   /// The tool polytopes' grid, on which every segment's ends lie too (quantize.h).
   int grid_exponent = 0;
 };
 
 /// The budget of `job` at `tolerance` (> 0, finite; job units): 0.4 of it to the tool, 0.39 to
-/// the chords when any move is an arc (0 otherwise), 0.2 to the stock and 0.01 to the ends of
-/// long segments (a chord's end moved adds to its chord's deviation).
+/// the chords when any move is an arc (0 otherwise), 0.2 to the stock and 0.01 to moving segment
+/// ends (a chord's end moved adds to its chord's deviation).
 ErrorBudget error_budget(const Job& job, double tolerance);
 
 /// The segments (sweep_segments.h) and sweep polytope facets generator 2 makes for `job` with

@@ -89,7 +89,7 @@ class SweepPolytopeBuilder {
   /// The largest component (grid steps) of a motion reduced to coprime integers whose silhouette
   /// planes exact() holds exact: kMaxIntegerNormal / (2 × the largest tool edge component); 0
   /// when the tool is not on a grid. A long move in a general direction passes it
-  /// (align_long_segments() in sweep_segments.h moves its end so that it does not).
+  /// (settle_segment_ends() in sweep_segments.h moves the ends so that none does).
   std::int64_t largest_exact_step() const;
 
   const ConvexPolytope& tool() const { return tool_; }
