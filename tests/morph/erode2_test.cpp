@@ -93,6 +93,36 @@ TEST(Erode2, SlotThroughThePlateAndBack) {
   }
 }
 
+TEST(Erode2, ARasterOfManyPassesRemovesItsExactSlab) {
+  // Forty-one level passes of a flat tool along x right across a plate, linked outside it: more
+  // sweeps meet the top face and the sides at x = 0, 20 than a cell holds, so those faces are
+  // carved in cells (stock_face_cells.h), and cell edges cross the strips of the top face that
+  // stay. The removed part is a slab: the polytope is a prism, so the passes' union within the
+  // plate is 20 long, as wide as the passes' span and the polytope's y extent, and as deep as
+  // the pass depth and the polytope's bottom.
+  const Eigen::AlignedBox3d box(Vector3d(0, 0, -5), Vector3d(20, 20, 0));
+  const morph::Tool tool = morph::flat_tool(1.0, 6.0);
+  std::vector<Vector3d> path;
+  for (int i = 0; i <= 40; ++i) {
+    const double y = 5 + 0.25 * i, x0 = i % 2 ? 23.0 : -3.0, x1 = i % 2 ? -3.0 : 23.0;
+    path.emplace_back(x0, y, -1.0);
+    path.emplace_back(x1, y, -1.0);
+  }
+  const morph::Job job = job_of(box, tool, path);
+  const Outcome o = run(job);
+  expect_closed(o, "raster");
+  const morph::ConvexPolytope p = polytope_of(job);
+  double low_y = 0, high_y = 0, bottom = 0;
+  for (const Vector3d& v : p.vertices) {
+    low_y = std::min(low_y, v.y());
+    high_y = std::max(high_y, v.y());
+    bottom = std::min(bottom, v.z());
+  }
+  const double slab = 20.0 * ((15 + high_y) - (5 + low_y)) * (1.0 - bottom);
+  EXPECT_NEAR(o.topology.volume, box.volume() - slab, 1e-9 * box.volume());
+  EXPECT_EQ(morph::fallbacks_fired(o.result.stats), 0u);
+}
+
 TEST(Erode2, CountsItsExactStepsAndFallbacks) {
   // r9: a square loop, the second lap reversed. The retraced planes coincide, and where four or
   // more planes meet in one point the perturbation splits it; the exact limit step merges it again.

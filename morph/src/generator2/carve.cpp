@@ -1,5 +1,6 @@
 // SPDX-License-Identifier: Apache-2.0
 #include <morph/carve.h>
+#include <morph/stock_face_cells.h>
 
 #include <algorithm>
 #include <cstddef>
@@ -13,12 +14,14 @@ Eigen::AlignedBox3d piece_box(const ConvexPiece& piece) {
   return box;
 }
 
-// `pieces` minus every sweep but `skip` whose box meets theirs.
+// `pieces` minus every sweep of `order` but `skip` whose box meets theirs.
 std::vector<ConvexPiece> minus_sweeps(std::vector<ConvexPiece> pieces, std::int32_t skip,
+                                      const std::vector<std::uint32_t>& order,
                                       const std::vector<std::vector<ExactPlane>>& sweeps,
                                       const std::vector<Eigen::AlignedBox3d>& sweep_boxes,
                                       CarveCounts& counts) {
-  for (std::size_t j = 0; j < sweeps.size() && !pieces.empty(); ++j) {
+  for (std::size_t k = 0; k < order.size() && !pieces.empty(); ++k) {
+    const std::uint32_t j = order[k];
     if (static_cast<std::int32_t>(j) == skip) continue;
     Eigen::AlignedBox3d reach;
     for (const ConvexPiece& p : pieces) reach.extend(piece_box(p));
@@ -63,14 +66,19 @@ std::vector<CarvedPiece> carve_box(const Eigen::AlignedBox3d& box,
   CarveCounts local;
   CarveCounts& c = counts ? *counts : local;
   const std::array<ExactPlane, 6> stock = box_planes(box);
+  std::vector<std::uint32_t> every(sweeps.size());
+  for (std::size_t j = 0; j < sweeps.size(); ++j) every[j] = static_cast<std::uint32_t>(j);
+  const CellLattice lattice = CellLattice::of(box, sweep_boxes);
   std::vector<CarvedPiece> out;
   auto keep = [&](std::vector<ConvexPiece> pieces, std::int32_t move, std::int32_t face) {
     for (ConvexPiece& p : pieces) out.push_back(CarvedPiece{canonical(std::move(p)), move, face});
   };
   for (std::int32_t f = 0; f < 6; ++f) {
     ++c.facets;
-    ConvexPiece face = piece_in_box(stock[f], stock);
-    std::vector<ConvexPiece> pieces = minus_sweeps({face}, -1, sweeps, sweep_boxes, c);
+    std::vector<ConvexPiece> pieces;
+    for (FaceCell& cell : stock_face_cells(piece_in_box(stock[f], stock), every, sweep_boxes, lattice))
+      for (ConvexPiece& p : minus_sweeps({std::move(cell.piece)}, -1, cell.sweeps, sweeps, sweep_boxes, c))
+        pieces.push_back(std::move(p));
     sort_pieces(pieces);
     keep(std::move(pieces), -1, f);
   }
@@ -80,7 +88,7 @@ std::vector<CarvedPiece> carve_box(const Eigen::AlignedBox3d& box,
       ++c.facets;
       const ConvexPiece facet = intersect(piece_in_box(sweeps[i][f], stock), sweeps[i]);
       if (facet.empty()) continue;
-      keep(minus_sweeps({facet}, static_cast<std::int32_t>(i), sweeps, sweep_boxes, c),
+      keep(minus_sweeps({facet}, static_cast<std::int32_t>(i), every, sweeps, sweep_boxes, c),
            static_cast<std::int32_t>(i), static_cast<std::int32_t>(f));
     }
   }

@@ -3,6 +3,8 @@
 #include <morph/carve_culled.h>
 #include <morph/exceptions.h>
 #include <morph/joint_culling.h>
+#include <morph/stock_face_cells.h>
+#include <morph/tool_bounds.h>
 
 #include "generator2/sweep_plane_cache.h"
 #include "generator2/tool_facet_groups.h"
@@ -50,6 +52,7 @@ struct ToolGroup {
   std::unique_ptr<SweepCulling> culling;
   std::unique_ptr<ToolFacetGroups> facet_groups;
   std::vector<std::vector<int>> facet_members;  ///< of each facet group
+  ToolBounds bounds;                            ///< of the tool polytope (tool_bounds.h)
 };
 
 // From this many tool facets on, a stock piece's cutter whose planes the cache cannot hold makes
@@ -363,7 +366,11 @@ void minus_cutters(std::vector<ConvexPiece>& pieces,
 class Carving {
  public:
   Carving(const StockPolytope& stock, const std::vector<CarveSweep>& sweeps)
-      : sweeps_(sweeps), stock_(stock), boxes_(sweep_boxes(sweeps)), tree_(boxes_) {
+      : sweeps_(sweeps),
+        stock_(stock),
+        boxes_(sweep_boxes(sweeps)),
+        tree_(boxes_),
+        lattice_(CellLattice::of(stock.bounds, boxes_)) {
     std::map<const SweepPolytopeBuilder*, std::size_t> group_index;
     group_of_.resize(sweeps.size());
     local_of_.resize(sweeps.size());
@@ -371,7 +378,7 @@ class Carving {
       auto [it, added] = group_index.emplace(sweeps[g].tool, groups_.size());
       if (added)
         groups_.push_back(ToolGroup{
-            sweeps[g].tool, {}, nullptr, std::make_unique<ToolFacetGroups>(sweeps[g].tool->tool()), {}});
+            sweeps[g].tool, {}, nullptr, std::make_unique<ToolFacetGroups>(sweeps[g].tool->tool()), {}, {}});
       group_of_[g] = it->second;
       local_of_[g] = groups_[it->second].global.size();
       groups_[it->second].global.push_back(static_cast<std::uint32_t>(g));
@@ -392,6 +399,8 @@ class Carving {
       }
       for (std::size_t i = 0; i < group.facet_groups->size(); ++i)
         group.facet_members.push_back(group.facet_groups->members(i));
+      group.bounds = tool_bounds(group.builder->tool());
+      largest_inner_radius_ = std::max(largest_inner_radius_, group.bounds.inner_radius);
       group.culling =
           std::make_unique<SweepCulling>(*group.builder, std::move(moves), std::move(joined), stock.bounds);
     }
@@ -409,7 +418,15 @@ class Carving {
                                [&](std::size_t j) { near.push_back(static_cast<std::uint32_t>(j)); });
     std::sort(near.begin(), near.end());
     std::vector<ConvexPiece> out;
-    if (!face.empty()) carve_stock_piece(std::move(face), 0, near, out, workers, policy);
+    if (face.empty()) return out;
+    // Cells first (stock_face_cells.h), each minus the sweeps near it.
+    std::vector<FaceCell> cells = stock_face_cells(face, near, boxes_, lattice_);
+    std::vector<std::vector<ConvexPiece>> results(cells.size());
+    for_each_index(policy, 0, cells.size(), [&](std::size_t i) {
+      carve_stock_piece(std::move(cells[i].piece), 0, cells[i].sweeps, results[i], workers, policy);
+    });
+    for (std::vector<ConvexPiece>& r : results)
+      for (ConvexPiece& p : r) out.push_back(std::move(p));
     sort_pieces(out);
     return out;
   }
@@ -422,6 +439,7 @@ class Carving {
     AlignedBox3d box = grown(box_of({piece}));
     // A ball about the piece's exact corners, the same for every sweep until the piece is split.
     std::optional<Ball> ball = corner_ball(piece);
+    if (hidden_later(ball, box, k, near)) return;
     // Its rounded corners, likewise: a sweep one of whose planes leaves them all outside misses
     // the piece (subtract() would find that out only after clipping by the planes before).
     std::optional<RoughCorners> look(piece);
@@ -455,6 +473,7 @@ class Carving {
       piece = std::move(parts[largest]);
       box = boxes[largest];
       ball = corner_ball(piece);
+      if (hidden_later(ball, box, k + 1, near)) return;
       look.emplace(piece);
     }
     out.push_back(std::move(piece));
@@ -607,12 +626,31 @@ class Carving {
         j, [&] { return sweep_planes(sweeps_[j].tool->halfspaces(sweeps_[j].from, sweeps_[j].to), j); });
   }
 
+  // True when one of the sweeps near[k...] whose box meets `box` holds the ball strictly inside
+  // (tool_bounds.h): the piece whose exact corners the ball holds lies inside that sweep, so
+  // every part the sweeps before it would cut it into lies inside it too, and carving the piece
+  // on would leave nothing. Slivers cut along a sweep's planes mostly lie deep in a later pass.
+  bool hidden_later(const std::optional<Ball>& ball, const AlignedBox3d& box, std::size_t k,
+                    const std::vector<std::uint32_t>& near) const {
+    if (!ball || !(ball->second < largest_inner_radius_)) return false;
+    for (; k < near.size(); ++k) {
+      const std::uint32_t j = near[k];
+      if (!box.intersects(boxes_[j])) continue;
+      const CarveSweep& s = sweeps_[j];
+      if (ball_inside_sweep(groups_[group_of_[j]].bounds, s.from, s.to, ball->first, ball->second))
+        return true;
+    }
+    return false;
+  }
+
   const std::vector<CarveSweep>& sweeps_;
   const StockPolytope& stock_;
   std::vector<AlignedBox3d> boxes_;
   AabbTree tree_;
+  CellLattice lattice_;
   std::vector<ToolGroup> groups_;
   std::vector<std::size_t> group_of_, local_of_;
+  double largest_inner_radius_ = 0.0;
 };
 
 }  // namespace
