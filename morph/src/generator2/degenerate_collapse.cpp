@@ -6,6 +6,7 @@
 #include <cmath>
 #include <map>
 #include <numeric>
+#include <optional>
 #include <set>
 #include <unordered_map>
 #include <utility>
@@ -24,11 +25,18 @@ const ExactPlane* plane_of(const Triple& t, std::uint64_t rank) {
   return nullptr;
 }
 
-// The planes two vertices share.
-std::vector<const ExactPlane*> shared(const Triple& u, const Triple& v) {
-  std::vector<const ExactPlane*> out;
+// The planes two vertices share (at most three; no list is allocated for each of a job's
+// millions of corners).
+struct SharedPlanes {
+  std::array<const ExactPlane*, 3> planes{};
+  std::size_t count = 0;
+  const ExactPlane* const* begin() const { return planes.data(); }
+  const ExactPlane* const* end() const { return planes.data() + count; }
+};
+SharedPlanes shared(const Triple& u, const Triple& v) {
+  SharedPlanes out;
   for (const ExactPlane& p : u)
-    if (plane_of(v, p.rank)) out.push_back(&p);
+    if (plane_of(v, p.rank)) out.planes[out.count++] = &p;
   return out;
 }
 
@@ -42,16 +50,16 @@ PlanarLoop planar_loop(const ConformedSurface& surface, const ConformedPolygon& 
   const auto& loop = polygon.loop;
   const std::size_t n = loop.size();
   // The support is the one plane every vertex has; consecutive vertices share it and their edge's.
-  std::vector<const ExactPlane*> common = shared(surface.vertices[loop[0]], surface.vertices[loop[1]]);
-  for (std::size_t k = 2; k < n && common.size() > 1; ++k)
-    common.erase(
-        std::remove_if(common.begin(), common.end(),
-                       [&](const ExactPlane* p) { return !plane_of(surface.vertices[loop[k]], p->rank); }),
-        common.end());
+  SharedPlanes common = shared(surface.vertices[loop[0]], surface.vertices[loop[1]]);
+  for (std::size_t k = 2; k < n && common.count > 1; ++k)
+    common.count = static_cast<std::size_t>(
+        std::remove_if(common.planes.begin(), common.planes.begin() + common.count,
+                       [&](const ExactPlane* p) { return !plane_of(surface.vertices[loop[k]], p->rank); }) -
+        common.planes.begin());
   PlanarLoop out;
   // A vertex may hold the support turned over (an edge of a piece outside it, flipped()): a
   // stock face's support contracts, a sweep facet's expands.
-  out.support = *common.front();
+  out.support = *common.planes[0];
   if (out.support.direction != (polygon.move < 0 ? -1 : 1)) out.support = flipped(out.support);
   for (std::size_t k = 0; k < n; ++k)
     for (const ExactPlane* p : shared(surface.vertices[loop[k]], surface.vertices[loop[(k + 1) % n]]))
@@ -186,10 +194,23 @@ class Limit {
       apart_[v] = apart.count(root[v]) > 0;
       rep_[v] = apart_[v] ? v : root[v];
     }
-    std::size_t corners = 0;
-    for (const ConformedPolygon& p : surface.polygons) corners += p.loop.size();
-    owner_.reserve(corners);
-    for (std::size_t i = 0; i < surface.polygons.size(); ++i) add(surface.polygons[i], planar[i]);
+    const std::size_t n = surface.polygons.size();
+    polygons_.resize(n);
+    removed_.assign(n, 0);
+    zipped_.assign(n, 0);
+    flat_.assign(n, kUnknown);
+    for_each_index(policy_, 0, n, [&](std::size_t i) { add(i, surface.polygons[i], planar[i]); });
+    // Each vertex's polygons, in polygon order (a counting sort).
+    first_.assign(root.size() + 1, 0);
+    for (std::size_t i = 0; i < n; ++i)
+      if (!removed_[i])
+        for (std::uint32_t v : polygons_[i].loop) ++first_[v + 1];
+    for (std::size_t v = 0; v < root.size(); ++v) first_[v + 1] += first_[v];
+    around_.resize(first_.back());
+    std::vector<std::size_t> fill(first_.begin(), first_.end() - 1);
+    for (std::size_t i = 0; i < n; ++i)
+      if (!removed_[i])
+        for (std::uint32_t v : polygons_[i].loop) around_[fill[v]++] = i;
   }
 
   // Step 3, until no sliver is left that can be zipped.
@@ -197,12 +218,12 @@ class Limit {
   // edges), so it is found once, in parallel.
   void zip_slivers(bool enabled) {
     if (!enabled) return;
-    std::vector<char> is_flat(polygons_.size(), 0);
-    for_each_index(policy_, 0, polygons_.size(),
-                   [&](std::size_t i) { is_flat[i] = !removed_[i] && flat(polygons_[i]); });
+    for_each_index(policy_, 0, polygons_.size(), [&](std::size_t i) {
+      if (!removed_[i]) flat_[i] = flat(polygons_[i]) ? 1 : 0;
+    });
     std::vector<std::size_t> slivers;
     for (std::size_t i = 0; i < polygons_.size(); ++i)
-      if (is_flat[i]) slivers.push_back(i);
+      if (!removed_[i] && flat_[i] == 1) slivers.push_back(i);
     for (bool changed = true; changed;) {
       changed = false;
       for (std::size_t i : slivers)
@@ -289,8 +310,10 @@ class Limit {
     for_each_index(policy_, 0, polygons_.size(), [&](std::size_t i) {
       if (removed_[i]) return;
       convex[i] = strictly_convex(polygons_[i]);
-      still_flat[i] = flat(polygons_[i]);
+      // A zip only puts points on a polygon's edges: its flatness changes with it alone.
+      still_flat[i] = flat_[i] == kUnknown ? flat(polygons_[i]) : flat_[i];
     });
+    out.polygons.reserve(static_cast<std::size_t>(std::count(removed_.begin(), removed_.end(), 0)));
     for (std::size_t i = 0; i < polygons_.size(); ++i)
       if (!removed_[i]) {
         LimitPolygon p = std::move(polygons_[i]);
@@ -313,9 +336,9 @@ class Limit {
     return limit_side_at_vertex(at(v)[0], at(v)[1], at(v)[2], e) == 0;
   }
 
-  // Step 2: the polygon's edges between distinct points.
-  void add(const ConformedPolygon& polygon, const PlanarLoop& planar) {
-    LimitPolygon p;
+  // Step 2: the polygon's edges between distinct points, as polygon i.
+  void add(std::size_t i, const ConformedPolygon& polygon, const PlanarLoop& planar) {
+    LimitPolygon& p = polygons_[i];
     p.support = planar.support;
     p.faces_out = polygon.move < 0;
     p.move = polygon.move, p.face = polygon.face;
@@ -326,18 +349,32 @@ class Limit {
       p.loop.push_back(a);
       p.edge_planes.push_back(planar.edge_planes[k]);
     }
-    const std::size_t index = polygons_.size();
-    removed_.push_back(p.loop.size() < 3);
-    zipped_.push_back(false);
-    if (!removed_.back())
-      for (std::size_t k = 0; k < p.loop.size(); ++k)
-        owner_[{p.loop[k], p.loop[(k + 1) % p.loop.size()]}] = index;
-    polygons_.push_back(std::move(p));
+    removed_[i] = p.loop.size() < 3;
   }
 
-  // Every point on the line of the first edge: the limit is a segment.
+  // The polygon that runs along the directed edge (the last in polygon order, should two).
+  std::optional<std::size_t> owner(const Edge& edge) const {
+    std::optional<std::size_t> found;
+    const auto look = [&](std::size_t i) {
+      if (removed_[i] || (found && *found >= i)) return;
+      const std::vector<std::uint32_t>& loop = polygons_[i].loop;
+      for (std::size_t k = 0; k < loop.size(); ++k)
+        if (loop[k] == edge.first && loop[(k + 1) % loop.size()] == edge.second) {
+          found = i;
+          return;
+        }
+    };
+    for (std::size_t k = first_[edge.first]; k < first_[edge.first + 1]; ++k) look(around_[k]);
+    const auto more = inserted_around_.find(edge.first);
+    if (more != inserted_around_.end())
+      for (std::size_t i : more->second) look(i);
+    return found;
+  }
+
+  // Every point on the line of the first edge: the limit is a segment. (The first edge's ends
+  // lie on it by construction, and telling an exact zero costs the exact arithmetic.)
   bool flat(const LimitPolygon& p) const {
-    return std::all_of(p.loop.begin(), p.loop.end(),
+    return std::all_of(p.loop.begin() + 2, p.loop.end(),
                        [&](std::uint32_t v) { return on(v, p.edge_planes[0]); });
   }
   bool strictly_convex(const LimitPolygon& p) const {
@@ -385,56 +422,50 @@ class Limit {
     std::vector<std::pair<Edge, std::vector<std::uint32_t>>> inserts;
     for (std::size_t k = 0; k < n; ++k) {
       const std::uint32_t x = d.loop[k], y = d.loop[(k + 1) % n];
-      const auto across = owner_.find({y, x});
-      if (across == owner_.end()) return false;  // not a closed surface here: leave it
-      if (across->second == i) continue;         // the sliver's other chain: both edges vanish
+      const std::optional<std::size_t> across = owner({y, x});
+      if (!across) return false;   // not a closed surface here: leave it
+      if (*across == i) continue;  // the sliver's other chain: both edges vanish
       std::vector<std::uint32_t> between;
       for (std::uint32_t m : sorted)
         if ((after(m, x) && after(y, m)) || (after(m, y) && after(x, m))) between.push_back(m);
       if (after(y, x)) std::reverse(between.begin(), between.end());  // from y down to x
       inserts.push_back({{y, x}, between});
     }
-    for (std::size_t k = 0; k < n; ++k) {
-      const auto own = owner_.find({d.loop[k], d.loop[(k + 1) % n]});
-      if (own != owner_.end() && own->second == i) owner_.erase(own);
-    }
+    removed_[i] = zipped_[i] = 1;  // its edges are no one's before the neighbours take its points
     for (const auto& [edge, between] : inserts) split(edge, between);
-    removed_[i] = zipped_[i] = true;
     return true;
   }
 
   // Inserts `between` into the edge (owned by a polygon) from edge.first to edge.second.
   void split(const Edge& edge, const std::vector<std::uint32_t>& between) {
-    const auto owner = owner_.find(edge);
-    if (owner == owner_.end()) return;  // not a 2-manifold here: step 4 keeps its classes apart
-    const std::size_t j = owner->second;
+    const std::optional<std::size_t> owner_of = owner(edge);
+    if (!owner_of) return;  // not a 2-manifold here: step 4 keeps its classes apart
+    const std::size_t j = *owner_of;
     LimitPolygon& p = polygons_[j];
     const std::size_t n = p.loop.size();
     std::size_t k = 0;
     while (k < n && !(p.loop[k] == edge.first && p.loop[(k + 1) % n] == edge.second)) ++k;
     if (k == n) return;
-    owner_.erase(edge);
     const ExactPlane plane = p.edge_planes[k];
     p.loop.insert(p.loop.begin() + static_cast<std::ptrdiff_t>(k + 1), between.begin(), between.end());
     p.edge_planes.insert(p.edge_planes.begin() + static_cast<std::ptrdiff_t>(k + 1), between.size(), plane);
-    std::uint32_t from = edge.first;
-    for (std::uint32_t m : between) owner_[{from, m}] = j, from = m;
-    owner_[{from, edge.second}] = j;
+    for (std::uint32_t m : between) inserted_around_[m].push_back(j);
+    flat_[j] = kUnknown;
   }
 
   const ConformedSurface& surface_;
   ExecutionPolicy policy_;
   std::vector<std::uint32_t> rep_;
   std::vector<LimitPolygon> polygons_;
-  std::vector<bool> apart_;  // per vertex: its class is kept apart
-  std::vector<bool> removed_, zipped_;
-  struct EdgeHash {
-    std::size_t operator()(const Edge& e) const {
-      return std::hash<std::uint64_t>()((std::uint64_t{e.first} << 32) | e.second);
-    }
-  };
-  // Directed edge -> the polygon that runs along it (looked up, never walked: a hash table).
-  std::unordered_map<Edge, std::size_t, EdgeHash> owner_;
+  std::vector<bool> apart_;             // per vertex: its class is kept apart
+  std::vector<char> removed_, zipped_;  // per polygon (written in parallel: not vector<bool>)
+  static constexpr char kUnknown = -1;
+  std::vector<char> flat_;  // per polygon: 1 flat, 0 not, kUnknown not looked at since it changed
+  // Each vertex's polygons (around_[first_[v]] to around_[first_[v + 1]]), and the polygons that
+  // took it since (zips): where the owner of an edge is looked for. A job has millions of
+  // corners and a few thousand zips: a table of every directed edge took a second to build.
+  std::vector<std::size_t> first_, around_;
+  std::unordered_map<std::uint32_t, std::vector<std::size_t>> inserted_around_;
 };
 
 }  // namespace
