@@ -76,9 +76,23 @@ std::vector<Vector3d> samples(const std::vector<Vector3d>& polygon) {
   return out;
 }
 
-// Against brute force on the polytopes themselves: every culled facet lies outside the stock or
-// in another sweep (every vertex, by its halfspaces); no sweep left off a kept facet's cutters
-// reaches into it inside the stock; and a cutter's listed planes cut the facet as all its planes do.
+// Points spread over the facet: its corners and a grid on each triangle of its fan.
+std::vector<Vector3d> spread(const std::vector<Vector3d>& polygon) {
+  std::vector<Vector3d> out(polygon);
+  constexpr int kSteps = 3;
+  for (std::size_t k = 1; k + 1 < polygon.size(); ++k)
+    for (int i = 0; i <= kSteps; ++i)
+      for (int j = 0; i + j <= kSteps; ++j) {
+        const double u = double(i) / kSteps, v = double(j) / kSteps;
+        out.push_back(polygon[0] + u * (polygon[k] - polygon[0]) + v * (polygon[k + 1] - polygon[0]));
+      }
+  return out;
+}
+
+// Against brute force on the polytopes themselves, for each facet's part in the stock (all the
+// carving keeps): every culled facet has none, or lies there in another sweep (every point
+// spread over it, by its halfspaces); no sweep left off a kept facet's cutters reaches into it
+// inside the stock; and a cutter's listed planes cut the facet there as all its planes do.
 TEST(SweepCulling, CullsOnlyWhatAnotherSweepOrTheStockProvesAndListsEveryCutter) {
   const AlignedBox3d stock(Vector3d(0, 0, -5), Vector3d(10, 10, 0));
   for (const auto& [name, tool] : morph_test::every_tool_shape()) {
@@ -100,13 +114,14 @@ TEST(SweepCulling, CullsOnlyWhatAnotherSweepOrTheStockProvesAndListsEveryCutter)
       for (std::size_t f = 0; f < polytopes[i].facets.size(); ++f) {
         const std::vector<Vector3d> polygon = corners(polytopes[i], static_cast<int>(f));
         if (!by_facet[f]) {
-          AlignedBox3d box;
-          for (const Vector3d& v : polygon) box.extend(v);
-          bool proven = !box.intersects(stock);
+          std::vector<Vector3d> in_stock;
+          for (const Vector3d& x : spread(polygon))
+            if (stock.contains(x)) in_stock.push_back(x);
+          bool proven = in_stock.empty();
           for (std::size_t j = 0; j < moves.size() && !proven; ++j) {
             if (j == i) continue;
             proven = true;
-            for (const Vector3d& v : polygon) proven = proven && polytopes[j].plane_value(v) <= kOn;
+            for (const Vector3d& x : in_stock) proven = proven && polytopes[j].plane_value(x) <= kOn;
           }
           EXPECT_TRUE(proven) << "move " << i << " facet " << f << " culled without a reason";
           continue;
@@ -117,6 +132,7 @@ TEST(SweepCulling, CullsOnlyWhatAnotherSweepOrTheStockProvesAndListsEveryCutter)
           const std::vector<morph::Halfspace> planes =
               sweeps.halfspaces(moves[c.move].start, moves[c.move].end);
           for (const Vector3d& x : samples(polygon)) {
+            if (!stock.contains(x)) continue;
             double listed = -1e300;
             for (int h : c.planes) listed = std::max(listed, planes[h].normal.dot(x) - planes[h].offset);
             if (listed < -kOn) {
@@ -183,6 +199,28 @@ TEST(SweepCulling, OneMoveKeepsItsWholeSurfaceAndARetraceBelongsToTheFirstPass) 
   EXPECT_EQ(first.size(), sweeps(a, b).facets.size());
   for (const morph::KeptFacet& k : first) EXPECT_TRUE(k.cutters.empty());
   EXPECT_TRUE(culling.cull(1, counts).empty());
+}
+
+// A V-bit's facets run from its tip to its rim. A shallow pass along a deeper one lies inside it
+// in the stock, though its tool reaches above the deeper pass's tool: every facet of the shallow
+// pass is culled by its part in the stock, and the deeper pass keeps its own, uncut.
+TEST(SweepCulling, AFacetIsJudgedByItsPartInTheStock) {
+  const AlignedBox3d stock(Vector3d(0, 0, -2), Vector3d(20, 10, 0));
+  const morph::SweepPolytopeBuilder sweeps(
+      morph::tool_polytope(morph::conical_tool(3.0, 90.0, 6.0).profile, kDeviation).polytope);
+  const std::vector<morph::Move> moves{line(Vector3d(-5, 5, -1.0), Vector3d(25, 5, -1.0)),
+                                       line(Vector3d(-5, 5.2, -0.5), Vector3d(25, 5.2, -0.5))};
+  // The shallow pass's tool reaches out of the deep one's above the stock.
+  const morph::ConvexPolytope deep = sweeps(moves[0].start, moves[0].end);
+  const morph::ConvexPolytope shallow = sweeps(moves[1].start, moves[1].end);
+  ASSERT_GT(shallow.bounds().max().z(), deep.bounds().max().z() + 0.4);
+  const morph::SweepCulling culling(sweeps, moves, {false, false}, stock);
+  morph::CullingCounts counts;
+  const std::vector<morph::KeptFacet> kept = culling.cull(0, counts);
+  EXPECT_FALSE(kept.empty());
+  for (const morph::KeptFacet& k : kept) EXPECT_TRUE(k.cutters.empty());
+  EXPECT_TRUE(culling.cull(1, counts).empty());
+  EXPECT_GT(counts.by_planes + counts.by_facet_bound + counts.by_cluster_bound, 0);
 }
 
 }  // namespace

@@ -132,8 +132,10 @@ class SweepCulling {
     Eigen::Vector3d a, b;  ///< ordered (both the start for a degenerate move)
     bool degenerate;
   };
+  bool cut_to_stock(Placed& p, const Eigen::Vector3d& a, const Eigen::Vector3d& b,
+                    std::vector<Eigen::Vector3d>& points) const;
   Culled decide(const Placed& p, std::size_t i, const Ends& own, const std::vector<const Candidate*>& near,
-                std::vector<Eigen::Vector3d>& vertices, KeptFacet& keep, CullingCounts& counts,
+                const std::vector<Eigen::Vector3d>& vertices, KeptFacet& keep, CullingCounts& counts,
                 Scratch& scratch) const;
   Against against(const Placed& p, std::size_t i, std::uint32_t j, const std::vector<Eigen::Vector3d>& points,
                   const Faces& faces, std::vector<int>& near_faces, std::vector<int>& planes,

@@ -8,6 +8,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <optional>
 
 namespace morph {
@@ -36,11 +37,34 @@ struct ClusterKey {
 };
 
 // The facet's corners in loop order, from the points the plane tests use (a tool facet's loop
-// at one end; a silhouette edge u, w at the ordered start and end: u+a, u+b, w+a, w+b), without
-// the centroid appended last.
+// at one end; a silhouette edge u, w at the ordered start and end: u+a, u+b, w+a, w+b; a facet
+// clipped to the stock: its polygon), without the centroid appended last.
 std::vector<Vector3d> ordered_polygon(bool silhouette, const std::vector<Vector3d>& points) {
   if (silhouette) return {points[0], points[2], points[3], points[1]};
   return std::vector<Vector3d>(points.begin(), points.end() - 1);
+}
+
+// The part of the convex polygon inside the box (Sutherland-Hodgman, one face at a time).
+void clip_to_box(std::vector<Vector3d>& polygon, const AlignedBox3d& box) {
+  std::vector<Vector3d> kept;
+  for (int axis = 0; axis < 3 && polygon.size() >= 3; ++axis)
+    for (const bool upper : {false, true}) {
+      const double bound = upper ? box.max()[axis] : box.min()[axis];
+      const auto value = [&](const Vector3d& x) { return upper ? x[axis] - bound : bound - x[axis]; };
+      kept.clear();
+      for (std::size_t k = 0; k < polygon.size(); ++k) {
+        const Vector3d &x = polygon[k], &y = polygon[(k + 1) % polygon.size()];
+        const double vx = value(x), vy = value(y);
+        if (vx <= 0.0) kept.push_back(x);
+        if ((vx < 0.0 && vy > 0.0) || (vx > 0.0 && vy < 0.0)) {
+          Vector3d crossing = x + (y - x) * (vx / (vx - vy));
+          crossing[axis] = bound;  // on the face, whatever the rounding of the rest
+          kept.push_back(crossing);
+        }
+      }
+      polygon.swap(kept);
+      if (polygon.size() < 3) return;
+    }
 }
 
 // The centroid of the facet's part below the candidate's planes `meeting` (the convex polygon is
@@ -99,6 +123,9 @@ struct SweepCulling::Placed {
   double thickness = 0.0;
   FacePlane plane;
   ClusterKey cluster{};
+  /// Reaching out of the stock, so cut to it: the points are its polygon's, in order, and the
+  /// bounds above are theirs.
+  bool clipped = false;
 };
 
 SweepCulling::SweepCulling(const SweepPolytopeBuilder& sweeps, std::vector<Move> moves,
@@ -426,7 +453,7 @@ SweepCulling::Against SweepCulling::against(const Placed& p, std::size_t i, std:
     if (std::any_of(points.begin(), points.end(), inside)) return Against::Cuts;
     if (!swept) {
       const std::optional<Vector3d> centroid =
-          clipped_centroid(ordered_polygon(p.edge >= 0, points), face_plane, planes);
+          clipped_centroid(ordered_polygon(p.edge >= 0 && !p.clipped, points), face_plane, planes);
       if (centroid && below_every_face(*centroid)) return Against::Cuts;
     }
   }
@@ -446,17 +473,73 @@ SweepCulling::Against SweepCulling::against(const Placed& p, std::size_t i, std:
   return planes.empty() ? Against::Inside : Against::Cuts;
 }
 
+// The points the plane tests take of facet p of the sweep along [a, b] (ordered ends): its
+// corners (a tool facet's loop at its end or ends, a silhouette edge's u+a, u+b, w+a, w+b) and
+// last their centroid. Only the facet's part in the stock is carved, so a facet reaching out of
+// the stock (grown by the rounding) is cut to it first: a V-bit's facet runs from its tip to its
+// rim, far above a shallow engraving, and its bounds met every sweep nearby while its part in
+// the stock met few. Then the points are the cut polygon's, in order, and p's bounds are theirs.
+// False when nothing of the facet is left (a tool facet swept along the move is not cut).
+bool SweepCulling::cut_to_stock(Placed& p, const Vector3d& a, const Vector3d& b,
+                                std::vector<Vector3d>& points) const {
+  const ConvexPolytope& tool = sweeps_.tool();
+  points.clear();
+  auto add = [&](int v) {
+    if (p.placement <= 0) points.push_back(tool.vertices[v] + a);
+    if (p.placement >= 0) points.push_back(tool.vertices[v] + b);
+  };
+  if (p.tool_facet >= 0) {
+    for (int v : tool.facets[p.tool_facet].loop) add(v);
+  } else {
+    add(sweeps_.edges()[p.edge].from);
+    add(sweeps_.edges()[p.edge].to);
+  }
+  const AlignedBox3d stock(stock_.min().array() - rounding_, stock_.max().array() + rounding_);
+  const bool swept = p.tool_facet >= 0 && p.placement == 0;
+  if (!swept &&
+      !std::all_of(points.begin(), points.end(), [&](const Vector3d& x) { return stock.contains(x); })) {
+    if (p.edge >= 0) points = {points[0], points[2], points[3], points[1]};
+    clip_to_box(points, stock);
+    if (points.size() < 3) return false;
+    p.clipped = true;
+    p.box = AlignedBox3d();
+    for (const Vector3d& x : points) p.box.extend(x);
+    p.centre = Vector3d::Zero();
+    for (const Vector3d& x : points) p.centre += x;
+    p.centre /= static_cast<double>(points.size());
+    p.radius = 0.0;
+    for (const Vector3d& x : points) p.radius = std::max(p.radius, (x - p.centre).norm());
+    if (p.placement == 0) {  // a silhouette edge's face: the capsule along its motion
+      const Vector3d axis = p.to - p.from;
+      double low = std::numeric_limits<double>::infinity(), high = -low, thickness = 0.0;
+      for (const Vector3d& x : points) {
+        const double t = (x - p.from).dot(axis) / axis.squaredNorm();
+        low = std::min(low, t);
+        high = std::max(high, t);
+        thickness = std::max(thickness, (x - (p.from + t * axis)).norm());
+      }
+      const Vector3d from = p.from + low * axis, to = p.from + high * axis;
+      p.from = from, p.to = to, p.thickness = thickness;
+    } else {
+      p.from = p.to = p.centre;
+    }
+  }
+  Vector3d centroid = Vector3d::Zero();
+  for (const Vector3d& x : points) centroid += x;
+  points.push_back(centroid / static_cast<double>(points.size()));  // inside the facet
+  return true;
+}
+
 // Facet p of move i (ordered ends `own`) against the candidates near its cluster: culled, or kept
 // with its cutters in `keep`. Cheapest proofs first: the support functions, the shared cap and
 // the inner bounds over every candidate (any of them culls the facet, whichever comes first),
 // and only then the halfspaces, which are the cost.
 SweepCulling::Culled SweepCulling::decide(const Placed& p, std::size_t i, const Ends& own,
                                           const std::vector<const Candidate*>& near,
-                                          std::vector<Vector3d>& vertices, KeptFacet& keep,
+                                          const std::vector<Vector3d>& vertices, KeptFacet& keep,
                                           CullingCounts& counts, Scratch& scratch) const {
   const ConvexPolytope& tool = sweeps_.tool();
   const Vector3d &a = own.a, &b = own.b;
-  vertices.clear();
   const Vector3d& n = p.plane.normal;
   // A swept face's plane holds a, and b only to within 1e-12·|b - a| (motion_side()).
   const double reach_i = p.tool_facet >= 0 && p.placement == 0 ? n.dot(a) : std::max(n.dot(a), n.dot(b));
@@ -484,21 +567,6 @@ SweepCulling::Culled SweepCulling::decide(const Placed& p, std::size_t i, const 
           continue;
         }
       }
-    }
-    if (vertices.empty()) {
-      auto add = [&](int v) {
-        if (p.placement <= 0) vertices.push_back(tool.vertices[v] + a);
-        if (p.placement >= 0) vertices.push_back(tool.vertices[v] + b);
-      };
-      if (p.tool_facet >= 0) {
-        for (int v : tool.facets[p.tool_facet].loop) add(v);
-      } else {
-        add(sweeps_.edges()[p.edge].from);
-        add(sweeps_.edges()[p.edge].to);
-      }
-      Vector3d centroid = Vector3d::Zero();
-      for (const Vector3d& x : vertices) centroid += x;
-      vertices.push_back(centroid / static_cast<double>(vertices.size()));  // inside the facet
     }
     ++counts.bound_tests;
     if (ball_inside_sweep(bounds_, c->a, c->b, p.centre, p.radius) ||
@@ -540,12 +608,18 @@ std::vector<KeptFacet> SweepCulling::cull(std::size_t i, CullingCounts& counts, 
     joint = exact ? joint_verdicts_exact(tool, facets_at_vertex_, move.end - move.start, previous, next)
                   : joint_verdicts_off_rim(tool, facets_at_vertex_, move.end - move.start, previous, next);
   }
+  const bool degenerate = sweeps_.degenerate(move.start, move.end);
+  const std::pair<Vector3d, Vector3d> ends =
+      degenerate ? std::pair{move.start, move.start} : SweepPolytopeBuilder::ordered(move.start, move.end);
+  const Vector3d &a = ends.first, &b = ends.second;
+  // Each live facet's points, by facet index: its corners, cut to the stock where it reaches out.
   std::vector<Placed> live;
   AlignedBox3d reach;
-  for (const Placed& p : facets) {
+  std::vector<std::vector<Vector3d>> points_of(facets.size());
+  for (Placed& p : facets) {
     if (p.tool_facet >= 0 && culled(joint[p.tool_facet])) {
       ++counts.by_joint;
-    } else if (outside(p.box, stock_)) {
+    } else if (outside(p.box, stock_) || !cut_to_stock(p, a, b, points_of[p.facet])) {
       ++counts.outside_stock;
     } else {
       live.push_back(p);
@@ -558,10 +632,6 @@ std::vector<KeptFacet> SweepCulling::cull(std::size_t i, CullingCounts& counts, 
       reach.intersection(AlignedBox3d(stock_.min().array() - rounding_, stock_.max().array() + rounding_));
 
   // 3. Move against move.
-  const bool degenerate = sweeps_.degenerate(move.start, move.end);
-  const std::pair<Vector3d, Vector3d> ends =
-      degenerate ? std::pair{move.start, move.start} : SweepPolytopeBuilder::ordered(move.start, move.end);
-  const Vector3d &a = ends.first, &b = ends.second;
   std::vector<Candidate> candidates;
   bool retraced = false;
   tree_->for_each_overlapping(reach, [&](std::size_t j) {
@@ -598,7 +668,6 @@ std::vector<KeptFacet> SweepCulling::cull(std::size_t i, CullingCounts& counts, 
   std::vector<KeptFacet> kept;
   std::vector<const Candidate*> near, reaching;
   const Candidate* last_hider = nullptr;
-  std::vector<Vector3d> vertices;
   for (std::size_t begin = 0, end; begin < live.size(); begin = end) {
     for (end = begin + 1; end < live.size() && live[end].cluster == live[begin].cluster;) ++end;
     Vector3d centre = Vector3d::Zero();
@@ -634,7 +703,8 @@ std::vector<KeptFacet> SweepCulling::cull(std::size_t i, CullingCounts& counts, 
     for (std::size_t k = begin; k < end; ++k) {
       const Placed& p = live[k];
       KeptFacet keep{p.facet, {}};
-      const Culled culled_by = decide(p, i, Ends{a, b, degenerate}, near, vertices, keep, counts, scratch);
+      const Culled culled_by =
+          decide(p, i, Ends{a, b, degenerate}, near, points_of[p.facet], keep, counts, scratch);
       switch (culled_by) {
         case Culled::Bound:
           ++counts.by_facet_bound;
