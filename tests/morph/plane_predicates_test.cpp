@@ -13,6 +13,7 @@
 #include <array>
 #include <cfloat>
 #include <cmath>
+#include <optional>
 #include <random>
 #include <stdexcept>
 
@@ -340,6 +341,58 @@ TEST(PlanePredicates, PlanesThroughAGridPointAreDecidedThere) {
     }
   }
   EXPECT_GT(far_cases, 100);
+}
+
+// The grid vertex of three exact planes, and d's side there from it, ties included: the same as
+// side_at_vertex() for every d, through the vertex or a neighbouring grid point, of any rank and
+// direction; and no grid vertex where the planes meet between grid points.
+TEST(PlanePredicates, SideAtAGridVertexIsSideAtVertex) {
+  std::mt19937_64 rng(23);
+  std::uniform_int_distribution<int> component(-40, 40), shift(-1, 1);
+  std::uniform_int_distribution<std::int64_t> coordinate(-(std::int64_t{1} << 30), std::int64_t{1} << 30);
+  const int grid = -20;
+  auto exact_plane = [&](const morph::GridPoint& through, std::uint64_t rank, int direction) {
+    for (;;) {
+      const std::array<__int128, 3> normal{component(rng), component(rng), component(rng)};
+      const auto q = morph::plane_through(normal, through, grid);
+      if (!q) continue;
+      const Vector3d n(static_cast<double>(q->normal[0]), static_cast<double>(q->normal[1]),
+                       static_cast<double>(q->normal[2]));
+      return ExactPlane{n, std::ldexp(static_cast<double>(q->offset), grid), rank, direction, *q};
+    }
+  };
+  int ties = 0, found = 0;
+  for (int trial = 0; trial < 2000; ++trial) {
+    const morph::GridPoint x{coordinate(rng), coordinate(rng), coordinate(rng)};
+    const ExactPlane a = exact_plane(x, 7, 1), b = exact_plane(x, 2, -1), c = exact_plane(x, 9, 1);
+    if (!morph::vertex_exists(a, b, c)) {
+      EXPECT_FALSE(morph::grid_vertex(a, b, c));
+      continue;
+    }
+    const std::optional<morph::GridPoint> vertex = morph::grid_vertex(a, b, c);
+    ASSERT_TRUE(vertex);
+    EXPECT_EQ(*vertex, x);
+    ++found;
+    const morph::GridPoint y =
+        trial % 3 == 0 ? x : morph::GridPoint{x[0] + shift(rng), x[1] + shift(rng), x[2] + shift(rng)};
+    const ExactPlane d = exact_plane(y, static_cast<std::uint64_t>(trial % 12), trial % 2 ? 1 : -1);
+    ties += d.exact.value_at(x) == 0 && d.rank != 2 && d.rank != 7 && d.rank != 9;
+    EXPECT_EQ(morph::side_at_grid_vertex(a, b, c, x, d), morph::side_at_vertex(a, b, c, d)) << trial;
+    // A plane of the same rank as one of the three is on the vertex.
+    EXPECT_EQ(morph::side_at_grid_vertex(a, b, c, x, b), 0);
+  }
+  EXPECT_GT(found, 1500);
+  EXPECT_GT(ties, 100);
+  // The planes 2X = 1, Y = 0 and Z = 0 meet half way between two grid points.
+  morph::IntegerPlane half;
+  half.normal = {2, 0, 0};
+  half.offset = 1;
+  half.grid_exponent = grid;
+  const ExactPlane off{Vector3d(2, 0, 0), std::ldexp(1.0, grid), 1, 1, half};
+  const ExactPlane ys{Vector3d(0, 1, 0), 0.0, 2, 1, *morph::plane_through({0, 1, 0}, {0, 0, 0}, grid)};
+  const ExactPlane zs{Vector3d(0, 0, 1), 0.0, 3, 1, *morph::plane_through({0, 0, 1}, {0, 0, 0}, grid)};
+  ASSERT_TRUE(morph::vertex_exists(off, ys, zs));
+  EXPECT_FALSE(morph::grid_vertex(off, ys, zs));
 }
 
 }  // namespace

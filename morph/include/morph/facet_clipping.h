@@ -14,6 +14,7 @@
 
 #include <array>
 #include <cstddef>
+#include <optional>
 #include <vector>
 
 namespace morph {
@@ -77,6 +78,10 @@ class RoughCorners {
   int corner(std::size_t k) const { return usable_ ? corners_[k].look : 0; }
   /// The looks at the last side()'s plane flipped().
   void flip_looks();
+  /// side_at_vertex() of corner k of `piece` (the piece this look is of) and `plane`: where the
+  /// corner is a point of the grid its planes and `plane` are exact on, side_at_grid_vertex()
+  /// from that point, found once per corner and kept as the piece is clipped.
+  int exact_side(const ConvexPiece& piece, std::size_t k, const ExactPlane& plane) const;
 
  private:
   struct Corner {
@@ -84,6 +89,9 @@ class RoughCorners {
     double length = 0.0;  ///< of point
     double error = 0.0;   ///< a bound of point's distance from the exact corner (0: well conditioned)
     int look = 0;         ///< the last side()'s look at it
+    /// The corner as a grid point (grid_vertex()), once looked for.
+    mutable std::optional<GridPoint> grid;
+    mutable bool grid_looked_for = false;
   };
   static int look_at(const Corner& c, const ExactPlane& plane, double length);
   std::vector<Corner> corners_;

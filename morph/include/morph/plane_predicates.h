@@ -66,6 +66,19 @@ inline bool vertex_exists(const ExactPlane& a, const ExactPlane& b, const ExactP
 /// no vertex (vertex_exists() false).
 int side_at_vertex(const ExactPlane& a, const ExactPlane& b, const ExactPlane& c, const ExactPlane& d);
 
+/// The vertex of three planes exact on one grid (ExactPlane::exact) when it is a point of that
+/// grid, in grid steps: the three planes' integer values there are zero (checked exactly), so it
+/// is their one common point. Nothing when the planes are not all on one grid, have no single
+/// common point, or meet between grid points.
+std::optional<GridPoint> grid_vertex(const ExactPlane& a, const ExactPlane& b, const ExactPlane& c);
+
+/// side_at_vertex() at a vertex of a, b, c that is the grid point `x` (grid_vertex()), for d
+/// exact on the same grid: d's integer value at x, and where that is zero (the tie of most of a
+/// carving's undecided corners: a tool vertex where several facets meet) the perturbation, from
+/// the normals' minors alone. The same sign as side_at_vertex(), at a fraction of its cost.
+int side_at_grid_vertex(const ExactPlane& a, const ExactPlane& b, const ExactPlane& c, const GridPoint& x,
+                        const ExactPlane& d);
+
 /// The unperturbed sign of d.normal·x - d.offset at the vertex x of planes a, b, c (the limit of
 /// the arrangement as ε → 0): 0 exactly when d passes through x (always when d is one of a, b,
 /// c). Same filter and exact fallback as side_at_vertex(); throws like it.

@@ -69,6 +69,22 @@ void RoughCorners::flip_looks() {
   for (Corner& c : corners_) c.look = -c.look;
 }
 
+int RoughCorners::exact_side(const ConvexPiece& piece, std::size_t k, const ExactPlane& plane) const {
+  const std::size_t n = piece.edges.size();
+  const ExactPlane& a = piece.edges[(k + n - 1) % n];
+  const ExactPlane& b = piece.edges[k];
+  if (usable_ && plane.exact.set() && piece.support.exact.set() &&
+      plane.exact.grid_exponent == piece.support.exact.grid_exponent) {
+    const Corner& c = corners_[k];
+    if (!c.grid_looked_for) {
+      c.grid = grid_vertex(piece.support, a, b);
+      c.grid_looked_for = true;
+    }
+    if (c.grid) return side_at_grid_vertex(piece.support, a, b, *c.grid, plane);
+  }
+  return side_at_vertex(piece.support, a, b, plane);
+}
+
 namespace {
 
 ExactPlane box_plane(int axis, bool upper, double offset, std::uint32_t index) {
@@ -95,9 +111,9 @@ ConvexPiece clip_with(const ConvexPiece& piece, const ExactPlane& plane, const R
   std::size_t inside = 0;
   for (std::size_t k = 0; k < n; ++k) {
     const int quick = rough ? rough->corner(k) : 0;
-    sides[k] = quick != 0
-                   ? quick
-                   : side_at_vertex(piece.support, piece.edges[(k + n - 1) % n], piece.edges[k], plane);
+    sides[k] = quick != 0 ? quick
+               : rough    ? rough->exact_side(piece, k, plane)
+                       : side_at_vertex(piece.support, piece.edges[(k + n - 1) % n], piece.edges[k], plane);
     inside += sides[k] < 0;
   }
   if (inside == n) return piece;

@@ -147,16 +147,20 @@ class FourPlanes {
       bound += 1.01 * std::fabs(low_[i]) * (std::fabs(cofactor_[i].value) + cofactor_[i].bound);
     }
     if (int s = Filtered{value, bound}.certain()) return s;
+    // Planes on one grid that the filter cannot tell apart mostly meet at a grid point, a tool
+    // vertex where several facets meet, exactly (a tie): the grid point decides that at once,
+    // where the double-word filter would only fail.
+    if (integer_[0]) {
+      ++predicate_counts().exact;
+      if (const std::optional<int> s = grid_vertex_sign()) return *s;
+      return exact::integer_det4_sign(integer_);
+    }
     // The double-word filter reads one double per offset: rows with a low part go to the integers.
     if (int s = has_low_ ? 0 : exact::double_double_det4_sign(rows_)) {
       ++predicate_counts().refined;
       return s;
     }
     ++predicate_counts().exact;
-    if (integer_[0]) {
-      if (const std::optional<int> s = grid_vertex_sign()) return *s;
-      return exact::integer_det4_sign(integer_);
-    }
     return exact().det4_sign();
   }
   // Sign of det[normals of rows 0, 1, 2] (normals_orientation() of the first three planes; the
@@ -325,6 +329,72 @@ int side_at_vertex(const ExactPlane& a, const ExactPlane& b, const ExactPlane& c
       }
   }
   return -det * orientation;
+}
+
+std::optional<GridPoint> grid_vertex(const ExactPlane& a, const ExactPlane& b, const ExactPlane& c) {
+  if (!on_one_grid(std::array<const ExactPlane*, 3>{&a, &b, &c})) return std::nullopt;
+  const std::array<ExactRow, 3> rows{row_of(a), row_of(b), row_of(c)};
+  if (orientation_of(a, b, c, rows[0].row, rows[1].row, rows[2].row,
+                     det3(rows[0].row, rows[1].row, rows[2].row)) == 0)
+    return std::nullopt;
+  using L = long double;
+  L n[3][3], o[3];
+  for (int r = 0; r < 3; ++r) {
+    for (int k = 0; k < 3; ++k) n[r][k] = rows[r].row[k];
+    o[r] = static_cast<L>(rows[r].row[3]) + static_cast<L>(rows[r].offset_low);
+  }
+  const L d = det3_of(n);
+  // The nearest grid point to Cramer's (scaling by a power of two is exact; a wrong point fails
+  // the check below).
+  const double scale = std::ldexp(1.0, -a.exact.grid_exponent);
+  GridPoint point{};
+  for (int col = 0; col < 3; ++col) {
+    L m[3][3];
+    for (int r = 0; r < 3; ++r)
+      for (int k = 0; k < 3; ++k) m[r][k] = (k == col) ? o[r] : n[r][k];
+    const double steps = std::nearbyint(static_cast<double>(det3_of(m) / d) * scale);
+    if (!(std::fabs(steps) < 0x1p62)) return std::nullopt;
+    point[col] = static_cast<std::int64_t>(steps);
+  }
+  for (const ExactPlane* p : {&a, &b, &c})
+    if (p->exact.value_at(point) != 0) return std::nullopt;
+  return point;
+}
+
+int side_at_grid_vertex(const ExactPlane& a, const ExactPlane& b, const ExactPlane& c, const GridPoint& x,
+                        const ExactPlane& d) {
+  ++predicate_counts().calls;
+  if (d.rank == a.rank || d.rank == b.rank || d.rank == c.rank) return 0;
+  const __int128 value = d.exact.value_at(x);
+  if (value != 0) return value > 0 ? 1 : -1;
+  // As side_at_vertex() settles a tie: det[n|o+δ] = Σ δ_i·cofactor_i, the dominant (smallest)
+  // rank with a non-zero cofactor deciding; a cofactor of the offsets' column is ± a minor of
+  // the normals, and the result is -det·orientation.
+  ++predicate_counts().ties;
+  const std::array<const ExactPlane*, 4> planes{&a, &b, &c, &d};
+  auto normals = [](const ExactPlane& p) {
+    return Row{static_cast<double>(p.exact.normal[0]), static_cast<double>(p.exact.normal[1]),
+               static_cast<double>(p.exact.normal[2]), 0.0};
+  };
+  const std::array<Row, 4> rows{normals(a), normals(b), normals(c), normals(d)};
+  auto minor_without = [&](int i) {
+    std::array<int, 3> o{};
+    for (int k = 0, m = 0; k < 4; ++k)
+      if (k != i) o[m++] = k;
+    return orientation_of(*planes[o[0]], *planes[o[1]], *planes[o[2]], rows[o[0]], rows[o[1]], rows[o[2]],
+                          det3(rows[o[0]], rows[o[1]], rows[o[2]]));
+  };
+  const int orientation = minor_without(3);
+  if (orientation == 0)
+    throw std::invalid_argument("side_at_grid_vertex: the three planes have no single common point");
+  std::array<int, 4> order{0, 1, 2, 3};
+  std::sort(order.begin(), order.end(), [&](int i, int j) { return planes[i]->rank < planes[j]->rank; });
+  for (int i : order) {
+    const int minor = i == 3 ? orientation : minor_without(i);
+    if (const int cofactor = (i % 2 == 0) ? -minor : minor)
+      return -planes[i]->direction * cofactor * orientation;
+  }
+  return 0;  // not reached: d's own cofactor is the orientation
 }
 
 int limit_side_at_vertex(const ExactPlane& a, const ExactPlane& b, const ExactPlane& c, const ExactPlane& d) {
