@@ -16,7 +16,6 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
-#include <cstdio>
 #include <ctime>
 #include <map>
 #include <memory>
@@ -128,18 +127,12 @@ ErodeResult erode2(const Job& job, const ErodeOptions& options) {
   stats.seconds_trim = seconds_since(start) - stats.seconds_setup;
 
   double cpu = process_cpu_seconds();
-  auto c0 = std::chrono::steady_clock::now();
   const ConformedSurface surface = conform(pieces, options.policy);
   const double conform_cpu = process_cpu_seconds() - cpu;
-  fprintf(stderr, "PROBE conform %.2f\n", seconds_since(c0));
   cpu = process_cpu_seconds();
-  auto w0 = std::chrono::steady_clock::now();
   const LimitSurface limit = collapse_degenerates(surface);
-  fprintf(stderr, "PROBE conform wall(before) collapse %.2f\n", seconds_since(w0));
-  w0 = std::chrono::steady_clock::now();
   EmitCounts rounding;
   result.mesh = emit(limit, move_index, move_line, &rounding);
-  fprintf(stderr, "PROBE emit %.2f\n", seconds_since(w0));
   stats.stage_cpu_seconds = {{"cull", stages.seconds_cull},
                              {"kept_facets", stages.seconds_facets},
                              {"stock_faces", stages.seconds_stock},
