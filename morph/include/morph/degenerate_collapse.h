@@ -58,8 +58,9 @@ struct LimitSurface {
   LimitCounts counts;
 };
 
-/// The limit of the conformed surface as ε → 0 (steps 1-4 above).
-LimitSurface collapse_degenerates(const ConformedSurface& surface,
+/// The limit of the conformed surface as ε → 0 (steps 1-4 above). Its vertices are moved into
+/// the result: pass the surface with std::move when it is no longer needed.
+LimitSurface collapse_degenerates(ConformedSurface surface,
                                   ExecutionPolicy policy = ExecutionPolicy::Parallel);
 
 }  // namespace morph

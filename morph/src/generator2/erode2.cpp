@@ -127,10 +127,10 @@ ErodeResult erode2(const Job& job, const ErodeOptions& options) {
   stats.seconds_trim = seconds_since(start) - stats.seconds_setup;
 
   double cpu = process_cpu_seconds();
-  const ConformedSurface surface = conform(pieces, options.policy);
+  ConformedSurface surface = conform(pieces, options.policy);
   const double conform_cpu = process_cpu_seconds() - cpu;
   cpu = process_cpu_seconds();
-  const LimitSurface limit = collapse_degenerates(surface);
+  const LimitSurface limit = collapse_degenerates(std::move(surface));
   EmitCounts rounding;
   result.mesh = emit(limit, move_index, move_line, &rounding);
   stats.stage_cpu_seconds = {{"cull", stages.seconds_cull},
