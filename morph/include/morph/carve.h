@@ -2,7 +2,8 @@
 #pragma once
 /// \file carve.h
 /// The boundary of box stock minus the union of convex sweep polytopes, as convex pieces
-/// (facet_clipping.h): each stock face minus every sweep that reaches it, and each sweep facet
+/// (facet_clipping.h): each stock face, in cells (stock_face_cells.h), minus every sweep that
+/// reaches the cell, and each sweep facet
 /// within the stock and its own polytope minus every other sweep. Every decision is an exact
 /// perturbed predicate, so the pieces bound a closed, oriented solid; the tie order makes a
 /// retraced move's coinciding facets the earlier move's alone.

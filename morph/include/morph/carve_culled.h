@@ -5,8 +5,9 @@
 /// exact sets, split the same way), with the work cut down by the culling stage
 /// (sweep_culling.h). Only the facets the culling keeps are carved, each minus the moves it lists
 /// with the planes of theirs that cross it (a cutter's other planes leave the facet's part inside
-/// it unchanged, and subtract() splits by that part alone); each stock face minus the sweeps whose
-/// boxes meet it (AabbTree). A job with several tools is culled tool by tool: another tool's
+/// it unchanged, and subtract() splits by that part alone); each stock face cut into cells
+/// (stock_face_cells.h), each cell minus the sweeps whose boxes meet it (AabbTree), a piece that
+/// a later sweep's inscribed capsule holds dropped at once. A job with several tools is culled tool by tool: another tool's
 /// sweeps are cutters of a kept facet whenever their boxes meet it, with all their planes.
 /// Facets are independent and carved in parallel; the pieces come out in a fixed order.
 #include <morph/carve.h>

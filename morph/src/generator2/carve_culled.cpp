@@ -409,7 +409,7 @@ class Carving {
   std::size_t tools() const { return groups_.size(); }
   std::size_t stock_faces() const { return stock_face_count(stock_); }
 
-  // Stock face f minus every sweep whose box meets it, in move order.
+  // Stock face f in cells, each minus every sweep whose box meets it, in move order.
   std::vector<ConvexPiece> stock_face(int f, Workers& workers, ExecutionPolicy policy) const {
     ConvexPiece face = morph::stock_face(stock_, static_cast<std::size_t>(f));
     ++workers.local().stages.carve.facets;
