@@ -35,6 +35,10 @@ namespace morph {
 /// end of the segment the builder takes first.
 int motion_side(const Eigen::Vector3d& normal, const Eigen::Vector3d& motion);
 
+/// motion_side() of every facet of `tool` for one motion, into `sides` (the same values; the
+/// motion's length is taken once, not per facet).
+void motion_sides(const ConvexPolytope& tool, const Eigen::Vector3d& motion, std::vector<signed char>& sides);
+
 /// A halfspace normal·x <= offset.
 /// `exact`, when set, is the same plane on the grid (quantize.h): the predicates decide on it,
 /// normal (unit) and offset are its rounded look.

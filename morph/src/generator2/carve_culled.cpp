@@ -498,13 +498,11 @@ class Carving {
                                  : SweepPolytopeBuilder::ordered(s.from, s.to);
     own.tool_facets = group.builder->tool().facets.size();
     own.at_b.resize(own.tool_facets);
-    own.side.resize(own.tool_facets);
-    const bool degenerate = own.a == own.b;
-    for (std::size_t k = 0; k < own.tool_facets; ++k) {
-      own.side[k] = static_cast<signed char>(
-          degenerate ? -1 : motion_side(group.builder->tool().facets[k].normal, own.b - own.a));
-      own.at_b[k] = own.side[k] > 0;
-    }
+    if (own.a == own.b)
+      own.side.assign(own.tool_facets, -1);
+    else
+      motion_sides(group.builder->tool(), own.b - own.a, own.side);
+    for (std::size_t k = 0; k < own.tool_facets; ++k) own.at_b[k] = own.side[k] > 0;
     const std::vector<SweepPolytopeBuilder::Edge>& edges = group.builder->edges();
     for (std::size_t i = 0; i < edges.size(); ++i)
       if (own.side[static_cast<std::size_t>(edges[i].left)] *

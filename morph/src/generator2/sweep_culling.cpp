@@ -200,11 +200,11 @@ void SweepCulling::place(std::size_t i, std::vector<Placed>& facets) const {
       degenerate ? std::pair{m.start, m.start} : SweepPolytopeBuilder::ordered(m.start, m.end);
   const Vector3d motion = b - a, middle = 0.5 * (a + b);
   const double half = 0.5 * motion.norm();
-  std::vector<int> side(tool.facets.size(), -1);
+  std::vector<signed char> side(tool.facets.size(), -1);
+  if (!degenerate) motion_sides(tool, motion, side);
   facets.reserve(facets.size() + tool.facets.size() +
                  2 * static_cast<std::size_t>(std::sqrt(tool.facets.size())) + 64);
   for (std::size_t f = 0; f < tool.facets.size(); ++f) {
-    if (!degenerate) side[f] = motion_side(tool.facets[f].normal, motion);
     const PolytopeFacet& facet = tool.facets[f];
     Placed p;
     p.facet = p.tool_facet = static_cast<int>(f);
@@ -278,9 +278,7 @@ const SweepCulling::Faces& SweepCulling::faces(std::uint32_t j, Scratch& scratch
   faces.side.assign(tool.facets.size(), -1);
   faces.face_of_edge.assign(sweeps_.edges().size(), -1);
   if (!degenerate) {
-    const Vector3d motion = faces.b - faces.a;
-    for (std::size_t f = 0; f < tool.facets.size(); ++f)
-      faces.side[f] = static_cast<signed char>(motion_side(tool.facets[f].normal, motion));
+    motion_sides(tool, faces.b - faces.a, faces.side);
     int index = static_cast<int>(tool.facets.size());
     const std::vector<SweepPolytopeBuilder::Edge>& edges = sweeps_.edges();
     for (std::size_t e = 0; e < edges.size(); ++e) {

@@ -71,6 +71,15 @@ int motion_side(const Vector3d& normal, const Vector3d& motion) {
   return s > kParallel * length ? 1 : s < -kParallel * length ? -1 : 0;
 }
 
+void motion_sides(const ConvexPolytope& tool, const Vector3d& motion, std::vector<signed char>& sides) {
+  const double length = motion.norm();
+  sides.resize(tool.facets.size());
+  for (std::size_t f = 0; f < sides.size(); ++f) {
+    const double s = tool.facets[f].normal.dot(motion);
+    sides[f] = static_cast<signed char>(s > kParallel * length ? 1 : s < -kParallel * length ? -1 : 0);
+  }
+}
+
 SweepPolytopeBuilder::SweepPolytopeBuilder(ConvexPolytope tool) : tool_(std::move(tool)) {
   if (tool_.facets.empty()) throw InputError("sweep polytope: the tool polytope is empty");
   std::unordered_map<std::uint64_t, int> owner;
@@ -212,8 +221,7 @@ SweepPolytopeBuilder::Planes::Planes(const SweepPolytopeBuilder& builder, const 
   grid_a_ = builder.on_grid(a_);
   grid_b_ = builder.on_grid(b_);
   exact_ = grid_a_ && grid_b_;
-  for (std::size_t f = 0; f < side_.size(); ++f)
-    side_[f] = static_cast<signed char>(motion_side(tool.facets[f].normal, motion_));
+  motion_sides(tool, motion_, side_);
   // The silhouette planes are exact when the motion is on the grid too (b - a rounds exactly
   // when both ends are on it, unless far apart: then on_grid(a + motion) is checked).
   const std::optional<GridPoint> step = exact_ ? builder.on_grid(motion_) : std::nullopt;
@@ -250,8 +258,8 @@ ConvexPolytope SweepPolytopeBuilder::operator()(const Vector3d& start, const Vec
   const std::vector<Halfspace> planes = halfspaces(start, end);  // in facet order
 
   // Side of each tool facet: -1 back (kept at a), +1 forward (kept at b), 0 swept whole.
-  std::vector<int> side(tool_.facets.size());
-  for (std::size_t f = 0; f < side.size(); ++f) side[f] = motion_side(tool_.facets[f].normal, motion);
+  std::vector<signed char> side;
+  motion_sides(tool_, motion, side);
   const int n = static_cast<int>(tool_.vertices.size());
   ConvexPolytope sweep;
   std::vector<int> used(2 * n, -1);
