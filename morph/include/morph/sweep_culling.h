@@ -101,8 +101,9 @@ class SweepCulling {
     std::vector<std::pair<std::uint32_t, Faces>> recent_;
     std::size_t next_ = 0;
     std::vector<int> near_faces_;
-    std::vector<int> planes_;             ///< against()'s crossing planes
-    std::vector<const Candidate*> open_;  ///< decide()'s candidates left for the halfspaces
+    std::vector<int> planes_;                              ///< against()'s crossing planes
+    std::vector<const Candidate*> open_;                   ///< decide()'s candidates left for the halfspaces
+    std::vector<std::vector<Eigen::Vector3d>> points_of_;  ///< cull()'s facet points, by facet
   };
 
   /// `moves`: straight moves of the one tool of `sweeps`, in job order (the tie order), paths

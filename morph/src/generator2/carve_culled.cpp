@@ -627,7 +627,7 @@ class Carving {
   // True when one of the sweeps near[k...] whose box meets `box` holds the ball strictly inside
   // (tool_bounds.h): the piece whose exact corners the ball holds lies inside that sweep, so
   // every part the sweeps before it would cut it into lies inside it too, and carving the piece
-  // on would leave nothing. Slivers cut along a sweep's planes mostly lie deep in a later pass.
+  // on would leave nothing. Most cells of a machined face lie deep in one later pass.
   bool hidden_later(const std::optional<Ball>& ball, const AlignedBox3d& box, std::size_t k,
                     const std::vector<std::uint32_t>& near) const {
     if (!ball || !(ball->second < largest_inner_radius_)) return false;

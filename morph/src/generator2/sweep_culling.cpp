@@ -613,7 +613,8 @@ std::vector<KeptFacet> SweepCulling::cull(std::size_t i, CullingCounts& counts, 
   // Each live facet's points, by facet index: its corners, cut to the stock where it reaches out.
   std::vector<Placed> live;
   AlignedBox3d reach;
-  std::vector<std::vector<Vector3d>> points_of(facets.size());
+  std::vector<std::vector<Vector3d>>& points_of = scratch.points_of_;  // kept from move to move
+  if (points_of.size() < facets.size()) points_of.resize(facets.size());
   for (Placed& p : facets) {
     if (p.tool_facet >= 0 && culled(joint[p.tool_facet])) {
       ++counts.by_joint;
