@@ -291,6 +291,21 @@ TEST(PlanePredicates, VertexPointStaysNearTheExactVertexHoweverIllConditioned) {
   EXPECT_GT(conditioned_off, 0);
 }
 
+// A plane exact on the grid of exponent `grid` through the grid point `through`, its normal's
+// integer components drawn from `component` (redrawn until the plane exists).
+ExactPlane random_plane_through(std::mt19937_64& rng, std::uniform_int_distribution<int>& component,
+                                const morph::GridPoint& through, int grid, std::uint64_t rank,
+                                int direction) {
+  for (;;) {
+    const std::array<__int128, 3> normal{component(rng), component(rng), component(rng)};
+    const auto q = morph::plane_through(normal, through, grid);
+    if (!q) continue;
+    const Vector3d n(static_cast<double>(q->normal[0]), static_cast<double>(q->normal[1]),
+                     static_cast<double>(q->normal[2]));
+    return ExactPlane{n, std::ldexp(static_cast<double>(q->offset), grid), rank, direction, *q};
+  }
+}
+
 // Planes exact on one grid through a common grid point (a tool vertex where several facets meet)
 // are decided from the integer value at that point. Near the origin: the same sides, ties and
 // all, as the same planes given by their doubles alone (the general exact path). Far out (offsets
@@ -301,14 +316,7 @@ TEST(PlanePredicates, PlanesThroughAGridPointAreDecidedThere) {
   std::uniform_int_distribution<int> component(-40, 40), shift(-1, 1);
   const int grid = -10;
   auto exact_plane = [&](const morph::GridPoint& through, std::uint64_t rank, int direction) {
-    for (;;) {
-      const std::array<__int128, 3> normal{component(rng), component(rng), component(rng)};
-      const auto q = morph::plane_through(normal, through, grid);
-      if (!q) continue;
-      const Vector3d n(static_cast<double>(q->normal[0]), static_cast<double>(q->normal[1]),
-                       static_cast<double>(q->normal[2]));
-      return ExactPlane{n, std::ldexp(static_cast<double>(q->offset), grid), rank, direction, *q};
-    }
+    return random_plane_through(rng, component, through, grid, rank, direction);
   };
   auto doubles = [](ExactPlane p) {
     p.exact = {};
@@ -352,14 +360,7 @@ TEST(PlanePredicates, SideAtAGridVertexIsSideAtVertex) {
   std::uniform_int_distribution<std::int64_t> coordinate(-(std::int64_t{1} << 30), std::int64_t{1} << 30);
   const int grid = -20;
   auto exact_plane = [&](const morph::GridPoint& through, std::uint64_t rank, int direction) {
-    for (;;) {
-      const std::array<__int128, 3> normal{component(rng), component(rng), component(rng)};
-      const auto q = morph::plane_through(normal, through, grid);
-      if (!q) continue;
-      const Vector3d n(static_cast<double>(q->normal[0]), static_cast<double>(q->normal[1]),
-                       static_cast<double>(q->normal[2]));
-      return ExactPlane{n, std::ldexp(static_cast<double>(q->offset), grid), rank, direction, *q};
-    }
+    return random_plane_through(rng, component, through, grid, rank, direction);
   };
   int ties = 0, found = 0;
   for (int trial = 0; trial < 2000; ++trial) {
