@@ -63,9 +63,9 @@ TEST(CellLattice, HoldsTheStockAndRanksAPlaneByItsPlace) {
   EXPECT_EQ(p.offset, again.offset);
   EXPECT_NE(lattice.plane(1, 3).rank, p.rank);
   EXPECT_NE(lattice.plane(0, 4).rank, p.rank);
-  // Just off the lattice line, below every sweep rank.
-  EXPECT_GT(p.offset, lattice.origin.x() + 1.5);
-  EXPECT_LT(p.offset, lattice.origin.x() + 1.5 + 1e-6);
+  // Off the lattice line by a good part of a finest cell (0.5) either way, below every sweep rank.
+  EXPECT_GT(p.offset, lattice.origin.x() + 1.5 + 0.1);
+  EXPECT_LT(p.offset, lattice.origin.x() + 2.0 - 0.1);
   EXPECT_LT(p.rank, morph::sweep_rank(0, 0));
 }
 
@@ -116,6 +116,30 @@ TEST(StockFaceCells, CellsPartitionTheFaceAndListTheSweepsThatMeetThem) {
     EXPECT_EQ(holders, 1) << x << " " << y;
   }
   EXPECT_GT(tested, 3900);
+}
+
+// A stock face on a lattice line (-12 = origin -32 plus 20) is not cut a hair's width inside it:
+// such a strip's triangles round flat (stress seed 53, case 386).
+TEST(StockFaceCells, NoCellIsASliverWhereTheFaceLiesOnALatticeLine) {
+  const AlignedBox3d stock(Vector3d(-12, -12, -5), Vector3d(12, 12, 0));
+  const std::array<morph::ExactPlane, 6> planes = morph::box_planes(stock);
+  const morph::ConvexPiece top = morph::piece_in_box(planes[5], planes);
+  std::vector<AlignedBox3d> boxes = scattered_boxes(400, 5);
+  for (AlignedBox3d& box : boxes) box.translate(Vector3d(-10, -10, 0));  // over the shifted face
+  std::vector<std::uint32_t> near(boxes.size());
+  for (std::uint32_t j = 0; j < near.size(); ++j) near[j] = j;
+  const morph::CellLattice lattice = morph::CellLattice::of(stock, boxes);
+  ASSERT_EQ(lattice.origin.x(), -32.0);
+  const double finest = std::ldexp(lattice.root, -lattice.depth);
+  ASSERT_EQ(std::fmod(-12.0 - lattice.origin.x(), finest), 0.0);  // the face's edge is a lattice line
+  const std::vector<morph::FaceCell> cells = morph::stock_face_cells(top, near, boxes, lattice, 8);
+  ASSERT_GT(cells.size(), 16u);
+  for (const morph::FaceCell& cell : cells) {
+    AlignedBox3d extent;
+    for (const Vector3d& x : morph::corners(cell.piece)) extent.extend(x);
+    EXPECT_GT(extent.sizes().x(), 0.25 * finest);
+    EXPECT_GT(extent.sizes().y(), 0.25 * finest);
+  }
 }
 
 TEST(StockFaceCells, AFaceFewSweepsMeetIsOneCell) {

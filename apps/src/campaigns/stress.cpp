@@ -281,15 +281,18 @@ CaseResult run_case(std::uint64_t seed, std::size_t index, const StressOptions& 
   result.peak_rss_mib = process_peak_rss_mib();
   if (result.peak_rss_mib > options.max_peak_rss_mib) fail(result, "memory_bounded");
   result.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-  // Keep the failing case's job (and stock mesh) as a standalone reproduction.
-  if (!result.failures.empty()) {
+  // Keep the job (and stock mesh) of a failing case, or of one where a generator fallback fired
+  // (their target is zero), as a standalone reproduction.
+  const bool fallback_fired = std::any_of(result.fallbacks.begin(), result.fallbacks.end(),
+                                          [](const auto& f) { return f.second > 0; });
+  if (!result.failures.empty() || fallback_fired) {
     try {
       const StressCase c = make_case(seed, index, case_space(options));
-      const fs::path failures = fs::path(options.out_dir) / "failures";
-      write_case(c, failures.string(), case_name(index) + ".json");
-      write_text(failures / (case_name(index) + ".result.json"), case_to_json(result).dump(2) + "\n");
+      const fs::path kept = fs::path(options.out_dir) / (result.failures.empty() ? "fallbacks" : "failures");
+      write_case(c, kept.string(), case_name(index) + ".json");
+      write_text(kept / (case_name(index) + ".result.json"), case_to_json(result).dump(2) + "\n");
     } catch (const std::exception& e) {
-      result.error += std::string(result.error.empty() ? "" : "; ") + "writing the failure: " + e.what();
+      result.error += std::string(result.error.empty() ? "" : "; ") + "writing the reproduction: " + e.what();
     }
   }
   std::error_code ignored;

@@ -95,7 +95,8 @@ void register_stress_command(CLI::App& app) {
       "stock; box, cylinder and mesh stock; sphere and ball-end tools; with --families motion the\n"
       "motions of real programs and every tool shape) and check invariants on each.\n"
       "Writes DIR/campaign.json, DIR/cases/ (each finished case), DIR/failures/case_NNNNNN.json for every\n"
-      "failing case and, last, DIR/summary.md and DIR/summary.json.\n"
+      "failing case, DIR/fallbacks/ for every passing case on which a generator fallback fired and,\n"
+      "last, DIR/summary.md and DIR/summary.json.\n"
       "SIGINT/SIGTERM stop cleanly: the cases in flight finish, the summary says what is missing, and\n"
       "'morphmill stress --resume DIR' runs only the cases not finished.\n"
       "Exit code 0 when every case ran and passed, 1 when any invariant fails, 2 for bad input,\n"
@@ -118,11 +119,12 @@ void register_stress_command(CLI::App& app) {
       ->capture_default_str();
   add_generator_option(*command, options->generator);
   command
-      ->add_option("--families", options->families,
-                   "Case families: classic (the default), motion (retrace, plunge_retract, reversal,\n"
-                   "submicron, arcs, cutout, self_crossing, mixed_tools, fine_steps: box stock; mesh_stock:\n"
-                   "a box as a mesh of slivers; every tool shape the generator builds), all, or family names\n"
-                   "separated by commas")
+      ->add_option(
+          "--families", options->families,
+          "Case families: classic (the default), motion (retrace, plunge_retract, reversal,\n"
+          "submicron, arcs, cutout, self_crossing, mixed_tools, fine_steps: box stock; mesh_stock:\n"
+          "a box as a mesh of slivers; every tool shape the generator builds), all, or family names\n"
+          "separated by commas")
       ->capture_default_str();
   command
       ->add_option("--samples", options->face_samples, "Area-uniform deviation samples per surface and case")

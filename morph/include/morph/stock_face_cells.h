@@ -12,8 +12,9 @@
 /// name their corners by the same planes (conform.h). A cell is split while its part of the face
 /// meets more than `sweeps_per_cell` sweeps' boxes and it is larger than the lattice's finest
 /// cell, a quarter of the smallest sweep box's side: a point that many sweeps cover needs no
-/// finer cells to drop them. The cell planes lie off the grid of quantize.h by a small odd offset,
-/// so no grid vertex of the sweeps lies on them.
+/// finer cells to drop them. The cell planes lie off the lattice lines by 0.382 of a finest cell
+/// (2 minus the golden ratio), so no grid vertex of quantize.h and no round stock face lies on
+/// them or a sliver's width from them.
 #include <morph/facet_clipping.h>
 
 #include <Eigen/Geometry>

@@ -11,6 +11,8 @@ namespace {
 constexpr int kDeepest = 20;
 // Cell planes rank after the stock's own planes and before the helper box's (stock_polytope.cpp).
 constexpr std::uint32_t kCellRank = 0xC0000000u;
+// 2 - golden ratio: as far from every simple fraction of a cell as a number can be.
+constexpr double kCellPhase = 0.3819660112501051;
 
 Eigen::AlignedBox3d reach_of(const ConvexPiece& piece) {
   Eigen::AlignedBox3d box;
@@ -73,9 +75,10 @@ ExactPlane CellLattice::plane(int axis, std::int64_t index) const {
   const double step = std::ldexp(root, -depth);
   Eigen::Vector3d normal = Eigen::Vector3d::Zero();
   normal[axis] = 1.0;
-  // Off the lattice by 2^-20 of a finest cell: stock faces and sweep ends at round numbers of
-  // the job's units are not on a cell plane.
-  const double offset = origin[axis] + static_cast<double>(index) * step + std::ldexp(step, -20);
+  // Off the lattice by a fraction of a finest cell that no power of two divides: stock faces and
+  // sweep ends at round numbers of the job's units are neither on a cell plane nor a sliver's
+  // width from one (a stock face on a lattice line would be cut into a strip that rounds flat).
+  const double offset = origin[axis] + (static_cast<double>(index) + kCellPhase) * step;
   const auto rank = kCellRank + (static_cast<std::uint32_t>(axis) << 24) + static_cast<std::uint32_t>(index);
   return ExactPlane{normal, offset, stock_rank(rank), 1};
 }
