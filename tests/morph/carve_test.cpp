@@ -188,3 +188,19 @@ TEST(Carve, PlungeAndRetractIsThePlunge) {
 }
 
 }  // namespace
+
+// The reach of a piece holds its corners and meets a box that only touches it, but grows by no
+// more than 1e-7 of the coordinates' size.
+TEST(Carve, APiecesReachHoldsItsCornersAndMeetsWhatTouchesIt) {
+  const Eigen::AlignedBox3d stock(Vector3d(1000, -3, -2), Vector3d(1004, 5, 0));
+  const std::array<morph::ExactPlane, 6> planes = morph::box_planes(stock);
+  const morph::ConvexPiece top = morph::piece_in_box(planes[5], planes);
+  const Eigen::AlignedBox3d reach = morph::reach_of(top);
+  for (const Vector3d& x : morph::corners(top)) EXPECT_TRUE(reach.contains(x));
+  const Eigen::AlignedBox3d touching(Vector3d(1004, 5, 0), Vector3d(1010, 9, 3));
+  EXPECT_TRUE(reach.intersects(touching));
+  const Eigen::AlignedBox3d beside(Vector3d(1004.001, -3, -2), Vector3d(1010, 9, 3));
+  EXPECT_FALSE(reach.intersects(beside));
+  EXPECT_LT((reach.max() - Vector3d(1004, 5, 0)).maxCoeff(), 1e-7 * 1005 + 1e-12);
+  EXPECT_GT((reach.max() - Vector3d(1004, 5, 0)).minCoeff(), 0.0);
+}

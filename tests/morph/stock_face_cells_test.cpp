@@ -27,14 +27,6 @@ std::vector<AlignedBox3d> scattered_boxes(std::size_t count, unsigned seed) {
   return boxes;
 }
 
-AlignedBox3d reach_of(const morph::ConvexPiece& piece) {
-  AlignedBox3d box;
-  for (const Vector3d& x : morph::corners(piece)) box.extend(x);
-  box.min().array() -= 1e-7 * (1 + box.min().cwiseAbs().maxCoeff());
-  box.max().array() += 1e-7 * (1 + box.max().cwiseAbs().maxCoeff());
-  return box;
-}
-
 // True when (x, y) lies inside the convex polygon of the corners (counter-clockwise seen from
 // +z), farther than `margin` from every edge; `near_edge` is set when it is within the margin.
 bool inside_xy(const std::vector<Vector3d>& polygon, double x, double y, double margin, bool& near_edge) {
@@ -89,7 +81,7 @@ TEST(StockFaceCells, CellsPartitionTheFaceAndListTheSweepsThatMeetThem) {
     area += morph::area_vector(cell.piece).z();
     polygons.push_back(morph::corners(cell.piece));
     // Exactly the listed sweeps whose boxes meet the cell's part, in order.
-    const AlignedBox3d reach = reach_of(cell.piece);
+    const AlignedBox3d reach = morph::reach_of(cell.piece);
     std::vector<std::uint32_t> meeting;
     for (std::uint32_t j : near)
       if (reach.intersects(boxes[j])) meeting.push_back(j);
@@ -155,7 +147,7 @@ TEST(StockFaceCells, AFaceFewSweepsMeetIsOneCell) {
   // The boxes that meet the face (some lie beside it).
   std::vector<std::uint32_t> meeting;
   for (std::uint32_t j : near)
-    if (reach_of(top).intersects(boxes[j])) meeting.push_back(j);
+    if (morph::reach_of(top).intersects(boxes[j])) meeting.push_back(j);
   EXPECT_LT(meeting.size(), near.size());
   EXPECT_EQ(cells[0].sweeps, meeting);
 }

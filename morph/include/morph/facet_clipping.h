@@ -113,4 +113,12 @@ std::vector<Eigen::Vector3d> corners(const ConvexPiece& piece);
 /// Area times the support's unit normal direction, from the rounded corners (square units).
 Eigen::Vector3d area_vector(const ConvexPiece& piece);
 
+/// `box` grown by 1e-7 of its coordinates' size (job units): a box of rounded corners then holds
+/// the exact ones, and boxes that only touch the exact piece meet it (touching counts wherever
+/// the carvings ask which sweeps reach a piece).
+Eigen::AlignedBox3d grown_for_rounding(Eigen::AlignedBox3d box);
+
+/// The box of the piece's rounded corners, grown_for_rounding(): what may reach the piece meets it.
+Eigen::AlignedBox3d reach_of(const ConvexPiece& piece);
+
 }  // namespace morph

@@ -25,9 +25,7 @@ std::vector<ConvexPiece> minus_sweeps(std::vector<ConvexPiece> pieces, std::int3
     if (static_cast<std::int32_t>(j) == skip) continue;
     Eigen::AlignedBox3d reach;
     for (const ConvexPiece& p : pieces) reach.extend(piece_box(p));
-    // Grown a little: the rounded corners are not the exact ones, and touching counts.
-    reach.min().array() -= 1e-7 * (1 + reach.min().cwiseAbs().maxCoeff());
-    reach.max().array() += 1e-7 * (1 + reach.max().cwiseAbs().maxCoeff());
+    reach = grown_for_rounding(reach);
     if (!reach.intersects(sweep_boxes[j])) continue;
     ++counts.cutters;
     std::vector<ConvexPiece> next;

@@ -271,6 +271,18 @@ std::vector<Eigen::Vector3d> corners(const ConvexPiece& piece) {
   return points;
 }
 
+Eigen::AlignedBox3d grown_for_rounding(Eigen::AlignedBox3d box) {
+  box.min().array() -= 1e-7 * (1 + box.min().cwiseAbs().maxCoeff());
+  box.max().array() += 1e-7 * (1 + box.max().cwiseAbs().maxCoeff());
+  return box;
+}
+
+Eigen::AlignedBox3d reach_of(const ConvexPiece& piece) {
+  Eigen::AlignedBox3d box;
+  for (const Eigen::Vector3d& x : corners(piece)) box.extend(x);
+  return grown_for_rounding(box);
+}
+
 Eigen::Vector3d area_vector(const ConvexPiece& piece) {
   const std::vector<Eigen::Vector3d> p = corners(piece);
   Eigen::Vector3d sum = Eigen::Vector3d::Zero();

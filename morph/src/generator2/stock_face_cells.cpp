@@ -14,15 +14,6 @@ constexpr std::uint32_t kCellRank = 0xC0000000u;
 // 2 - golden ratio: as far from every simple fraction of a cell as a number can be.
 constexpr double kCellPhase = 0.3819660112501051;
 
-Eigen::AlignedBox3d reach_of(const ConvexPiece& piece) {
-  Eigen::AlignedBox3d box;
-  for (const Eigen::Vector3d& x : corners(piece)) box.extend(x);
-  // The rounded corners are not the exact ones, and touching counts (as the carvings grow theirs).
-  box.min().array() -= 1e-7 * (1 + box.min().cwiseAbs().maxCoeff());
-  box.max().array() += 1e-7 * (1 + box.max().cwiseAbs().maxCoeff());
-  return box;
-}
-
 struct Split {
   const std::vector<Eigen::AlignedBox3d>& boxes;
   const CellLattice& lattice;

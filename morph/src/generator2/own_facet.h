@@ -1,0 +1,72 @@
+// SPDX-License-Identifier: Apache-2.0
+#pragma once
+/// \file own_facet.h
+/// A kept sweep facet within the stock and its own sweep polytope: the piece the culled carving
+/// then cuts by the facet's cutters (carve_culled.h). Of a sweep's planes (a tool facet's at each
+/// end, a silhouette edge's along the move), only those that may reach the facet are clipped by:
+/// the tool's facet groups (tool_facet_groups.h) bound a group's planes over balls holding the
+/// facet's points, and a plane below every ball holds the piece strictly inside, so clipping by
+/// it would change nothing. Balls about exact corners also serve the stock pieces' tests.
+#include <morph/carve.h>
+#include <morph/facet_clipping.h>
+#include <morph/stock_polytope.h>
+#include <morph/sweep_polytope.h>
+
+#include "generator2/tool_facet_groups.h"
+
+#include <Eigen/Core>
+#include <optional>
+#include <utility>
+#include <vector>
+
+namespace morph {
+
+using Ball = std::pair<Eigen::Vector3d, double>;  ///< centre, radius (job units)
+
+/// A sweep's own planes (sweep_planes() of its halfspaces) with what finds the ones that reach a
+/// region without testing them all: the tool's facet groups and the sweep's ordered ends.
+struct OwnPlanes {
+  std::vector<ExactPlane> planes;
+  std::vector<double> lengths;  ///< of the planes' normals
+  const ToolFacetGroups* groups = nullptr;
+  Eigen::Vector3d a, b;
+  std::size_t tool_facets = 0;    ///< planes[k] for k below this is tool facet k placed at a or b
+  std::vector<bool> at_b;         ///< per tool facet: placed at b (motion_side() > 0)
+  std::vector<signed char> side;  ///< per tool facet: motion_side() (-1 for a degenerate move)
+  std::vector<int> silhouette;    ///< the silhouette edges (index in edges()), in facet order
+  std::vector<char> group_ends;   ///< per facet group: 1 if a member is placed at a, 2 at b, 3 both
+  double max_offset = 0.0;
+};
+
+/// The own planes of the sweep of `builder`'s tool from `from` to `to`, ranked as move `move`'s
+/// (sweep_planes()); `members[g]`: the tool facets of facet group g of `groups`.
+OwnPlanes own_planes(const SweepPolytopeBuilder& builder, const ToolFacetGroups& groups,
+                     const std::vector<std::vector<int>>& members, const Eigen::Vector3d& from,
+                     const Eigen::Vector3d& to, std::uint32_t move);
+
+/// own_facet()'s working memory, one per thread.
+struct OwnFacetScratch {
+  std::vector<char> marks;  ///< flags of the planes reached, all clear between calls
+  std::vector<double> lengths;
+  std::vector<char> applied;  ///< per own plane: clipped by in the first loop
+  std::vector<std::size_t> applied_index;
+  std::vector<ExactPlane> near, reaching;
+};
+
+/// The points of sweep facet `f` as the builder places it (tool vertices at the ordered ends),
+/// for choosing which of the sweep's planes can bound it; the exact facet is decided by all.
+std::vector<Eigen::Vector3d> facet_points(const SweepPolytopeBuilder& builder, const OwnPlanes& own, int f);
+
+/// Facet f of the sweep (`points`: facet_points()) within the stock and its own polytope, exact.
+ConvexPiece own_facet(const OwnPlanes& own, int f, const std::vector<Eigen::Vector3d>& points,
+                      const StockPolytope& stock, OwnFacetScratch& scratch);
+
+/// A ball holding the exact corners of `piece`; none when the corners cannot be bounded.
+std::optional<Ball> corner_ball(const ConvexPiece& piece);
+
+/// True when `plane`'s value is below -threshold everywhere in every ball, with room for the
+/// rounding of this test and of any point's value in them (a millionth of the thresholds used).
+/// `length`: the plane's normal's.
+bool below_in_balls(const ExactPlane& plane, double length, const std::vector<Ball>& balls, double threshold);
+
+}  // namespace morph

@@ -1,0 +1,305 @@
+// SPDX-License-Identifier: Apache-2.0
+// Step 5 of the culling (sweep_culling.h): a facet against a candidate sweep's halfspaces, after
+// the facet is cut to the stock.
+#include <morph/aabb_tree.h>
+#include <morph/sweep_culling.h>
+
+#include "generator2/sweep_culling_facets.h"
+#include "generator2/tool_facet_groups.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <optional>
+
+namespace morph {
+namespace {
+
+using Eigen::AlignedBox3d;
+using Eigen::Vector3d;
+
+bool same_plane(const SweepCulling::FacePlane& p, const SweepCulling::FacePlane& q) {
+  return p.normal == q.normal && p.offset == q.offset;
+}
+
+// The facet's corners in loop order, from the points the plane tests use (a tool facet's loop
+// at one end; a silhouette edge u, w at the ordered start and end: u+a, u+b, w+a, w+b; a facet
+// clipped to the stock: its polygon), without the centroid appended last.
+std::vector<Vector3d> ordered_polygon(bool silhouette, const std::vector<Vector3d>& points) {
+  if (silhouette) return {points[0], points[2], points[3], points[1]};
+  return std::vector<Vector3d>(points.begin(), points.end() - 1);
+}
+
+// The part of the convex polygon inside the box (Sutherland-Hodgman, one face at a time).
+void clip_to_box(std::vector<Vector3d>& polygon, const AlignedBox3d& box) {
+  std::vector<Vector3d> kept;
+  for (int axis = 0; axis < 3 && polygon.size() >= 3; ++axis)
+    for (const bool upper : {false, true}) {
+      const double bound = upper ? box.max()[axis] : box.min()[axis];
+      const auto value = [&](const Vector3d& x) { return upper ? x[axis] - bound : bound - x[axis]; };
+      kept.clear();
+      for (std::size_t k = 0; k < polygon.size(); ++k) {
+        const Vector3d &x = polygon[k], &y = polygon[(k + 1) % polygon.size()];
+        const double vx = value(x), vy = value(y);
+        if (vx <= 0.0) kept.push_back(x);
+        if ((vx < 0.0 && vy > 0.0) || (vx > 0.0 && vy < 0.0)) {
+          Vector3d crossing = x + (y - x) * (vx / (vx - vy));
+          crossing[axis] = bound;  // on the face, whatever the rounding of the rest
+          kept.push_back(crossing);
+        }
+      }
+      polygon.swap(kept);
+      if (polygon.size() < 3) return;
+    }
+}
+
+// The centroid of the facet's part below the candidate's planes `meeting` (the convex polygon is
+// ordered from the facet's points), a point to prove inside the candidate; none when that part
+// vanishes.
+template <class PlaneOf>
+std::optional<Vector3d> clipped_centroid(std::vector<Vector3d> polygon, const PlaneOf& plane_of,
+                                         const std::vector<int>& meeting) {
+  std::vector<Vector3d> below;
+  for (int h : meeting) {
+    const SweepCulling::FacePlane plane = plane_of(h);
+    below.clear();
+    for (std::size_t k = 0; k < polygon.size(); ++k) {
+      const Vector3d &x = polygon[k], &y = polygon[(k + 1) % polygon.size()];
+      const double vx = plane.normal.dot(x) - plane.offset, vy = plane.normal.dot(y) - plane.offset;
+      if (vx <= 0.0) below.push_back(x);
+      if ((vx < 0.0 && vy > 0.0) || (vx > 0.0 && vy < 0.0)) below.push_back(x + (y - x) * (vx / (vx - vy)));
+    }
+    polygon.swap(below);
+    if (polygon.size() < 3) return std::nullopt;
+  }
+  Vector3d centroid = Vector3d::Zero();
+  for (const Vector3d& x : polygon) centroid += x;
+  return centroid / static_cast<double>(polygon.size());
+}
+
+}  // namespace
+
+// Facet p of move i against candidate j's faces, by halfspaces. `points`: the facet's corners
+// and, last, its centroid. On Cuts, `planes` are the candidate's planes that cut it.
+SweepCulling::Against SweepCulling::against(const Placed& p, std::size_t i, std::uint32_t j,
+                                            const std::vector<Vector3d>& points, const Faces& candidate,
+                                            std::vector<int>& near_faces, std::vector<int>& planes,
+                                            CullingCounts& counts) const {
+  const auto first_silhouette = static_cast<int>(sweeps_.tool().facets.size());
+  const int face_count = first_silhouette + static_cast<int>(candidate.silhouette.size());
+  // Face h's plane and box: a tool facet's placed at the candidate's end by place()'s arithmetic
+  // (the same numbers, bit for bit), a silhouette face's as faces() keeps it. Made here rather
+  // than kept for each of a thread's recent candidates: reading ~700 kept faces of each was
+  // memory-bound (the first touch of a candidate's faces alone was a tenth of against()).
+  auto face_plane = [&](int h) -> FacePlane {
+    if (h >= first_silhouette)
+      return candidate.silhouette[static_cast<std::size_t>(h - first_silhouette)].plane;
+    const FacePlane& t = tool_planes_[static_cast<std::size_t>(h)];
+    const Vector3d& at = candidate.side[static_cast<std::size_t>(h)] > 0 ? candidate.b : candidate.a;
+    return {t.normal, t.offset + t.normal.dot(at)};
+  };
+  auto face_box = [&](int h) -> AlignedBox3d {
+    if (h >= first_silhouette)
+      return candidate.silhouette[static_cast<std::size_t>(h - first_silhouette)].box;
+    const AlignedBox3d& t = tool_facet_boxes_[static_cast<std::size_t>(h)];
+    const int side = candidate.side[static_cast<std::size_t>(h)];
+    AlignedBox3d box;
+    if (side == 0) {
+      box = AlignedBox3d(t.min() + candidate.a, t.max() + candidate.a);
+      box.extend(AlignedBox3d(t.min() + candidate.b, t.max() + candidate.b));
+    } else {
+      const Vector3d& at = side > 0 ? candidate.b : candidate.a;
+      box = AlignedBox3d(t.min() + at, t.max() + at);
+    }
+    return AlignedBox3d(box.min().array() - rounding_, box.max().array() + rounding_);
+  };
+  auto value = [&](int h, const Vector3d& x) {
+    const FacePlane plane = face_plane(h);
+    return plane.normal.dot(x) - plane.offset;
+  };
+  // A face in the facet's own plane is the tie: below an earlier polytope's plane, above a later one's.
+  // Only the same tool facet, or a silhouette face, can have the facet's plane bit for bit.
+  int tie_face = -1;
+  if (p.tool_facet >= 0) {
+    if (same_plane(face_plane(p.tool_facet), p.plane)) tie_face = p.tool_facet;
+  } else {
+    for (int h = first_silhouette; h < face_count && tie_face < 0; ++h)
+      if (same_plane(face_plane(h), p.plane)) tie_face = h;
+  }
+  auto tie = [&](int h) { return h == tie_face; };
+  auto above = [&](int h) {
+    const FacePlane plane = face_plane(h);
+    return std::all_of(points.begin(), points.end(),
+                       [&](const Vector3d& x) { return plane.normal.dot(x) - plane.offset >= rounding_; });
+  };
+  // A face's plane against the facet's points: true when the facet lies above it (apart); a plane
+  // the facet straddles goes into `planes`.
+  auto separates_or_crosses = [&](int h) {
+    double lo = std::numeric_limits<double>::infinity(), hi = -lo;
+    const FacePlane plane = face_plane(h);
+    for (const Vector3d& x : points) {
+      const double v = plane.normal.dot(x) - plane.offset;
+      lo = std::min(lo, v);
+      hi = std::max(hi, v);
+    }
+    if (lo >= rounding_) return true;
+    if (hi > -rounding_) planes.push_back(h);
+    return false;
+  };
+  // The faces' loops below skip the tool facets' groups that cannot reach the threshold
+  // (tool_facet_groups.h): the silhouette faces, from index `first_silhouette` on, go one by one.
+  auto inside = [&](const Vector3d& x) {
+    // The inner bounds first: deeper than the slack inside the tool's inscribed ball or cylinder.
+    if (ball_inside_sweep(bounds_, candidate.a, candidate.b, x, 0.0)) return true;
+    if (!facet_groups_->for_each_reaching(x, 0.0, candidate.a, candidate.b, -rounding_,
+                                          [&](int h) { return tie(h) || value(h, x) <= -rounding_; }))
+      return false;
+    for (int h = first_silhouette; h < face_count; ++h)
+      if (!tie(h) && value(h, x) > -rounding_) return false;
+    return true;
+  };
+  // The candidate's planes of the facet's own tool facets first: where two sweeps are apart,
+  // one of them usually shows it.
+  const int left = p.edge >= 0 ? sweeps_.edges()[p.edge].left : p.tool_facet;
+  const int right = p.edge >= 0 ? sweeps_.edges()[p.edge].right : -1;
+  for (int h : {left, right})
+    if (h >= 0 && !tie(h) && above(h)) return Against::Apart;
+  // Only the faces whose boxes meet the facet's can meet it: their planes either show it apart,
+  // or leave it below (then it meets no face: wholly inside or wholly outside), or cross it.
+  AlignedBox3d box = p.box;
+  box.min().array() -= rounding_;
+  box.max().array() += rounding_;
+  // Found from the tool's facets and edges: a face placed at a (or b) meets the box only if its
+  // tool facet meets the box moved by -a (or -b); a face swept along [a, b] only if it meets the
+  // box swept along [-b, -a].
+  near_faces.clear();
+  const Vector3d& a = candidate.a;
+  const Vector3d& b = candidate.b;
+  // One walk of the tree with the swept box, which holds the box moved by -a and by -b; each
+  // facet placed at an end is then tested against its own (the set of three walks).
+  const AlignedBox3d at_a(box.min() - a, box.max() - a), at_b(box.min() - b, box.max() - b);
+  const AlignedBox3d swept(box.min() - a.cwiseMax(b), box.max() - a.cwiseMin(b));
+  tool_facet_tree_->for_each_overlapping(swept, [&](std::size_t k) {
+    const int side = candidate.side[k];
+    if (side == 0 || tool_facet_tree_->box(k).intersects(side < 0 ? at_a : at_b))
+      near_faces.push_back(static_cast<int>(k));
+  });
+  tool_edge_tree_->for_each_overlapping(swept, [&](std::size_t e) {
+    if (candidate.face_of_edge[e] >= 0) near_faces.push_back(candidate.face_of_edge[e]);
+  });
+  // Whether any face shows the facet apart does not depend on their order; only the crossing
+  // planes are sorted, below, into the face order the cutter lists them in.
+  planes.clear();
+  for (int h : near_faces) {
+    if (!face_box(h).intersects(box)) continue;
+    if (tie(h)) {
+      if (j > i) return Against::Apart;
+      continue;
+    }
+    if (separates_or_crosses(h)) return Against::Apart;
+  }
+  std::sort(planes.begin(), planes.end());
+  const Vector3d& centroid = points.back();
+  if (planes.empty()) {
+    if (inside(centroid)) return Against::Inside;
+    if (!facet_groups_->for_each_reaching(centroid, 0.0, candidate.a, candidate.b, rounding_,
+                                          [&](int h) { return value(h, centroid) < rounding_; }))
+      return Against::Apart;
+    for (int h = first_silhouette; h < face_count; ++h)
+      if (value(h, centroid) >= rounding_) return Against::Apart;
+  } else {
+    // With a point of the facet inside the candidate, the facet's part inside it is its part
+    // below the crossing planes (a segment from that point leaves the candidate through a face
+    // meeting the facet).
+    const bool swept = p.tool_facet >= 0 && p.placement == 0;
+    // Proven inside by every face of the candidate, the tie's too (the tool facets' groups skip
+    // those certainly below, as in `inside`).
+    auto below_every_face = [&](const Vector3d& x) {
+      if (!facet_groups_->for_each_reaching(x, 0.0, candidate.a, candidate.b, -rounding_,
+                                            [&](int h) { return value(h, x) <= -rounding_; }))
+        return false;
+      for (int h = first_silhouette; h < face_count; ++h)
+        if (value(h, x) > -rounding_) return false;
+      return true;
+    };
+    if (std::any_of(points.begin(), points.end(), inside)) return Against::Cuts;
+    if (!swept) {
+      const std::optional<Vector3d> centroid =
+          clipped_centroid(ordered_polygon(p.edge >= 0 && !p.clipped, points), face_plane, planes);
+      if (centroid && below_every_face(*centroid)) return Against::Cuts;
+    }
+  }
+  // Undecided within the rounding: every plane that crosses the facet.
+  ++counts.without_witness;
+  planes.clear();
+  double radius = 0.0;
+  for (const Vector3d& x : points) radius = std::max(radius, (x - centroid).norm());
+  if (!facet_groups_->for_each_reaching(centroid, radius, candidate.a, candidate.b, -rounding_,
+                                        [&](int h) { return tie(h) || !separates_or_crosses(h); }))
+    return Against::Apart;
+  for (int h = first_silhouette; h < face_count; ++h) {
+    if (tie(h)) continue;
+    if (separates_or_crosses(h)) return Against::Apart;
+  }
+  std::sort(planes.begin(), planes.end());  // in face order, as the cutter lists them
+  return planes.empty() ? Against::Inside : Against::Cuts;
+}
+
+// The points the plane tests take of facet p of the sweep along [a, b] (ordered ends): its
+// corners (a tool facet's loop at its end or ends, a silhouette edge's u+a, u+b, w+a, w+b) and
+// last their centroid. Only the facet's part in the stock is carved, so a facet reaching out of
+// the stock (grown by the rounding) is cut to it first: a V-bit's facet runs from its tip to its
+// rim, far above a shallow engraving, and its bounds met every sweep nearby while its part in
+// the stock met few. Then the points are the cut polygon's, in order, and p's bounds are theirs.
+// False when nothing of the facet is left (a tool facet swept along the move is not cut).
+bool SweepCulling::cut_to_stock(Placed& p, const Vector3d& a, const Vector3d& b,
+                                std::vector<Vector3d>& points) const {
+  const ConvexPolytope& tool = sweeps_.tool();
+  points.clear();
+  auto add = [&](int v) {
+    if (p.placement <= 0) points.push_back(tool.vertices[v] + a);
+    if (p.placement >= 0) points.push_back(tool.vertices[v] + b);
+  };
+  if (p.tool_facet >= 0) {
+    for (int v : tool.facets[p.tool_facet].loop) add(v);
+  } else {
+    add(sweeps_.edges()[p.edge].from);
+    add(sweeps_.edges()[p.edge].to);
+  }
+  const AlignedBox3d stock(stock_.min().array() - rounding_, stock_.max().array() + rounding_);
+  const bool swept = p.tool_facet >= 0 && p.placement == 0;
+  if (!swept &&
+      !std::all_of(points.begin(), points.end(), [&](const Vector3d& x) { return stock.contains(x); })) {
+    if (p.edge >= 0) points = {points[0], points[2], points[3], points[1]};
+    clip_to_box(points, stock);
+    if (points.size() < 3) return false;
+    p.clipped = true;
+    p.box = AlignedBox3d();
+    for (const Vector3d& x : points) p.box.extend(x);
+    p.centre = Vector3d::Zero();
+    for (const Vector3d& x : points) p.centre += x;
+    p.centre /= static_cast<double>(points.size());
+    p.radius = 0.0;
+    for (const Vector3d& x : points) p.radius = std::max(p.radius, (x - p.centre).norm());
+    if (p.placement == 0) {  // a silhouette edge's face: the capsule along its motion
+      const Vector3d axis = p.to - p.from;
+      double low = std::numeric_limits<double>::infinity(), high = -low, thickness = 0.0;
+      for (const Vector3d& x : points) {
+        const double t = (x - p.from).dot(axis) / axis.squaredNorm();
+        low = std::min(low, t);
+        high = std::max(high, t);
+        thickness = std::max(thickness, (x - (p.from + t * axis)).norm());
+      }
+      const Vector3d from = p.from + low * axis, to = p.from + high * axis;
+      p.from = from, p.to = to, p.thickness = thickness;
+    } else {
+      p.from = p.to = p.centre;
+    }
+  }
+  Vector3d centroid = Vector3d::Zero();
+  for (const Vector3d& x : points) centroid += x;
+  points.push_back(centroid / static_cast<double>(points.size()));  // inside the facet
+  return true;
+}
+
+}  // namespace morph
