@@ -84,14 +84,12 @@ class SweepCulling {
     FacePlane plane;
     Eigen::AlignedBox3d box;  ///< grown by the rounding bound
   };
-  /// A candidate sweep's faces, in facet order, with what finds them from the tool's facets
-  /// and edges: the side of each tool facet and the face of each silhouette edge (-1: none).
-  /// A tool facet's face is made from the tool and the side when read (against()): only the
-  /// silhouette faces, which cost a plane each to make, are kept.
+  /// A candidate sweep's faces, in facet order: the side of each tool facet, and the silhouette
+  /// faces. A tool facet's face is made from the tool and the side when read (against()): only
+  /// the silhouette faces, which cost a plane each to make, are kept.
   struct Faces {
     std::vector<Face> silhouette;  ///< the faces from index tool().facets.size() on
     std::vector<signed char> side;
-    std::vector<int> face_of_edge;
     Eigen::Vector3d a, b;  ///< the ordered ends (both the start for a degenerate move)
   };
   /// Per-thread working memory: the faces of recent candidates, which the next moves share.
@@ -136,8 +134,8 @@ class SweepCulling {
   bool cut_to_stock(Placed& p, const Eigen::Vector3d& a, const Eigen::Vector3d& b,
                     std::vector<Eigen::Vector3d>& points) const;
   Culled decide(const Placed& p, std::size_t i, const Ends& own, const std::vector<const Candidate*>& near,
-                const std::vector<Eigen::Vector3d>& vertices, KeptFacet& keep, CullingCounts& counts,
-                Scratch& scratch) const;
+                const std::vector<Eigen::Vector3d>& vertices, const Candidate*& prover, KeptFacet& keep,
+                CullingCounts& counts, Scratch& scratch) const;
   Against against(const Placed& p, std::size_t i, std::uint32_t j, const std::vector<Eigen::Vector3d>& points,
                   const Faces& faces, std::vector<int>& near_faces, std::vector<int>& planes,
                   CullingCounts& counts) const;
@@ -157,7 +155,6 @@ class SweepCulling {
   double rounding_ = 0.0;                          ///< plane values within this of zero are undecided
   std::unique_ptr<AabbTree> tree_;                 ///< the sweeps' boxes
   std::unique_ptr<AabbTree> tool_facet_tree_;      ///< the tool facets' boxes (grown by the rounding)
-  std::unique_ptr<AabbTree> tool_edge_tree_;       ///< the tool edges' boxes (grown by the rounding)
   std::unique_ptr<ToolFacetGroups> facet_groups_;  ///< which faces can reach a point (all-face loops)
 };
 

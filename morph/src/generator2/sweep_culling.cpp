@@ -84,16 +84,10 @@ SweepCulling::SweepCulling(const SweepPolytopeBuilder& sweeps, std::vector<Move>
     box.max().array() += rounding_;
   }
   tree_ = std::make_unique<AabbTree>(std::move(boxes));
-  std::vector<AlignedBox3d> facet_boxes, edge_boxes;
+  std::vector<AlignedBox3d> facet_boxes;
   for (const AlignedBox3d& box : tool_facet_boxes_)
     facet_boxes.emplace_back(box.min().array() - rounding_, box.max().array() + rounding_);
-  for (const SweepPolytopeBuilder::Edge& e : sweeps_.edges()) {
-    AlignedBox3d box(tool.vertices[e.from]);
-    box.extend(tool.vertices[e.to]);
-    edge_boxes.emplace_back(box.min().array() - rounding_, box.max().array() + rounding_);
-  }
   tool_facet_tree_ = std::make_unique<AabbTree>(std::move(facet_boxes));
-  tool_edge_tree_ = std::make_unique<AabbTree>(std::move(edge_boxes));
   facet_groups_ = std::make_unique<ToolFacetGroups>(tool);
 }
 
@@ -184,7 +178,6 @@ const SweepCulling::Faces& SweepCulling::faces(std::uint32_t j, Scratch& scratch
   faces.a = ends.first;
   faces.b = ends.second;
   faces.side.assign(tool.facets.size(), -1);
-  faces.face_of_edge.assign(sweeps_.edges().size(), -1);
   if (!degenerate) {
     motion_sides(tool, faces.b - faces.a, faces.side);
     int index = static_cast<int>(tool.facets.size());
@@ -197,7 +190,7 @@ const SweepCulling::Faces& SweepCulling::faces(std::uint32_t j, Scratch& scratch
       const Placed p = silhouette_face(e, index, faces.a, faces.b);
       faces.silhouette.push_back(
           {p.plane, AlignedBox3d(p.box.min().array() - rounding_, p.box.max().array() + rounding_)});
-      faces.face_of_edge[e] = index++;
+      ++index;
     }
   }
   // The candidates of the last few hundred moves: a raster's neighbouring rows (about 60 kB each).
@@ -221,13 +214,22 @@ const SweepCulling::Faces& SweepCulling::faces(std::uint32_t j, Scratch& scratch
 // and only then the halfspaces, which are the cost.
 SweepCulling::Culled SweepCulling::decide(const Placed& p, std::size_t i, const Ends& own,
                                           const std::vector<const Candidate*>& near,
-                                          const std::vector<Vector3d>& vertices, KeptFacet& keep,
-                                          CullingCounts& counts, Scratch& scratch) const {
+                                          const std::vector<Vector3d>& vertices, const Candidate*& prover,
+                                          KeptFacet& keep, CullingCounts& counts, Scratch& scratch) const {
   const ConvexPolytope& tool = sweeps_.tool();
   const Vector3d &a = own.a, &b = own.b;
   const Vector3d& n = p.plane.normal;
   // A swept face's plane holds a, and b only to within 1e-12·|b - a| (motion_side()).
   const double reach_i = p.tool_facet >= 0 && p.placement == 0 ? n.dot(a) : std::max(n.dot(a), n.dot(b));
+  // The candidate that held the last facet culled by the bounds first: the next facets of the
+  // cluster are often in it too. Any candidate holding the facet culls it, so the order of these
+  // proofs changes nothing but their count.
+  if (prover) {
+    ++counts.bound_tests;
+    if (ball_inside_sweep(bounds_, prover->a, prover->b, p.centre, p.radius) ||
+        points_inside_sweep(bounds_, prover->a, prover->b, vertices))
+      return Culled::Bound;
+  }
   std::vector<const Candidate*>& open = scratch.open_;
   open.clear();
   for (const Candidate* c : near) {
@@ -254,9 +256,11 @@ SweepCulling::Culled SweepCulling::decide(const Placed& p, std::size_t i, const 
       }
     }
     ++counts.bound_tests;
-    if (ball_inside_sweep(bounds_, c->a, c->b, p.centre, p.radius) ||
-        points_inside_sweep(bounds_, c->a, c->b, vertices))
+    if (c != prover && (ball_inside_sweep(bounds_, c->a, c->b, p.centre, p.radius) ||
+                        points_inside_sweep(bounds_, c->a, c->b, vertices))) {
+      prover = c;
       return Culled::Bound;
+    }
     if (ball_misses_sweep(bounds_, c->a, c->b, p.centre, p.radius) ||
         (p.placement == 0 && capsule_misses_sweep(bounds_, c->a, c->b, p.from, p.to, p.thickness)))
       continue;
@@ -354,6 +358,7 @@ std::vector<KeptFacet> SweepCulling::cull(std::size_t i, CullingCounts& counts, 
   std::vector<KeptFacet> kept;
   std::vector<const Candidate*> near, reaching;
   const Candidate* last_hider = nullptr;
+  const Candidate* last_prover = nullptr;
   for (std::size_t begin = 0, end; begin < live.size(); begin = end) {
     for (end = begin + 1; end < live.size() && live[end].cluster == live[begin].cluster;) ++end;
     Vector3d centre = Vector3d::Zero();
@@ -390,7 +395,7 @@ std::vector<KeptFacet> SweepCulling::cull(std::size_t i, CullingCounts& counts, 
       const Placed& p = live[k];
       KeptFacet keep{p.facet, {}};
       const Culled culled_by =
-          decide(p, i, Ends{a, b, degenerate}, near, points_of[p.facet], keep, counts, scratch);
+          decide(p, i, Ends{a, b, degenerate}, near, points_of[p.facet], last_prover, keep, counts, scratch);
       switch (culled_by) {
         case Culled::Bound:
           ++counts.by_facet_bound;

@@ -184,9 +184,11 @@ SweepCulling::Against SweepCulling::against(const Placed& p, std::size_t i, std:
     if (side == 0 || tool_facet_tree_->box(k).intersects(side < 0 ? at_a : at_b))
       near_faces.push_back(static_cast<int>(k));
   });
-  tool_edge_tree_->for_each_overlapping(swept, [&](std::size_t e) {
-    if (candidate.face_of_edge[e] >= 0) near_faces.push_back(candidate.face_of_edge[e]);
-  });
+  // The silhouette faces, a few dozen, by their boxes: a walk of the edges' tree with the swept
+  // box met most of the tool's edges when the candidate is long, to find the few on its silhouette.
+  for (int h = first_silhouette; h < face_count; ++h)
+    if (candidate.silhouette[static_cast<std::size_t>(h - first_silhouette)].box.intersects(box))
+      near_faces.push_back(h);
   // Whether any face shows the facet apart does not depend on their order; only the crossing
   // planes are sorted, below, into the face order the cutter lists them in.
   planes.clear();
