@@ -134,13 +134,16 @@ SweepCulling::Against SweepCulling::against(const Placed& p, std::size_t i, std:
   };
   // A face's plane against the facet's points: true when the facet lies above it (apart); a plane
   // the facet straddles goes into `planes`.
+  // The points some face's plane has not below it by the rounding: `inside` would find that face.
+  std::uint64_t not_below = 0;
   auto separates_or_crosses = [&](int h) {
     double lo = std::numeric_limits<double>::infinity(), hi = -lo;
     const FacePlane plane = face_plane(h);
-    for (const Vector3d& x : points) {
-      const double v = plane.normal.dot(x) - plane.offset;
+    for (std::size_t k = 0; k < points.size(); ++k) {
+      const double v = plane.normal.dot(points[k]) - plane.offset;
       lo = std::min(lo, v);
       hi = std::max(hi, v);
+      if (v > -rounding_ && k < 64) not_below |= std::uint64_t{1} << k;
     }
     if (lo >= rounding_) return true;
     if (hi > -rounding_) planes.push_back(h);
@@ -224,7 +227,13 @@ SweepCulling::Against SweepCulling::against(const Placed& p, std::size_t i, std:
         if (value(h, x) > -rounding_) return false;
       return true;
     };
-    if (std::any_of(points.begin(), points.end(), inside)) return Against::Cuts;
+    // A point a crossing face has not below it is not inside unless the inner bound holds it
+    // (`inside` would find that face): its walk of every face is skipped.
+    for (std::size_t k = 0; k < points.size(); ++k) {
+      const bool seen_outside = k < 64 && (not_below >> k & 1);
+      if (seen_outside ? ball_inside_sweep(bounds_, candidate.a, candidate.b, points[k], 0.0) : inside(points[k]))
+        return Against::Cuts;
+    }
     if (!swept) {
       const std::optional<Vector3d> centroid =
           clipped_centroid(ordered_polygon(p.edge >= 0 && !p.clipped, points), face_plane, planes);
