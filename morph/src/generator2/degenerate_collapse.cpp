@@ -2,6 +2,8 @@
 #include <morph/degenerate_collapse.h>
 #include <morph/parallel.h>
 
+#include <tbb/enumerable_thread_specific.h>
+
 #include <algorithm>
 #include <cmath>
 #include <map>
@@ -267,21 +269,31 @@ class Limit {
       for (end = k + 1; end < edges.size() && edges[end] == edges[k];) ++end;
       uses.emplace_back(edges[k], end - k);
     }
-    for (const auto& [e, count] : uses) {
+    // Both checks in parallel, each use and each vertex flagging itself; the classes are
+    // gathered after (a set: the same whatever the order).
+    std::vector<char> bad_use(uses.size(), 0);
+    for_each_index(policy_, 0, uses.size(), [&](std::size_t k) {
+      const auto& [e, count] = uses[k];
       const Edge reverse{e.second, e.first};
       const auto back = std::lower_bound(uses.begin(), uses.end(), reverse,
                                          [](const auto& u, const Edge& x) { return u.first < x; });
-      if (count != 1 || back == uses.end() || back->first != reverse || back->second != 1)
-        bad.insert(root[e.first]), bad.insert(root[e.second]);
-    }
-    std::vector<std::pair<std::uint32_t, std::size_t>> order;
-    std::vector<Edge> next_of;
-    for (std::uint32_t v = 0; v < root.size(); ++v) {
-      if (first[v] == first[v + 1]) continue;
+      bad_use[k] = count != 1 || back == uses.end() || back->first != reverse || back->second != 1;
+    });
+    for (std::size_t k = 0; k < uses.size(); ++k)
+      if (bad_use[k]) bad.insert(root[uses[k].first.first]), bad.insert(root[uses[k].first.second]);
+    struct FanScratch {
+      std::vector<std::pair<std::uint32_t, std::size_t>> order;
+      std::vector<Edge> next_of;
+    };
+    tbb::enumerable_thread_specific<FanScratch> scratch;
+    std::vector<char> bad_fan(root.size(), 0);
+    for_each_index(policy_, 0, root.size(), [&](std::size_t v) {
+      if (first[v] == first[v + 1]) return;
       const auto around = wedges.begin() + first[v];
       const std::size_t m = first[v + 1] - first[v];
       // One fan: from a corner, the corner whose next is this one's previous, around to the start.
       // next_of as a map from next to previous, a later corner's entry replacing an earlier one's.
+      auto& [order, next_of] = scratch.local();
       order.clear();
       for (std::size_t c = 0; c < m; ++c) order.emplace_back(around[c].first, c);
       std::sort(order.begin(), order.end());
@@ -297,8 +309,10 @@ class Limit {
         if (it == next_of.end() || it->first != at) break;
         at = it->second, ++steps;
       } while (at != around[0].first && steps <= m);
-      if (steps != m || next_of.size() != m) bad.insert(root[v]);
-    }
+      bad_fan[v] = steps != m || next_of.size() != m;
+    });
+    for (std::size_t v = 0; v < root.size(); ++v)
+      if (bad_fan[v]) bad.insert(root[v]);
     return bad;
   }
 

@@ -1,9 +1,12 @@
 // SPDX-License-Identifier: Apache-2.0
 #include "generator2/rounding.h"
 
+#include <morph/parallel.h>
+
 #include <boost/multiprecision/cpp_int.hpp>
 
 #include <algorithm>
+#include <atomic>
 #include <cfloat>
 #include <cmath>
 #include <limits>
@@ -64,6 +67,40 @@ constexpr double kNeedle = 1e-12;
 // a pole split one point into several ~1e-12 apart): their edge is a candidate too.
 constexpr double kCluster = 1e-13;
 constexpr std::uint32_t kGone = std::numeric_limits<std::uint32_t>::max();
+
+// Flat as topology_report counts it: twice the area within 1e-14 of the longest edge squared.
+bool flat(const Eigen::Vector3d& a, const Eigen::Vector3d& b, const Eigen::Vector3d& c) {
+  const double longest = std::max({(b - a).squaredNorm(), (c - b).squaredNorm(), (a - c).squaredNorm()});
+  return (b - a).cross(c - a).norm() <= kFlat * longest;
+}
+
+// Closer than kCluster of the coordinates' size: a cluster of exact points far below any
+// feature the tool polytope has (its pole's near-concurrent planes).
+bool clustered(const Eigen::Vector3d& a, const Eigen::Vector3d& b) {
+  const double size = std::max({1.0, a.cwiseAbs().maxCoeff(), b.cwiseAbs().maxCoeff()});
+  return (a - b).norm() <= kCluster * size;
+}
+
+// True when none of the steps has anything to do: no triangle flat or turned the wrong way, no
+// edge whose ends rounded alike or into a cluster, and every vertex used (so the compaction
+// keeps the mesh as it is). Found in parallel: the settling's passes are serial, and on most
+// surfaces (bear.nc at 0.01, 1.2 million triangles) they found nothing in 0.4 s.
+bool settled_already(const TriangleMesh& mesh, const std::vector<Eigen::Vector3d>& facing) {
+  std::atomic<bool> unsettled{false};
+  for_each_index(ExecutionPolicy::Parallel, 0, mesh.triangles.size(), [&](std::size_t t) {
+    if (unsettled.load(std::memory_order_relaxed)) return;
+    const Triangle& tri = mesh.triangles[t];
+    const Eigen::Vector3d &a = mesh.vertices[tri[0]], &b = mesh.vertices[tri[1]], &c = mesh.vertices[tri[2]];
+    if (flat(a, b, c) || oriented_area_sign(facing[t], a, b, c) <= 0 || a == b || b == c || c == a ||
+        clustered(a, b) || clustered(b, c) || clustered(c, a))
+      unsettled.store(true, std::memory_order_relaxed);
+  });
+  if (unsettled) return false;
+  std::vector<char> used(mesh.vertices.size(), 0);
+  for (const Triangle& tri : mesh.triangles)
+    for (std::uint32_t v : tri) used[v] = 1;
+  return std::all_of(used.begin(), used.end(), [](char u) { return u != 0; });
+}
 
 // The mesh with each vertex's triangles, edited in place; dropped triangles are marked.
 class Settler {
@@ -130,14 +167,12 @@ class Settler {
     }
   }
 
-  // Flat as topology_report counts it: twice the area within 1e-14 of the longest edge squared.
   bool flat(std::uint32_t t) const {
     const Triangle& tri = mesh_.triangles[t];
-    return flat(at(tri[0]), at(tri[1]), at(tri[2]));
+    return morph::flat(at(tri[0]), at(tri[1]), at(tri[2]));
   }
   static bool flat(const Eigen::Vector3d& a, const Eigen::Vector3d& b, const Eigen::Vector3d& c) {
-    const double longest = std::max({(b - a).squaredNorm(), (c - b).squaredNorm(), (a - c).squaredNorm()});
-    return (b - a).cross(c - a).norm() <= kFlat * longest;
+    return morph::flat(a, b, c);
   }
 
   // Step 1: an edge whose ends rounded alike, and the shortest edge of a flat needle (kNeedle),
@@ -162,12 +197,6 @@ class Settler {
         if (collapse(std::min(a, b), std::max(a, b))) ++counts.collapsed_edges;
       }
     }
-  }
-  // Closer than kCluster of the coordinates' size: a cluster of exact points far below any
-  // feature the tool polytope has (its pole's near-concurrent planes).
-  static bool clustered(const Eigen::Vector3d& a, const Eigen::Vector3d& b) {
-    const double size = std::max({1.0, a.cwiseAbs().maxCoeff(), b.cwiseAbs().maxCoeff()});
-    return (a - b).norm() <= kCluster * size;
   }
   double length(std::uint32_t t, int k) const {
     return (at(mesh_.triangles[t][(k + 1) % 3]) - at(mesh_.triangles[t][k])).squaredNorm();
@@ -342,6 +371,7 @@ int oriented_area_sign(const Eigen::Vector3d& n, const Eigen::Vector3d& a, const
 
 RoundingCounts settle_rounding(TriangleMesh& mesh, std::vector<Eigen::Vector3d> facing) {
   RoundingCounts counts;
+  if (settled_already(mesh, facing)) return counts;
   Settler(mesh, facing).run(counts);
   return counts;
 }
