@@ -102,6 +102,7 @@ class SweepCulling {
     std::vector<int> planes_;                              ///< against()'s crossing planes
     std::vector<const Candidate*> open_;                   ///< decide()'s candidates left for the halfspaces
     std::vector<std::vector<Eigen::Vector3d>> points_of_;  ///< cull()'s facet points, by facet
+    std::vector<Eigen::AlignedBox3d> candidate_boxes_;     ///< cull()'s candidates' boxes
   };
 
   /// `moves`: straight moves of the one tool of `sweeps`, in job order (the tie order), paths

@@ -349,12 +349,12 @@ std::vector<KeptFacet> SweepCulling::cull(std::size_t i, CullingCounts& counts, 
   std::sort(live.begin(), live.end(), [](const Placed& x, const Placed& y) {
     return x.cluster < y.cluster || (x.cluster == y.cluster && x.facet < y.facet);
   });
-  // The candidates' own tree (their boxes as the sweeps' tree has them), for the clusters: a
-  // cluster's ball meets a few of them, and a walk of the tree of every sweep met many others.
-  std::vector<AlignedBox3d> candidate_boxes;
-  candidate_boxes.reserve(candidates.size());
+  // The candidates' boxes (as the sweeps' tree has them), for the clusters: a cluster's ball
+  // meets a few of them, and a walk of the tree of every sweep met many others. A scan of a
+  // move's hundred or so costs less than building a tree of them for each move.
+  std::vector<AlignedBox3d>& candidate_boxes = scratch.candidate_boxes_;
+  candidate_boxes.clear();
   for (const Candidate& c : candidates) candidate_boxes.push_back(tree_->box(c.move));
-  const AabbTree candidate_tree(std::move(candidate_boxes));
   std::vector<KeptFacet> kept;
   std::vector<const Candidate*> near, reaching;
   const Candidate* last_hider = nullptr;
@@ -373,10 +373,11 @@ std::vector<KeptFacet> SweepCulling::cull(std::size_t i, CullingCounts& counts, 
     // Only the candidates whose boxes meet the cluster's ball's box can hide it or meet its
     // facets (a box misses the ball: the sweep does), in move order as the facets take them.
     reaching.clear();
-    if (!hidden)
-      candidate_tree.for_each_overlapping(AlignedBox3d(centre.array() - radius, centre.array() + radius),
-                                          [&](std::size_t k) { reaching.push_back(&candidates[k]); });
-    std::sort(reaching.begin(), reaching.end());  // candidates are in move order
+    if (!hidden) {
+      const AlignedBox3d ball_box(centre.array() - radius, centre.array() + radius);
+      for (std::size_t k = 0; k < candidates.size(); ++k)  // in move order, as the candidates are
+        if (candidate_boxes[k].intersects(ball_box)) reaching.push_back(&candidates[k]);
+    }
     for (const Candidate* c : reaching) {
       if (hidden) break;
       ++counts.bound_tests;
