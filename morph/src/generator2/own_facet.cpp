@@ -28,7 +28,7 @@ void for_each_plane_reaching(const OwnPlanes& own, const std::vector<Ball>& ball
       own.groups->for_each_reaching(
           centre, radius, at, at, threshold, [&](std::size_t g) { return (own.group_ends[g] & end) != 0; },
           [&](int k) {
-            if (own.at_b[k] != at_b) return true;
+            if ((own.at_b[k] != 0) != at_b) return true;
             marks[k] = 1;
             lowest = std::min(lowest, k);
             highest = std::max(highest, k);

@@ -31,7 +31,7 @@ struct OwnPlanes {
   const ToolFacetGroups* groups = nullptr;
   Eigen::Vector3d a, b;
   std::size_t tool_facets = 0;    ///< planes[k] for k below this is tool facet k placed at a or b
-  std::vector<bool> at_b;         ///< per tool facet: placed at b (motion_side() > 0)
+  std::vector<char> at_b;         ///< per tool facet: placed at b (motion_side() > 0)
   std::vector<signed char> side;  ///< per tool facet: motion_side() (-1 for a degenerate move)
   std::vector<int> silhouette;    ///< the silhouette edges (index in edges()), in facet order
   std::vector<char> group_ends;   ///< per facet group: 1 if a member is placed at a, 2 at b, 3 both
