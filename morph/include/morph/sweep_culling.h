@@ -26,6 +26,7 @@
 /// the clipping's exact predicates. Ties are settled by generator 2's one order: sweeps expand
 /// by ε_0 ≫ ε_1 ≫ … in move order, so the earlier move owns a shared facet (a facet in a plane of
 /// an earlier polytope, bit for bit, counts as below it; of a later one, as above it).
+#include <morph/joint_culling.h>
 #include <morph/path.h>
 #include <morph/sweep_polytope.h>
 #include <morph/tool_bounds.h>
@@ -123,7 +124,8 @@ class SweepCulling {
 
  private:
   struct Placed;
-  void place(std::size_t i, std::vector<Placed>& facets) const;
+  /// Appends move i's facets but the tool facets `joint` culls; returns how many those are.
+  std::size_t place(std::size_t i, const std::vector<JointVerdict>& joint, std::vector<Placed>& facets) const;
   Placed silhouette_face(std::size_t e, int index, const Eigen::Vector3d& a, const Eigen::Vector3d& b) const;
   const Faces& faces(std::uint32_t j, Scratch& scratch, CullingCounts& counts) const;
   enum class Against { Apart, Inside, Cuts };
