@@ -101,6 +101,7 @@ class SweepCulling {
     std::size_t next_ = 0;
     std::vector<int> near_faces_;
     std::vector<int> planes_;                              ///< against()'s crossing planes
+    std::vector<char> marks_;                              ///< against()'s flags per tool facet, clear
     std::vector<const Candidate*> open_;                   ///< decide()'s candidates left for the halfspaces
     std::vector<std::vector<Eigen::Vector3d>> points_of_;  ///< cull()'s facet points, by facet
     std::vector<Eigen::AlignedBox3d> candidate_boxes_;     ///< cull()'s candidates' boxes
@@ -141,7 +142,7 @@ class SweepCulling {
                 CullingCounts& counts, Scratch& scratch) const;
   Against against(const Placed& p, std::size_t i, std::uint32_t j, const std::vector<Eigen::Vector3d>& points,
                   const Faces& faces, std::vector<int>& near_faces, std::vector<int>& planes,
-                  CullingCounts& counts) const;
+                  std::vector<char>& marks, CullingCounts& counts) const;
 
   const SweepPolytopeBuilder& sweeps_;
   std::vector<Move> moves_;

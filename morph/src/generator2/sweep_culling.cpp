@@ -278,7 +278,7 @@ SweepCulling::Culled SweepCulling::decide(const Placed& p, std::size_t i, const 
     // The planes go to the scratch first: most candidates turn out apart, and a new list for each
     // grew one allocation at a time.
     const Against verdict = against(p, i, c->move, vertices, faces(c->move, scratch, counts),
-                                    scratch.near_faces_, scratch.planes_, counts);
+                                    scratch.near_faces_, scratch.planes_, scratch.marks_, counts);
     if (verdict == Against::Apart) continue;
     if (verdict == Against::Inside) return Culled::Planes;
     keep.cutters.push_back(FacetCutter{c->move, scratch.planes_});
