@@ -171,9 +171,6 @@ class Settler {
     const Triangle& tri = mesh_.triangles[t];
     return morph::flat(at(tri[0]), at(tri[1]), at(tri[2]));
   }
-  static bool flat(const Eigen::Vector3d& a, const Eigen::Vector3d& b, const Eigen::Vector3d& c) {
-    return morph::flat(a, b, c);
-  }
 
   // Step 1: an edge whose ends rounded alike, and the shortest edge of a flat needle (kNeedle),
   // collapsed
@@ -279,7 +276,7 @@ class Settler {
     if (oriented_area_sign(facing, at(p), at(d), at(m)) <= 0 ||
         oriented_area_sign(facing, at(d), at(q), at(m)) <= 0)
       return false;
-    if (flat(at(p), at(d), at(m)) || flat(at(d), at(q), at(m))) return false;
+    if (morph::flat(at(p), at(d), at(m)) || morph::flat(at(d), at(q), at(m))) return false;
     const FaceTag tag = mesh_.tags.empty() ? FaceTag{} : mesh_.tags[s];
     drop(t);
     drop(s);

@@ -182,9 +182,11 @@ SweepCulling::Against SweepCulling::against(const Placed& p, std::size_t i, std:
   // facet placed at an end is then tested against its own (the set of three walks).
   const AlignedBox3d at_a(box.min() - a, box.max() - a), at_b(box.min() - b, box.max() - b);
   const AlignedBox3d swept(box.min() - a.cwiseMax(b), box.max() - a.cwiseMin(b));
+  // Each kept only where its face, as placed, meets the facet's box.
   tool_facet_tree_->for_each_overlapping(swept, [&](std::size_t k) {
     const int side = candidate.side[k];
-    if (side == 0 || tool_facet_tree_->box(k).intersects(side < 0 ? at_a : at_b))
+    if ((side == 0 || tool_facet_tree_->box(k).intersects(side < 0 ? at_a : at_b)) &&
+        face_box(static_cast<int>(k)).intersects(box))
       near_faces.push_back(static_cast<int>(k));
   });
   // The silhouette faces, a few dozen, by their boxes: a walk of the edges' tree with the swept
@@ -196,7 +198,6 @@ SweepCulling::Against SweepCulling::against(const Placed& p, std::size_t i, std:
   // planes are sorted, below, into the face order the cutter lists them in.
   planes.clear();
   for (int h : near_faces) {
-    if (!face_box(h).intersects(box)) continue;
     if (tie(h)) {
       if (j > i) return Against::Apart;
       continue;
