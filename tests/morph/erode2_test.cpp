@@ -231,6 +231,33 @@ TEST(Erode2, LongMovesInGeneralDirectionsNeedNoFallback) {
   EXPECT_EQ(morph::fallbacks_fired(o.result.stats), 0u);
 }
 
+// Ball-end passes at one depth crossing and ending on each other (stress seed 89, case 9160: a
+// square spiral crossing itself). With an apex at the tip, one pass's fan of nearly level facets
+// grazed another's and cut a cloud of distinct exact points within 1e-6 mm, which the output
+// rounding met as a needle. A level cap at the pole puts both passes' bottoms in one exact plane.
+TEST(Erode2, BallPassesAtOneDepthCrossingNeedNoFallback) {
+  const morph::Tool tool = morph::ball_tool(2.503, 17.086);
+  const Eigen::AlignedBox3d box(Vector3d(0, 0, 0), Vector3d(17.094, 22.46, 7.086));
+  const double z = 5.122;
+  std::vector<Vector3d> spiral{{13.698, 16.381, z}, {3.396, 6.079, z}, {3.396, 16.381, z}};
+  for (const auto& [x, y] : std::vector<std::pair<double, double>>{{13.698, 16.381},
+                                                                   {13.698, 7.796},
+                                                                   {5.113, 7.796},
+                                                                   {5.113, 14.664},
+                                                                   {11.981, 14.664},
+                                                                   {11.981, 9.513},
+                                                                   {6.83, 9.513},
+                                                                   {6.83, 12.947},
+                                                                   {10.264, 12.947},
+                                                                   {10.264, 11.23},
+                                                                   {8.547, 11.23}})
+    spiral.emplace_back(x, y, z);
+  const Outcome o = run(job_of(box, tool, spiral));
+  expect_closed(o, "spiral at one depth");
+  EXPECT_EQ(o.topology.components, 1u);
+  EXPECT_EQ(morph::fallbacks_fired(o.result.stats), 0u);
+}
+
 TEST(Erode2, RefusesWhatItDoesNotSupport) {
   morph::Job job = job_of(Eigen::AlignedBox3d(Vector3d(0, 0, 0), Vector3d(1, 1, 1)), morph::ball_tool(0.5, 2),
                           {Vector3d(0, 0, 2), Vector3d(1, 1, 2)});

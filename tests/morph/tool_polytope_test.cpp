@@ -104,6 +104,33 @@ TEST(ToolPolytope, FlatEndsAreSingleFacetsAndLinesStayWhole) {
   EXPECT_GT(built.polytope.vertices[0].x(), 3.0);
 }
 
+// A pole (a ball's tip, a sphere's top and bottom) is a level N-gon cut off where it bulges by a
+// chord's sagitta, not an apex with a fan of nearly level facets: two passes at one depth then
+// share that facet's plane exactly (stress seed 89, case 9160, Erode2 below).
+TEST(ToolPolytope, APoleIsOneLevelFacetWithinTheDeviation) {
+  const double deviation = 0.004;
+  for (const morph::Tool& tool : {morph::ball_tool(2.503, 17.0), morph::sphere_tool(1.5875)}) {
+    const morph::ToolPolytope built = morph::tool_polytope(tool.profile, deviation);
+    const auto& m = built.meridian;
+    ASSERT_GE(m.size(), 4u);
+    EXPECT_EQ(m[0].x(), 0.0);
+    EXPECT_EQ(m[1].y(), m[0].y());  // level cap, not an apex
+    EXPECT_EQ(m[m.size() - 2].y(), m.back().y());
+    const double r = tool.profile.radius();
+    // The cap straddles the pole: its plane within the deviation of the exact tip, the ring
+    // beyond it, and only the pole's cap is level (one N-gon facet at each end).
+    const double tip = -tool.profile.point_height();
+    EXPECT_LT(m[0].y() - tip, deviation);
+    EXPECT_GT(m[0].y() - tip, 0.0);
+    EXPECT_GT(m[1].x(), 0.0);
+    EXPECT_LT(m[1].x(), r);
+    std::size_t level = 0;
+    for (const morph::PolytopeFacet& f : built.polytope.facets) level += std::abs(f.normal.z()) == 1.0;
+    EXPECT_EQ(level, 2u);
+    EXPECT_EQ(built.polytope.facets.front().normal.z(), -1.0);
+  }
+}
+
 TEST(ToolPolytope, FinerDeviationMeansMoreFacetsAndTheSagittaFixesTheSectorCount) {
   const morph::Tool ball = morph::ball_tool(1.5875, 25.4);
   const morph::ToolPolytope coarse = morph::tool_polytope(ball.profile, 0.04);

@@ -9,6 +9,11 @@
 /// 2πk/N anchored to the global frame (so every placement of the tool has parallel facets).
 /// Such a ring set has known facets: between consecutive rings, one planar trapezoid per sector
 /// (the profile is convex, so they are the hull's facets), flat N-gons or apex fans at the ends.
+/// A pole (an arc or ellipse meeting the axis level: a ball's tip, a sphere's top) is cut off
+/// by a level chord where the piece bulges beyond it by one chord's sagitta, so its end is a flat
+/// N-gon too, not an apex: two passes at one depth share that facet's exact plane, where two fans
+/// of nearly level facets about apexes a hair apart would cut a cloud of distinct exact points.
+/// A cone's apex stays an apex (its facets are steep).
 /// The inscribed polytope lies inside the tool; it is pushed out by half its own sagitta (each
 /// chord's line offset by half the chord's sagitta, ring radii scaled by 2 / (1 + cos(π/N))), so
 /// it straddles the exact surface and its error is about half the sagitta both ways. The

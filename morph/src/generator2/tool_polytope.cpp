@@ -28,13 +28,33 @@ int checked_count(double count, const char* what) {
   return std::max(1, static_cast<int>(std::ceil(count)));
 }
 
-// Chords of one profile piece, each within `sagitta` of it (lines stay whole).
+// The angle a curved piece turns through from its end on the axis with a level tangent (a
+// pole: a ball's tip, a sphere's top) to where a level chord cut off there bulges by `sagitta`;
+// zero where that end is no pole. Such a flat cap, not a fan of facets about an apex, is what
+// keeps two passes at one depth apart: their caps lie in one exact plane, and the order of
+// terms decides between them, where two fans of nearly level facets about apexes a hair apart
+// cross in a cloud of distinct exact points finer than any rounding.
+double pole_cap_angle(const ProfilePiece& piece, double angle, double sagitta) {
+  if (piece.centre.x() != 0.0 || std::abs(std::cos(angle)) > 1e-12) return 0.0;
+  return std::acos(std::max(-1.0, 1.0 - sagitta / piece.radii.y()));
+}
+
+Vector2d point_at(const ProfilePiece& piece, double angle) {
+  return piece.centre + Vector2d(piece.radii.x() * std::cos(angle), piece.radii.y() * std::sin(angle));
+}
+
+// Chords of one profile piece, each within `sagitta` of it (lines stay whole; a pole becomes a
+// level chord, pole_cap_angle).
 void append_chords(const ProfilePiece& piece, double sagitta, std::vector<Chord>& chords) {
   if (piece.kind == ProfilePiece::Kind::Segment) {
     chords.push_back({piece.from, piece.to, 0.0});
     return;
   }
-  const double span = piece.angle1 - piece.angle0;
+  double cap0 = pole_cap_angle(piece, piece.angle0, sagitta);
+  double cap1 = pole_cap_angle(piece, piece.angle1, sagitta);
+  if (cap0 + cap1 >= 0.5 * (piece.angle1 - piece.angle0)) cap0 = cap1 = 0.0;
+  const double angle0 = piece.angle0 + cap0, angle1 = piece.angle1 - cap1;
+  const double span = angle1 - angle0;
   const double a = piece.radii.x(), b = piece.radii.y();
   int count;
   double bulge;  // largest sagitta of one chord of `count`
@@ -50,14 +70,16 @@ void append_chords(const ProfilePiece& piece, double sagitta, std::vector<Chord>
     const double length = speed * span / count;
     bulge = curvature * length * length / 8.0;
   }
-  Vector2d previous = piece.from;
+  Vector2d previous = cap0 > 0.0 ? point_at(piece, angle0) : piece.from;
+  if (cap0 > 0.0) chords.push_back({Vector2d(0.0, previous.y()), previous, b * (1.0 - std::cos(cap0))});
   for (int i = 1; i <= count; ++i) {
-    const double angle = piece.angle0 + span * i / count;
-    const Vector2d next =
-        i == count ? piece.to : piece.centre + Vector2d(a * std::cos(angle), b * std::sin(angle));
+    const Vector2d next = i < count    ? point_at(piece, angle0 + span * i / count)
+                          : cap1 > 0.0 ? point_at(piece, angle1)
+                                       : piece.to;
     chords.push_back({previous, next, bulge});
     previous = next;
   }
+  if (cap1 > 0.0) chords.push_back({previous, Vector2d(0.0, previous.y()), b * (1.0 - std::cos(cap1))});
 }
 
 double cross(const Vector2d& u, const Vector2d& v) {
@@ -105,10 +127,11 @@ std::vector<Vector2d> straddling_meridian(const std::vector<Chord>& chords) {
     points.emplace_back((c0 * n1.y() - c1 * n0.y()) / det, (n0.x() * c1 - n1.x() * c0) / det);
   }
   points.push_back(on_axis(chords.back()));
-  // A level line stays exactly level (flat bottoms and tops become one facet).
+  // A level line stays exactly level (flat bottoms and tops, and pole caps, become one facet).
   for (std::size_t i = 0; i < chords.size(); ++i)
-    if (chords[i].sagitta == 0.0 && chords[i].from.y() == chords[i].to.y())
-      points[i].y() = points[i + 1].y() = chords[i].from.y();
+    if (chords[i].from.y() == chords[i].to.y())
+      points[i].y() = points[i + 1].y() =
+          chords[i].from.y() + 0.5 * chords[i].sagitta * normal(chords[i]).y();
   return points;
 }
 
