@@ -1,15 +1,18 @@
 // SPDX-License-Identifier: Apache-2.0
 #include <morph/degenerate_collapse.h>
+#include <morph/exceptions.h>
 #include <morph/parallel.h>
 
 #include <tbb/enumerable_thread_specific.h>
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <map>
 #include <numeric>
 #include <optional>
 #include <set>
+#include <string>
 #include <unordered_map>
 #include <utility>
 
@@ -42,11 +45,17 @@ SharedPlanes shared(const Triple& u, const Triple& v) {
   return out;
 }
 
-// A conformed polygon with its support and edge planes (edge k: loop[k] to loop[k+1]).
+// A conformed polygon's support and the plane of each of its edges (edge k: loop[k] to loop[k+1]),
+// each named where a vertex holds it.
 struct PlanarLoop {
-  ExactPlane support;
-  std::vector<ExactPlane> edge_planes;
+  PlaneRef support = 0;
+  bool support_turned = false;
+  std::vector<PlaneRef> edge_planes;
 };
+
+PlaneRef ref_of(std::uint32_t vertex, const Triple& triple, const ExactPlane* plane) {
+  return 3 * vertex + static_cast<PlaneRef>(plane - triple.data());
+}
 
 PlanarLoop planar_loop(const ConformedSurface& surface, const ConformedPolygon& polygon) {
   const auto& loop = polygon.loop;
@@ -61,12 +70,14 @@ PlanarLoop planar_loop(const ConformedSurface& surface, const ConformedPolygon& 
   PlanarLoop out;
   // A vertex may hold the support turned over (an edge of a piece outside it, flipped()): a
   // stock face's support contracts, a sweep facet's expands.
-  out.support = *common.planes[0];
-  if (out.support.direction != (polygon.move < 0 ? -1 : 1)) out.support = flipped(out.support);
+  const ExactPlane& support = *common.planes[0];
+  out.support = ref_of(loop[0], surface.vertices[loop[0]], &support);
+  out.support_turned = support.direction != (polygon.move < 0 ? -1 : 1);
+  out.edge_planes.reserve(n);
   for (std::size_t k = 0; k < n; ++k)
     for (const ExactPlane* p : shared(surface.vertices[loop[k]], surface.vertices[loop[(k + 1) % n]]))
-      if (p->rank != out.support.rank) {
-        out.edge_planes.push_back(*p);
+      if (p->rank != support.rank) {
+        out.edge_planes.push_back(ref_of(loop[k], surface.vertices[loop[k]], p));
         break;
       }
   return out;
@@ -347,6 +358,7 @@ class Limit {
 
  private:
   const Triple& at(std::uint32_t v) const { return surface_.vertices[v]; }
+  const ExactPlane& plane(PlaneRef ref) const { return plane_at(surface_.vertices, ref); }
   bool on(std::uint32_t v, const ExactPlane& e) const {
     return limit_side_at_vertex(at(v)[0], at(v)[1], at(v)[2], e) == 0;
   }
@@ -355,9 +367,12 @@ class Limit {
   void add(std::size_t i, const ConformedPolygon& polygon, const PlanarLoop& planar) {
     LimitPolygon& p = polygons_[i];
     p.support = planar.support;
+    p.support_turned = planar.support_turned;
     p.faces_out = polygon.move < 0;
     p.move = polygon.move, p.face = polygon.face;
     const std::size_t n = polygon.loop.size();
+    p.loop.reserve(n);
+    p.edge_planes.reserve(n);
     for (std::size_t k = 0; k < n; ++k) {
       const std::uint32_t a = rep_[polygon.loop[k]], b = rep_[polygon.loop[(k + 1) % n]];
       if (a == b) continue;  // an ε-edge
@@ -390,12 +405,12 @@ class Limit {
   // lie on it by construction, and telling an exact zero costs the exact arithmetic.)
   bool flat(const LimitPolygon& p) const {
     return std::all_of(p.loop.begin() + 2, p.loop.end(),
-                       [&](std::uint32_t v) { return on(v, p.edge_planes[0]); });
+                       [&](std::uint32_t v) { return on(v, plane(p.edge_planes[0])); });
   }
   bool strictly_convex(const LimitPolygon& p) const {
     const std::size_t n = p.loop.size();
     for (std::size_t k = 0; k < n; ++k)
-      if (on(p.loop[(k + 1) % n], p.edge_planes[(k + n - 1) % n])) return false;
+      if (on(p.loop[(k + 1) % n], plane(p.edge_planes[(k + n - 1) % n]))) return false;
     return true;
   }
 
@@ -406,8 +421,8 @@ class Limit {
     const LimitPolygon& d = polygons_[i];
     // Points kept apart (step 4) are distinct vertices of one point: no order along the line.
     if (std::any_of(d.loop.begin(), d.loop.end(), [&](std::uint32_t v) { return apart_[v]; })) return false;
-    const ExactPlane& s = d.support;
-    const ExactPlane& line = d.edge_planes[0];
+    const ExactPlane s = d.support_turned ? flipped(plane(d.support)) : plane(d.support);
+    const ExactPlane& line = plane(d.edge_planes[0]);
     std::map<std::uint32_t, std::pair<const ExactPlane*, int>> crossing;  // point -> plane, its orientation
     for (std::uint32_t v : d.loop)
       for (const ExactPlane& c : at(v))
@@ -461,9 +476,9 @@ class Limit {
     std::size_t k = 0;
     while (k < n && !(p.loop[k] == edge.first && p.loop[(k + 1) % n] == edge.second)) ++k;
     if (k == n) return;
-    const ExactPlane plane = p.edge_planes[k];
+    const PlaneRef line = p.edge_planes[k];
     p.loop.insert(p.loop.begin() + static_cast<std::ptrdiff_t>(k + 1), between.begin(), between.end());
-    p.edge_planes.insert(p.edge_planes.begin() + static_cast<std::ptrdiff_t>(k + 1), between.size(), plane);
+    p.edge_planes.insert(p.edge_planes.begin() + static_cast<std::ptrdiff_t>(k + 1), between.size(), line);
     for (std::uint32_t m : between) inserted_around_[m].push_back(j);
     flat_[j] = kUnknown;
   }
@@ -485,7 +500,15 @@ class Limit {
 
 }  // namespace
 
+Eigen::Vector3d LimitSurface::outward_normal(const LimitPolygon& polygon) const {
+  const Eigen::Vector3d& normal = plane_at(vertices, polygon.support).normal;
+  return polygon.faces_out != polygon.support_turned ? normal : Eigen::Vector3d(-normal);
+}
+
 LimitSurface collapse_degenerates(ConformedSurface surface, ExecutionPolicy policy) {
+  if (surface.vertices.size() > std::numeric_limits<PlaneRef>::max() / 3)
+    throw LimitError("limit step: more than " + std::to_string(std::numeric_limits<PlaneRef>::max() / 3) +
+                     " vertices");
   std::vector<PlanarLoop> planar(surface.polygons.size());
   for_each_index(policy, 0, planar.size(),
                  [&](std::size_t i) { planar[i] = planar_loop(surface, surface.polygons[i]); });

@@ -27,8 +27,7 @@ TriangleMesh emit(const LimitSurface& surface, const std::vector<std::int32_t>& 
     const FaceTag tag = polygon.move < 0 ? FaceTag{PatchKind::StockFace, polygon.face, 0}
                                          : FaceTag{PatchKind::SideSweep, move_index.at(polygon.move),
                                                    move_line.at(polygon.move)};
-    const Eigen::Vector3d out =
-        polygon.faces_out ? polygon.support.normal : Eigen::Vector3d(-polygon.support.normal);
+    const Eigen::Vector3d out = surface.outward_normal(polygon);
     const auto add = [&](std::uint32_t a, std::uint32_t b, std::uint32_t c) {
       mesh.triangles.push_back({a, b, c});
       mesh.tags.push_back(tag);
