@@ -10,6 +10,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 
 #include "common/test_jobs.h"
@@ -215,6 +216,51 @@ TEST(StockMesh, SlotsInANonConvexMeshHaveTheClosedFormVolume) {
     const Outcome o = closed(job_of(l, flat, {Vector3d(-4, 5, 8), Vector3d(24, 5, 8)}, tolerance), "both");
     EXPECT_EQ(o.topology.components, 1u);
     EXPECT_NEAR(o.topology.volume, whole - 2 * R * 2 * 15 - 5 * 2 * R * 12, tolerance * o.topology.area);
+  }
+}
+
+// The octahedron |x| + |y| + |z| <= a: four triangles meet at each vertex.
+morph::TriangleMesh octahedron(double a) {
+  morph::TriangleMesh mesh;
+  mesh.vertices = {{a, 0, 0}, {-a, 0, 0}, {0, a, 0}, {0, -a, 0}, {0, 0, a}, {0, 0, -a}};
+  for (std::uint32_t x : {0u, 1u})
+    for (std::uint32_t y : {2u, 3u})
+      for (std::uint32_t z : {4u, 5u}) {
+        // Outward: counter-clockwise seen from the octant's side.
+        const int negatives = (x == 1) + (y == 3) + (z == 5);
+        const bool even = negatives % 2 == 0;
+        mesh.triangles.push_back(even ? morph::Triangle{x, y, z} : morph::Triangle{x, z, y});
+      }
+  return mesh;
+}
+
+// A part of a sweep facet split by one triangle about a vertex where four meet, and cut off
+// there by a neighbour's edge plane, kept the side of the first triangle though it stood beyond
+// the opposite one, outside the stock (stress seed 103, case 1133: an open surface with 157
+// intersecting pairs). A flat tool's slot right through an octahedron, its floor passing the
+// two equatorial vertices 0.04 mm above: the removed volume is the octahedron's part with
+// |y - y0| <= R and z >= z0, ∫ (a - z0 - |y|)² dy over the slot's width.
+TEST(StockMesh, AVertexOfFourTrianglesClassifiesEachPartByTheTriangleItTouches) {
+  const double a = 7.444, R = 1.878, y0 = -1.396, tolerance = 0.05;
+  ASSERT_NEAR(morph::enclosed_volume(octahedron(a)), 4.0 / 3.0 * a * a * a, 1e-9);
+  for (double z0 : {1.3146 - R, 0.5}) {
+    const morph::Stock stock = mesh_stock_of(octahedron(a));
+    const morph::Tool flat = morph::flat_tool(R, 2 * a);
+    const Outcome o = closed(
+        job_of(stock, flat, {Vector3d(-11.7, y0, z0), Vector3d(11.7, y0, z0)}, tolerance), "octahedron");
+    EXPECT_EQ(o.topology.components, 1u);
+    EXPECT_EQ(morph::fallbacks_fired(o.result.stats), 0u);
+    // (b - |y|)² is a quadratic on each side of 0: Simpson's rule is exact on each.
+    const double b = a - z0;
+    const auto f = [&](double y) { return std::pow(std::max(0.0, b - std::abs(y)), 2); };
+    const auto simpson = [&](double lo, double hi) {
+      return (hi - lo) / 6 * (f(lo) + 4 * f(0.5 * (lo + hi)) + f(hi));
+    };
+    const double lo = y0 - R, hi = y0 + R;
+    ASSERT_TRUE(lo < 0 && hi > 0 && lo > -b && hi < b);
+    const double removed = simpson(lo, 0) + simpson(0, hi);
+    EXPECT_NEAR(o.topology.volume, 4.0 / 3.0 * a * a * a - removed, tolerance * o.topology.area) << z0;
+    EXPECT_GT(removed, 10.0);
   }
 }
 
