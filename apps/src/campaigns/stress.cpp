@@ -254,7 +254,17 @@ CaseResult run_case(std::uint64_t seed, std::size_t index, const StressOptions& 
       if (result.self_intersecting_pairs > 0 && o.generator_used == 2) fail(result, "no_self_intersections");
     }
     if (c.expected_pieces >= 0) {
-      if (result.generator_pieces != static_cast<std::size_t>(c.expected_pieces))
+      // A family's count is what its passes leave at the scale of the tool. The exact solid may
+      // leave more: a chip far below the voxels (stress seed 103, case 3171: a sliver 0.007 mm
+      // thick where two end caps meet a cylinder's rim, exact material by the exact field). Such
+      // a chip counts here only when verify's piece rule has not found it exact material.
+      const double unseen = std::pow(2.0 * o.voxel_size, 3);
+      const auto chips =
+          static_cast<std::size_t>(std::count_if(o.morph_pieces.begin(), o.morph_pieces.end(),
+                                                 [&](const auto& piece) { return piece.volume < unseen; }));
+      const auto expected = static_cast<std::size_t>(c.expected_pieces);
+      if (result.generator_pieces != expected &&
+          !(o.pieces_match && result.generator_pieces - chips == expected))
         fail(result, "pieces_known");
       if (result.reference_pieces != static_cast<std::size_t>(c.expected_pieces))
         fail(result, "reference_pieces_known");
