@@ -181,21 +181,21 @@ SelfIntersections find_self_intersections(const morph::TriangleMesh& mesh, std::
 
   using Pairs = std::vector<std::pair<std::uint32_t, std::uint32_t>>;
   tbb::enumerable_thread_specific<Pairs> found;
+  // The tree against itself, in parts walked in parallel: each pair of overlapping boxes once.
+  const std::vector<morph::AabbTree::PairWalk> walks = tree.pair_walks(threaded ? 1024 : 1);
   auto search = [&](const tbb::blocked_range<std::size_t>& range) {
     Pairs& mine = found.local();
-    for (std::size_t i = range.begin(); i != range.end(); ++i) {
-      if (!tested[i]) continue;
-      const std::uint32_t a = static_cast<std::uint32_t>(i);
-      tree.for_each_overlapping(boxes[i], [&](std::uint32_t b) {
-        if (b > a && tested[b] && triangles_intersect(mesh, mesh.triangles[a], mesh.triangles[b]))
+    for (std::size_t w = range.begin(); w != range.end(); ++w)
+      tree.for_each_overlapping_pair(walks[w], [&](std::uint32_t a, std::uint32_t b) {
+        if (tested[a] && tested[b] && triangles_intersect(mesh, mesh.triangles[a], mesh.triangles[b]))
           mine.emplace_back(a, b);
       });
-    }
   };
+  const tbb::blocked_range<std::size_t> all_walks(0, walks.size());
   if (threaded)
-    tbb::parallel_for(all, search);
+    tbb::parallel_for(all_walks, search);
   else
-    search(all);
+    search(all_walks);
 
   Pairs pairs;
   for (const Pairs& part : found) pairs.insert(pairs.end(), part.begin(), part.end());

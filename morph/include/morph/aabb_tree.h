@@ -5,6 +5,7 @@
 /// move-against-move and point-against-move work near-linear in the number of moves.
 #include <Eigen/Geometry>
 #include <algorithm>
+#include <array>
 #include <cstdint>
 #include <limits>
 #include <vector>
@@ -38,6 +39,50 @@ class AabbTree {
       } else {
         stack[top++] = node.first;
         stack[top++] = node.first + 1;
+      }
+    }
+  }
+
+  /// A node pair whose subtrees' overlapping item pairs for_each_overlapping_pair() walks.
+  using PairWalk = std::array<std::uint32_t, 2>;
+
+  /// The walk over every pair of items whose boxes intersect, cut into independent parts (at
+  /// least `parts` where the tree allows): each unordered pair lies under exactly one of them, so
+  /// the parts may be walked in parallel. One tree walked against itself meets each pair of
+  /// overlapping nodes once, where a query per item meets it from both sides and from the root.
+  std::vector<PairWalk> pair_walks(std::size_t parts) const;
+
+  /// Calls visit(a, b), a < b, for every pair of distinct items under `walk` whose boxes
+  /// intersect (closed boxes).
+  template <class Visit>
+  void for_each_overlapping_pair(const PairWalk& walk, Visit&& visit) const {
+    std::vector<PairWalk> stack{walk};
+    while (!stack.empty()) {
+      const PairWalk w = stack.back();
+      stack.pop_back();
+      const Node &a = nodes_[w[0]], &b = nodes_[w[1]];
+      if (w[0] == w[1]) {
+        if (a.count > 0) {
+          for (std::uint32_t i = 0; i < a.count; ++i)
+            for (std::uint32_t j = i + 1; j < a.count; ++j)
+              visit_if_overlapping(a.first + i, a.first + j, visit);
+        } else {
+          stack.push_back({a.first, a.first});
+          stack.push_back({a.first + 1, a.first + 1});
+          stack.push_back({a.first, a.first + 1});
+        }
+        continue;
+      }
+      if (!a.box.intersects(b.box)) continue;
+      if (a.count > 0 && b.count > 0) {
+        for (std::uint32_t i = 0; i < a.count; ++i)
+          for (std::uint32_t j = 0; j < b.count; ++j) visit_if_overlapping(a.first + i, b.first + j, visit);
+      } else if (a.count > 0 || (b.count == 0 && b.box.volume() > a.box.volume())) {
+        stack.push_back({w[0], b.first});
+        stack.push_back({w[0], b.first + 1});
+      } else {
+        stack.push_back({a.first, w[1]});
+        stack.push_back({a.first + 1, w[1]});
       }
     }
   }
@@ -95,6 +140,13 @@ class AabbTree {
   }
 
  private:
+  // Items at positions p and q of order_, visited as (smaller, larger) when their boxes meet.
+  template <class Visit>
+  void visit_if_overlapping(std::uint32_t p, std::uint32_t q, Visit& visit) const {
+    const std::uint32_t a = order_[p], b = order_[q];
+    if (boxes_[a].intersects(boxes_[b])) visit(std::min(a, b), std::max(a, b));
+  }
+
   struct Node {
     Eigen::AlignedBox3d box;
     std::uint32_t first = 0;  ///< leaf: first index into order_; inner: index of left child

@@ -1,0 +1,56 @@
+// SPDX-License-Identifier: Apache-2.0
+// The bounding-volume hierarchy's queries against brute force over random boxes.
+#include <morph/aabb_tree.h>
+
+#include <gtest/gtest.h>
+
+#include <random>
+#include <set>
+#include <utility>
+
+namespace {
+
+std::vector<Eigen::AlignedBox3d> random_boxes(std::size_t count, unsigned seed) {
+  std::mt19937 random(seed);
+  std::uniform_real_distribution<double> at(0.0, 10.0), size(0.0, 1.5);
+  std::vector<Eigen::AlignedBox3d> boxes;
+  for (std::size_t i = 0; i < count; ++i) {
+    const Eigen::Vector3d low(at(random), at(random), at(random));
+    boxes.emplace_back(low, low + Eigen::Vector3d(size(random), size(random), size(random)));
+  }
+  // Touching boxes count as overlapping (closed boxes), and equal ones too.
+  boxes.emplace_back(Eigen::Vector3d(0, 0, 0), Eigen::Vector3d(1, 1, 1));
+  boxes.emplace_back(Eigen::Vector3d(1, 0, 0), Eigen::Vector3d(2, 1, 1));
+  boxes.emplace_back(Eigen::Vector3d(1, 0, 0), Eigen::Vector3d(2, 1, 1));
+  return boxes;
+}
+
+TEST(AabbTree, EveryOverlappingPairOnceWhateverTheParts) {
+  for (std::size_t count : {0u, 1u, 3u, 7u, 300u}) {
+    const std::vector<Eigen::AlignedBox3d> boxes = random_boxes(count, 17 + static_cast<unsigned>(count));
+    std::set<std::pair<std::uint32_t, std::uint32_t>> expected;
+    for (std::uint32_t a = 0; a < boxes.size(); ++a)
+      for (std::uint32_t b = a + 1; b < boxes.size(); ++b)
+        if (boxes[a].intersects(boxes[b])) expected.insert({a, b});
+    ASSERT_GT(expected.size(), 0u);
+    const morph::AabbTree tree(boxes);
+    for (std::size_t parts : {1u, 2u, 5u, 64u, 100000u}) {
+      const std::vector<morph::AabbTree::PairWalk> walks = tree.pair_walks(parts);
+      std::set<std::pair<std::uint32_t, std::uint32_t>> found;
+      std::size_t visits = 0;
+      for (const morph::AabbTree::PairWalk& walk : walks)
+        tree.for_each_overlapping_pair(walk, [&](std::uint32_t a, std::uint32_t b) {
+          EXPECT_LT(a, b);
+          found.insert({a, b});
+          ++visits;
+        });
+      EXPECT_EQ(found, expected) << count << " boxes, " << parts << " parts";
+      EXPECT_EQ(visits, expected.size()) << "a pair visited twice";
+      if (count == 300 && parts >= 64) {
+        EXPECT_GE(walks.size(), 64u);
+      }
+    }
+  }
+}
+
+}  // namespace
