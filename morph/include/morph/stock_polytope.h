@@ -32,7 +32,8 @@ struct StockPolytope {
 StockPolytope box_stock_polytope(const Eigen::AlignedBox3d& box);
 
 /// Number of side planes of the prism about a cylinder of `radius` (mm) whose faces and edges
-/// both stay within `deviation` (mm) of the exact side: r·tan²(π/2N) ≤ deviation, at least 8.
+/// both stay within `deviation` (mm) of the exact side: r·tan²(π/2N) ≤ deviation, the least
+/// multiple of 8 that does it (the sides' normals are then exactly symmetric about the axes).
 int cylinder_sides(double radius, double deviation);
 
 /// The prism about the cylinder of `stock` (StockType::Cylinder): cylinder_sides() side planes

@@ -6,6 +6,7 @@
 #include <cmath>
 
 #include <string>
+#include <vector>
 
 namespace morph {
 namespace {
@@ -42,11 +43,34 @@ int cylinder_sides(double radius, double deviation) {
   if (!finite_positive(radius) || !finite_positive(deviation))
     throw InputError("cylinder stock: the radius and the deviation must be positive, got " +
                      std::to_string(radius) + " and " + std::to_string(deviation));
-  // r·tan²(π/2N) ≤ deviation  ⇔  N ≥ π / (2·atan(√(deviation/r))).
-  const double n = std::ceil(M_PI / (2.0 * std::atan(std::sqrt(deviation / radius))));
+  // r·tan²(π/2N) ≤ deviation  ⇔  N ≥ π / (2·atan(√(deviation/r))); a multiple of 8 (side_directions).
+  const double n = std::ceil(M_PI / (2.0 * std::atan(std::sqrt(deviation / radius))) / 8.0) * 8.0;
   if (!(n <= 1e6)) throw InputError("cylinder stock: the deviation is too small for the radius");
   return std::max(8, static_cast<int>(n));
 }
+
+namespace {
+
+// The side normals' directions at angles 2πk/N (N a multiple of 8): the first octant computed,
+// the rest its exact images under the square's symmetries (mirrors in the diagonal, quarter
+// turns), so the prism is as symmetric about the axes as the tool polytope's rings are. With
+// rounded angles, a prism edge meant to lie on an axis missed it by 1e-15, and a pass along that
+// axis, whose tool edges lie on it exactly, met it in a cluster of exact points 1.3e-14 apart
+// (stress seed 103, case 498: one edge collapsed by the output rounding).
+std::vector<Eigen::Vector2d> side_directions(int sides) {
+  const int eighth = sides / 8, quarter = sides / 4;
+  std::vector<Eigen::Vector2d> d(static_cast<std::size_t>(sides));
+  for (int k = 0; k < eighth; ++k) {
+    const double angle = 2.0 * M_PI * k / sides;
+    d[k] = {std::cos(angle), std::sin(angle)};
+  }
+  d[eighth] = Eigen::Vector2d::Constant(std::sqrt(0.5));
+  for (int k = eighth + 1; k <= quarter; ++k) d[k] = {d[quarter - k].y(), d[quarter - k].x()};
+  for (int k = quarter + 1; k < sides; ++k) d[k] = {-d[k - quarter].y(), d[k - quarter].x()};
+  return d;
+}
+
+}  // namespace
 
 StockPolytope cylinder_stock_polytope(const Stock& stock, double deviation) {
   if (!finite_positive(stock.height) || !finite_positive(stock.radius))
@@ -72,9 +96,10 @@ StockPolytope cylinder_stock_polytope(const Stock& stock, double deviation) {
   const Eigen::Vector3d top = stock.base + stock.height * axis;
   add(-axis, -axis.dot(stock.base));
   add(axis, axis.dot(top));
+  const std::vector<Eigen::Vector2d> directions = side_directions(sides);
   for (int k = 0; k < sides; ++k) {
     const double angle = 2.0 * half * k;
-    const Eigen::Vector3d normal = std::cos(angle) * u + std::sin(angle) * w;
+    const Eigen::Vector3d normal = directions[k].x() * u + directions[k].y() * w;
     add(normal, normal.dot(stock.base) + apothem);
     // The prism's edges at this face's counter-clockwise end, at both ends of the axis.
     const Eigen::Vector3d radial = std::cos(angle + half) * u + std::sin(angle + half) * w;
