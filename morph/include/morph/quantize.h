@@ -25,8 +25,10 @@ using GridPoint = std::array<std::int64_t, 3>;  ///< integer coordinates on a gr
 /// A plane exactly on a grid: normal·X = offset for the grid points X of the plane (X·2^g in job
 /// units). A zero normal means "not set" (the plane is only known in doubles).
 struct IntegerPlane {
-  GridPoint normal{};
+  // The offset first: 48 bytes, not 64 with the padding before a 16-byte-aligned offset (an
+  // ExactPlane holds one, and the generator keeps millions of those).
   __int128 offset = 0;
+  GridPoint normal{};
   int grid_exponent = 0;
 
   bool set() const { return normal[0] != 0 || normal[1] != 0 || normal[2] != 0; }
