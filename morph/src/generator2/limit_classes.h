@@ -1,0 +1,19 @@
+// SPDX-License-Identifier: Apache-2.0
+#pragma once
+// Step 1 of the limit step (degenerate_collapse.h): which of the conformed surface's vertices are
+// one exact point.
+#include <morph/parallel.h>
+#include <morph/plane_predicates.h>
+
+#include <array>
+#include <cstdint>
+#include <vector>
+
+namespace morph {
+
+/// Each vertex's class of one exact point (same_limit_point()), as its smallest member: the same
+/// whatever the order or the threads.
+std::vector<std::uint32_t> limit_classes(const std::vector<std::array<ExactPlane, 3>>& vertices,
+                                         ExecutionPolicy policy);
+
+}  // namespace morph

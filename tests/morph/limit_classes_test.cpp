@@ -1,0 +1,31 @@
+// SPDX-License-Identifier: Apache-2.0
+// The limit step's classes of one exact point: plane triples through one point are one class,
+// represented by the smallest vertex, whatever the order and the threads.
+#include <gtest/gtest.h>
+
+#include "generator2/limit_classes.h"
+
+namespace {
+
+using Eigen::Vector3d;
+
+morph::ExactPlane plane(const Vector3d& normal, double offset, std::uint64_t rank) {
+  return morph::ExactPlane{normal, offset, rank, 1};
+}
+
+TEST(LimitClasses, TriplesThroughOnePointAreOneClass) {
+  const morph::ExactPlane x0 = plane({1, 0, 0}, 0, 1), y0 = plane({0, 1, 0}, 0, 2),
+                          z0 = plane({0, 0, 1}, 0, 3), diagonal = plane({1, 1, 1}, 0, 4),
+                          x1 = plane({1, 0, 0}, 1, 5), near = plane({1, 1, 1}, 1e-12, 6);
+  // The origin three times; (1, 0, 0), (1, 0, -1) and a point 1e-12 above the origin each alone.
+  const std::vector<std::array<morph::ExactPlane, 3>> vertices{
+      {x1, y0, z0}, {x0, y0, z0}, {x0, y0, diagonal}, {x1, y0, diagonal}, {y0, z0, diagonal}, {x0, y0, near}};
+  for (morph::ExecutionPolicy policy :
+       {morph::ExecutionPolicy::Sequential, morph::ExecutionPolicy::Parallel}) {
+    const std::vector<std::uint32_t> root = morph::limit_classes(vertices, policy);
+    ASSERT_EQ(root.size(), vertices.size());
+    EXPECT_EQ(root, (std::vector<std::uint32_t>{0, 1, 1, 3, 1, 5}));
+  }
+}
+
+}  // namespace
