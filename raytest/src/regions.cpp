@@ -1,5 +1,6 @@
 // SPDX-License-Identifier: Apache-2.0
 #include <morph/exceptions.h>
+#include <morph/union_find.h>
 #include <raytest/regions.h>
 
 #include <algorithm>
@@ -116,20 +117,6 @@ class EdgePoints {
  private:
   std::map<Key, std::vector<EdgeFraction>> asked_;
   std::map<Key, std::vector<Point>> points_;
-};
-
-// Union-find over vertex indices.
-struct Components {
-  std::vector<std::uint32_t> parent;
-  explicit Components(std::size_t n) : parent(n) { std::iota(parent.begin(), parent.end(), 0u); }
-  std::uint32_t find(std::uint32_t x) {
-    while (parent[x] != x) x = parent[x] = parent[parent[x]];
-    return x;
-  }
-  void unite(std::uint32_t a, std::uint32_t b) {
-    a = find(a), b = find(b);
-    if (a != b) parent[std::max(a, b)] = std::min(a, b);
-  }
 };
 
 }  // namespace
@@ -256,7 +243,7 @@ std::vector<DeviationRegion> find_regions(const morph::TriangleMesh& mesh, const
     const DeviationClass c = classify(values[v], band);
     kind[v] = c == DeviationClass::Gouge ? -1 : c == DeviationClass::Excess ? 1 : 0;
   }
-  Components components(n);
+  morph::UnionFind components(n);
   std::vector<double> vertex_area(n, 0.0);
   for (const auto& tri : mesh.triangles) {
     const double area = 0.5 * (mesh.vertices[tri[1]] - mesh.vertices[tri[0]])

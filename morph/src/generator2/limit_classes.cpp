@@ -1,6 +1,8 @@
 // SPDX-License-Identifier: Apache-2.0
 #include "generator2/limit_classes.h"
 
+#include <morph/union_find.h>
+
 #include <algorithm>
 #include <cmath>
 #include <numeric>
@@ -8,27 +10,6 @@
 #include <utility>
 
 namespace morph {
-namespace {
-
-class UnionFind {
- public:
-  explicit UnionFind(std::size_t n) : parent_(n) { std::iota(parent_.begin(), parent_.end(), 0u); }
-  std::uint32_t find(std::uint32_t v) {
-    while (parent_[v] != v) v = parent_[v] = parent_[parent_[v]];
-    return v;
-  }
-  // The smaller index becomes the root, so the representative does not depend on the order.
-  void unite(std::uint32_t a, std::uint32_t b) {
-    a = find(a), b = find(b);
-    if (a != b) parent_[std::max(a, b)] = std::min(a, b);
-  }
-
- private:
-  std::vector<std::uint32_t> parent_;
-};
-
-}  // namespace
-
 // Candidates are vertices whose rounded points fall in neighbouring cells of a grid much coarser
 // than any rounding error; whether they are one point is decided exactly. Each pair of candidates
 // is tested once, in any order: the classes are the connected parts of the pairs found to be one

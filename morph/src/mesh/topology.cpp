@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: Apache-2.0
 #include <morph/exceptions.h>
 #include <morph/topology.h>
+#include <morph/union_find.h>
 
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
@@ -54,38 +55,6 @@ std::vector<EdgeUse> proper_edge_uses(const TriangleMesh& mesh) {
     if (!collapsed(mesh.triangles[use.triangle])) uses.push_back(use);
   return uses;
 }
-
-class UnionFind {
- public:
-  explicit UnionFind(std::size_t n = 0) : parent_(n) {
-    std::iota(parent_.begin(), parent_.end(), std::uint32_t{0});
-  }
-  /// n singletons again, reusing the storage.
-  void reset(std::size_t n) {
-    parent_.resize(n);
-    std::iota(parent_.begin(), parent_.end(), std::uint32_t{0});
-  }
-  std::uint32_t find(std::uint32_t x) {
-    while (parent_[x] != x) {
-      parent_[x] = parent_[parent_[x]];
-      x = parent_[x];
-    }
-    return x;
-  }
-  // The smaller root wins, so a root is always the smallest member of its set.
-  void unite(std::uint32_t a, std::uint32_t b) {
-    a = find(a);
-    b = find(b);
-    if (a == b) return;
-    if (a < b)
-      parent_[b] = a;
-    else
-      parent_[a] = b;
-  }
-
- private:
-  std::vector<std::uint32_t> parent_;
-};
 
 // True when the triangles around `v` form one disc or half-disc: the link of v (one edge w1-w2 per
 // triangle (v, w1, w2)) is a single cycle or a single path. That holds iff no link vertex has more

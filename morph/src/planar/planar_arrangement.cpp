@@ -3,6 +3,7 @@
 // all their mutual intersections, pieces classified at their midpoints, kept pieces linked.
 #include <morph/exceptions.h>
 #include <morph/planar_erosion.h>
+#include <morph/union_find.h>
 #include <tbb/enumerable_thread_specific.h>
 
 #include <algorithm>
@@ -36,22 +37,6 @@ struct PieceRef {
   std::uint32_t curve;
   double t0, t1;
   std::uint32_t u, v;  ///< vertices at t0 and t1
-};
-
-struct UnionFind {
-  std::vector<std::uint32_t> parent;
-  explicit UnionFind(std::size_t n) : parent(n) { std::iota(parent.begin(), parent.end(), 0u); }
-  std::uint32_t find(std::uint32_t x) {
-    while (parent[x] != x) x = parent[x] = parent[parent[x]];
-    return x;
-  }
-  /// The smaller index stays the representative: the result does not depend on the order of unions.
-  void unite(std::uint32_t a, std::uint32_t b) {
-    a = find(a);
-    b = find(b);
-    if (a < b) parent[b] = a;
-    if (b < a) parent[a] = b;
-  }
 };
 
 Box2 inflated(Box2 box, double by) {
