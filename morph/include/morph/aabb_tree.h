@@ -60,30 +60,11 @@ class AabbTree {
     while (!stack.empty()) {
       const PairWalk w = stack.back();
       stack.pop_back();
+      if (split(w, stack)) continue;
       const Node &a = nodes_[w[0]], &b = nodes_[w[1]];
-      if (w[0] == w[1]) {
-        if (a.count > 0) {
-          for (std::uint32_t i = 0; i < a.count; ++i)
-            for (std::uint32_t j = i + 1; j < a.count; ++j)
-              visit_if_overlapping(a.first + i, a.first + j, visit);
-        } else {
-          stack.push_back({a.first, a.first});
-          stack.push_back({a.first + 1, a.first + 1});
-          stack.push_back({a.first, a.first + 1});
-        }
-        continue;
-      }
-      if (!a.box.intersects(b.box)) continue;
-      if (a.count > 0 && b.count > 0) {
-        for (std::uint32_t i = 0; i < a.count; ++i)
-          for (std::uint32_t j = 0; j < b.count; ++j) visit_if_overlapping(a.first + i, b.first + j, visit);
-      } else if (a.count > 0 || (b.count == 0 && b.box.volume() > a.box.volume())) {
-        stack.push_back({w[0], b.first});
-        stack.push_back({w[0], b.first + 1});
-      } else {
-        stack.push_back({a.first, w[1]});
-        stack.push_back({a.first + 1, w[1]});
-      }
+      for (std::uint32_t i = 0; i < a.count; ++i)
+        for (std::uint32_t j = w[0] == w[1] ? i + 1 : 0; j < b.count; ++j)
+          visit_if_overlapping(a.first + i, b.first + j, visit);
     }
   }
 
@@ -140,6 +121,11 @@ class AabbTree {
   }
 
  private:
+  // One step of the walk of `w`: appends its parts to `out` (none when its boxes are apart) and
+  // returns true, or returns false when `w` is two leaves, or one leaf with itself, whose items
+  // are compared directly.
+  bool split(const PairWalk& w, std::vector<PairWalk>& out) const;
+
   // Items at positions p and q of order_, visited as (smaller, larger) when their boxes meet.
   template <class Visit>
   void visit_if_overlapping(std::uint32_t p, std::uint32_t q, Visit& visit) const {

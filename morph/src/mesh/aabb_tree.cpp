@@ -56,38 +56,41 @@ AabbTree::AabbTree(std::vector<Eigen::AlignedBox3d> boxes) : boxes_(std::move(bo
   }
 }
 
+bool AabbTree::split(const PairWalk& w, std::vector<PairWalk>& out) const {
+  const Node &a = nodes_[w[0]], &b = nodes_[w[1]];
+  if (w[0] == w[1]) {
+    if (a.count > 0) return false;
+    out.push_back({a.first, a.first});
+    out.push_back({a.first + 1, a.first + 1});
+    out.push_back({a.first, a.first + 1});
+    return true;
+  }
+  if (!a.box.intersects(b.box)) return true;  // nothing under it
+  if (a.count > 0 && b.count > 0) return false;
+  // Down the inner node, the larger one when both are.
+  if (a.count > 0 || (b.count == 0 && b.box.volume() > a.box.volume())) {
+    out.push_back({w[0], b.first});
+    out.push_back({w[0], b.first + 1});
+  } else {
+    out.push_back({a.first, w[1]});
+    out.push_back({a.first + 1, w[1]});
+  }
+  return true;
+}
+
 std::vector<AabbTree::PairWalk> AabbTree::pair_walks(std::size_t parts) const {
   std::vector<PairWalk> walks;
   if (nodes_.empty()) return walks;
   walks.push_back({0, 0});
   // Breadth first: each round splits every walk that can be split, as the walk itself would.
-  for (bool split = true; split && walks.size() < parts;) {
-    split = false;
+  for (bool any = true; any && walks.size() < parts;) {
+    any = false;
     std::vector<PairWalk> next;
     for (const PairWalk& w : walks) {
-      const Node &a = nodes_[w[0]], &b = nodes_[w[1]];
-      if (w[0] == w[1]) {
-        if (a.count > 0) {
-          next.push_back(w);
-        } else {
-          next.push_back({a.first, a.first});
-          next.push_back({a.first + 1, a.first + 1});
-          next.push_back({a.first, a.first + 1});
-          split = true;
-        }
-      } else if (!a.box.intersects(b.box)) {
-        split = true;  // nothing under it
-      } else if (a.count > 0 && b.count > 0) {
+      if (split(w, next))
+        any = true;
+      else
         next.push_back(w);
-      } else if (a.count > 0 || (b.count == 0 && b.box.volume() > a.box.volume())) {
-        next.push_back({w[0], b.first});
-        next.push_back({w[0], b.first + 1});
-        split = true;
-      } else {
-        next.push_back({a.first, w[1]});
-        next.push_back({a.first + 1, w[1]});
-        split = true;
-      }
     }
     walks.swap(next);
   }
