@@ -260,6 +260,43 @@ TEST(PlanePredicates, BoundedVertexPointHoldsTheExactVertex) {
   }
 }
 
+// The looks' double Cramer answers only where the normals' determinant is at least 1e-3 of
+// their lengths' product, and there it is within its stated 1e-11·|x| of the exact vertex, as
+// the looks' margins need; nearer dependent it gives nothing (conditioned_vertex_point() or the
+// bounded point take over).
+TEST(PlanePredicates, LookVertexPointIsWithinItsBoundWhereItAnswers) {
+  std::mt19937_64 rng(11);
+  std::uniform_real_distribution<double> offset(-100, 100), scale(0.01, 100);
+  int answered = 0, refused = 0;
+  for (int trial = 0; trial < 400; ++trial) {
+    const double tilt = std::ldexp(1.0, -(trial % 20));
+    const Vector3d n = random_unit(rng), m = random_unit(rng);
+    // Lengths other than 1: the bound is relative to the rows' own scale.
+    const ExactPlane a = plane(scale(rng) * n, offset(rng), 1), b = plane(scale(rng) * m, offset(rng), 2),
+                     c = plane(scale(rng) * (n + tilt * random_unit(rng)).normalized(), offset(rng), 3);
+    const double det = std::fabs(a.normal.dot(b.normal.cross(c.normal))) /
+                       (a.normal.norm() * b.normal.norm() * c.normal.norm());
+    const std::optional<Vector3d> look = morph::look_vertex_point(a, b, c);
+    if (det < 1e-3) {
+      EXPECT_FALSE(look) << "det " << det;
+      ++refused;
+      continue;
+    }
+    ASSERT_TRUE(look) << "det " << det;
+    ++answered;
+    const std::array<Rational, 3> exact = exact_vertex(a, b, c);
+    double squared = 0.0, length = 0.0;
+    for (int k = 0; k < 3; ++k) {
+      const double d = static_cast<double>(Rational(rational((*look)[k]) - exact[k]));
+      squared += d * d;
+      length += std::pow(static_cast<double>(exact[k]), 2);
+    }
+    EXPECT_LE(std::sqrt(squared), 1e-11 * std::sqrt(length)) << "det " << det;
+  }
+  EXPECT_GT(answered, 100);
+  EXPECT_GT(refused, 50);
+}
+
 // However close to dependent the normals are, vertex_point() is within 1e-12 of the coordinates'
 // size of the exact vertex (long double Cramer alone was off by 0.47 mm at a corner of a tool
 // facet, its neighbour and their edge's silhouette plane, stress seed 53, case 406: here it is

@@ -57,8 +57,9 @@ bool subtract(const ConvexPiece& piece, const std::vector<ExactPlane>& cutter, s
 /// A float look at a piece, to skip planes that are clearly apart from it (all corners below, or
 /// all above, by far more than the rounding of the corners): the exact predicates would decide
 /// the same, so nothing depends on it but speed. For corners whose normals' determinant is above
-/// 1e-7 of the product of their lengths, Cramer's rule in long double (vertex_point()) errs by
-/// less than about 1e-11·(|offset| + |corner|), a hundredth of the margin below; for the others
+/// 1e-3 of the product of their lengths, the looks' Cramer in double (look_vertex_point()), and
+/// above 1e-7, Cramer's rule in long double (vertex_point()), err by less than about
+/// 1e-11·(|offset| + |corner|), a hundredth of the margin below; for the others
 /// (planes close to parallel, as a facet nearly along the motion and its silhouette plane) the
 /// margin adds the corner's forward error bound (bounded_vertex_point()).
 /// Made once for a piece that many cutters meet (a stock face's part, a kept facet's piece), it

@@ -100,6 +100,17 @@ Eigen::Vector3d vertex_point(const ExactPlane& a, const ExactPlane& b, const Exa
 /// float looks' margins, RoughCorners). The same point as vertex_point() there.
 Eigen::Vector3d conditioned_vertex_point(const ExactPlane& a, const ExactPlane& b, const ExactPlane& c);
 
+/// The vertex of three planes from their float looks (normal, offset) in double, for looks only:
+/// x = (o_a·(b×c) + o_b·(c×a) + o_c·(a×b)) / (a·(b×c)). Nothing unless the normals' determinant is
+/// at least 1e-3 of the product of their lengths; there it errs by less than 1e-11·|x| (below),
+/// as conditioned_vertex_point() does, at a fraction of its cost (it skips the exact forms, the
+/// orientation predicate and long double). Each row's offset is at most its normal's length
+/// times |x|, so the numerator's rounding is within 18u·|a||b||c|·|x| and the determinant's
+/// within 6u·|a||b||c|; over a determinant of at least 1e-3·|a||b||c| that is 2.7e-12·|x|, and
+/// the looks' own rounding (2u of each plane, moved by the same conditioning) adds 7e-13·|x|.
+std::optional<Eigen::Vector3d> look_vertex_point(const ExactPlane& a, const ExactPlane& b,
+                                                 const ExactPlane& c);
+
 /// A vertex rounded to doubles and a bound on its distance from the exact vertex (job units).
 struct BoundedPoint {
   Eigen::Vector3d point;

@@ -20,9 +20,15 @@ RoughCorners::RoughCorners(const ConvexPiece& piece, const RoughCorners* old,
     }
     const ExactPlane& a = piece.edges[(k + n - 1) % n];
     const ExactPlane& b = piece.edges[k];
+    Corner c;
+    if (const std::optional<Eigen::Vector3d> look = look_vertex_point(piece.support, a, b)) {
+      c.point = *look;
+      c.length = c.point.norm();
+      corners_.push_back(c);
+      continue;
+    }
     const double det = std::fabs(piece.support.normal.dot(a.normal.cross(b.normal)));
     const double scale = piece.support.normal.norm() * a.normal.norm() * b.normal.norm();
-    Corner c;
     if (det > 1e-7 * scale) {
       c.point = conditioned_vertex_point(piece.support, a, b);
     } else {

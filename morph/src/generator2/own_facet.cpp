@@ -88,6 +88,11 @@ std::optional<std::pair<std::vector<Vector3d>, double>> rounded_corners(const Co
   for (std::size_t k = 0; k < n; ++k) {
     const ExactPlane& a = piece.edges[(k + n - 1) % n];
     const ExactPlane& b = piece.edges[k];
+    if (const std::optional<Vector3d> look = look_vertex_point(piece.support, a, b)) {
+      points.push_back(*look);
+      largest = std::max(largest, points.back().norm());
+      continue;
+    }
     const double det = std::fabs(piece.support.normal.dot(a.normal.cross(b.normal)));
     const double scale = piece.support.normal.norm() * a.normal.norm() * b.normal.norm();
     conditioned = det > 1e-7 * scale;

@@ -1,6 +1,8 @@
 // SPDX-License-Identifier: Apache-2.0
 #include <morph/plane_predicates.h>
 
+#include <Eigen/Geometry>
+
 #include "generator2/double_double_filter.h"
 #include "generator2/exact_determinant.h"
 
@@ -429,6 +431,15 @@ Eigen::Vector3d vertex_point(const ExactPlane& a, const ExactPlane& b, const Exa
 
 Eigen::Vector3d conditioned_vertex_point(const ExactPlane& a, const ExactPlane& b, const ExactPlane& c) {
   return cramer(a, b, c, nullptr);
+}
+
+std::optional<Eigen::Vector3d> look_vertex_point(const ExactPlane& a, const ExactPlane& b,
+                                                 const ExactPlane& c) {
+  const Eigen::Vector3d bc = b.normal.cross(c.normal);
+  const double det = a.normal.dot(bc);
+  if (!(std::fabs(det) >= 1e-3 * a.normal.norm() * b.normal.norm() * c.normal.norm())) return std::nullopt;
+  return Eigen::Vector3d(
+      (a.offset * bc + b.offset * c.normal.cross(a.normal) + c.offset * a.normal.cross(b.normal)) / det);
 }
 
 std::optional<BoundedPoint> bounded_vertex_point(const ExactPlane& a, const ExactPlane& b,
