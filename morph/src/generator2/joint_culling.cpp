@@ -9,20 +9,56 @@ bool joined_at_joint(const SweepPolytopeBuilder& sweeps, const Move& move, const
          !sweeps.degenerate(move.start, move.end) && !sweeps.degenerate(next.start, next.end);
 }
 
-std::vector<JointVerdict> joint_verdicts(const ConvexPolytope& tool, const Eigen::Vector3d& motion,
-                                         const std::optional<Eigen::Vector3d>& previous_motion,
-                                         const std::optional<Eigen::Vector3d>& next_motion) {
-  std::vector<JointVerdict> verdicts(tool.facets.size(), JointVerdict::Kept);
-  for (std::size_t f = 0; f < tool.facets.size(); ++f) {
-    const Eigen::Vector3d& n = tool.facets[f].normal;
-    const int side = motion_side(n, motion);
-    if (side < 0 && previous_motion)
-      verdicts[f] =
-          motion_side(n, *previous_motion) < 0 ? JointVerdict::InsidePrevious : JointVerdict::OwnedByPrevious;
-    else if (side > 0 && next_motion && motion_side(n, *next_motion) > 0)
+namespace {
+
+// motion_side() of every tool facet for the move and its joined neighbours, each once (the rim
+// conditions read a facet's sides at each of its vertices, four facets each).
+struct JointSides {
+  std::vector<signed char> own, previous, next;
+  JointSides(const ConvexPolytope& tool, const Eigen::Vector3d& motion,
+             const std::optional<Eigen::Vector3d>& previous_motion,
+             const std::optional<Eigen::Vector3d>& next_motion) {
+    motion_sides(tool, motion, own);
+    if (previous_motion) motion_sides(tool, *previous_motion, previous);
+    if (next_motion) motion_sides(tool, *next_motion, next);
+  }
+};
+
+std::vector<JointVerdict> verdicts_of(const JointSides& sides) {
+  std::vector<JointVerdict> verdicts(sides.own.size(), JointVerdict::Kept);
+  for (std::size_t f = 0; f < verdicts.size(); ++f) {
+    const int side = sides.own[f];
+    if (side < 0 && !sides.previous.empty())
+      verdicts[f] = sides.previous[f] < 0 ? JointVerdict::InsidePrevious : JointVerdict::OwnedByPrevious;
+    else if (side > 0 && !sides.next.empty() && sides.next[f] > 0)
       verdicts[f] = JointVerdict::InsideNext;
   }
   return verdicts;
+}
+
+std::vector<JointVerdict> off_rim_of(const ConvexPolytope& tool,
+                                     const std::vector<std::vector<int>>& facets_at_vertex,
+                                     const JointSides& sides) {
+  std::vector<JointVerdict> joint = verdicts_of(sides);
+  for (std::size_t f = 0; f < tool.facets.size(); ++f) {
+    if (!culled(joint[f])) continue;
+    const bool owned = joint[f] == JointVerdict::OwnedByPrevious;
+    const std::vector<signed char>& neighbour =
+        joint[f] == JointVerdict::InsideNext ? sides.next : sides.previous;
+    const int side = joint[f] == JointVerdict::InsidePrevious ? -1 : 1;
+    for (int v : tool.facets[f].loop)
+      for (int g : facets_at_vertex[v])
+        if (neighbour[g] != side || (owned && sides.own[g] >= 0)) joint[f] = JointVerdict::Kept;
+  }
+  return joint;
+}
+
+}  // namespace
+
+std::vector<JointVerdict> joint_verdicts(const ConvexPolytope& tool, const Eigen::Vector3d& motion,
+                                         const std::optional<Eigen::Vector3d>& previous_motion,
+                                         const std::optional<Eigen::Vector3d>& next_motion) {
+  return verdicts_of(JointSides(tool, motion, previous_motion, next_motion));
 }
 
 std::vector<std::vector<int>> facets_at_vertices(const ConvexPolytope& tool) {
@@ -37,19 +73,7 @@ std::vector<JointVerdict> joint_verdicts_off_rim(const ConvexPolytope& tool,
                                                  const Eigen::Vector3d& motion,
                                                  const std::optional<Eigen::Vector3d>& previous_motion,
                                                  const std::optional<Eigen::Vector3d>& next_motion) {
-  std::vector<JointVerdict> joint = joint_verdicts(tool, motion, previous_motion, next_motion);
-  for (std::size_t f = 0; f < tool.facets.size(); ++f) {
-    if (!culled(joint[f])) continue;
-    const bool owned = joint[f] == JointVerdict::OwnedByPrevious;
-    const Eigen::Vector3d& neighbour = joint[f] == JointVerdict::InsideNext ? *next_motion : *previous_motion;
-    const int side = joint[f] == JointVerdict::InsidePrevious ? -1 : 1;
-    for (int v : tool.facets[f].loop)
-      for (int g : facets_at_vertex[v])
-        if (motion_side(tool.facets[g].normal, neighbour) != side ||
-            (owned && motion_side(tool.facets[g].normal, motion) >= 0))
-          joint[f] = JointVerdict::Kept;
-  }
-  return joint;
+  return off_rim_of(tool, facets_at_vertex, JointSides(tool, motion, previous_motion, next_motion));
 }
 
 std::vector<JointVerdict> joint_verdicts_exact(const ConvexPolytope& tool,
@@ -57,9 +81,9 @@ std::vector<JointVerdict> joint_verdicts_exact(const ConvexPolytope& tool,
                                                const Eigen::Vector3d& motion,
                                                const std::optional<Eigen::Vector3d>& previous_motion,
                                                const std::optional<Eigen::Vector3d>& next_motion) {
-  std::vector<JointVerdict> joint = joint_verdicts(tool, motion, previous_motion, next_motion);
-  const std::vector<JointVerdict> off_rim =
-      joint_verdicts_off_rim(tool, facets_at_vertex, motion, previous_motion, next_motion);
+  const JointSides sides(tool, motion, previous_motion, next_motion);
+  std::vector<JointVerdict> joint = verdicts_of(sides);
+  const std::vector<JointVerdict> off_rim = off_rim_of(tool, facets_at_vertex, sides);
   for (std::size_t f = 0; f < tool.facets.size(); ++f) {
     if (joint[f] == JointVerdict::InsideNext) {
       joint[f] = off_rim[f];  // the tie order leaves the later polytope's rim a sliver
@@ -68,7 +92,7 @@ std::vector<JointVerdict> joint_verdicts_exact(const ConvexPolytope& tool,
     if (!culled(joint[f])) continue;
     for (int v : tool.facets[f].loop)
       for (int g : facets_at_vertex[v])
-        if (motion_side(tool.facets[g].normal, *previous_motion) == 0) joint[f] = JointVerdict::Kept;
+        if (sides.previous[g] == 0) joint[f] = JointVerdict::Kept;
   }
   return joint;
 }

@@ -185,14 +185,14 @@ SweepCulling::Against SweepCulling::against(const Placed& p, std::size_t i, std:
   // Each kept only where its face, as placed, meets the facet's box.
   tool_facet_tree_->for_each_overlapping(swept, [&](std::size_t k) {
     const int side = candidate.side[k];
-    if ((side == 0 || tool_facet_tree_->box(k).intersects(side < 0 ? at_a : at_b)) &&
-        face_box(static_cast<int>(k)).intersects(box))
+    if ((side == 0 || boxes_meet(tool_facet_tree_->box(k), side < 0 ? at_a : at_b)) &&
+        boxes_meet(face_box(static_cast<int>(k)), box))
       near_faces.push_back(static_cast<int>(k));
   });
   // The silhouette faces, a few dozen, by their boxes: a walk of the edges' tree with the swept
   // box met most of the tool's edges when the candidate is long, to find the few on its silhouette.
   for (int h = first_silhouette; h < face_count; ++h)
-    if (candidate.silhouette[static_cast<std::size_t>(h - first_silhouette)].box.intersects(box))
+    if (boxes_meet(candidate.silhouette[static_cast<std::size_t>(h - first_silhouette)].box, box))
       near_faces.push_back(h);
   // Whether any face shows the facet apart does not depend on their order; only the crossing
   // planes are sorted, below, into the face order the cutter lists them in.

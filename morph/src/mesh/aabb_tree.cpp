@@ -65,7 +65,7 @@ bool AabbTree::split(const PairWalk& w, std::vector<PairWalk>& out) const {
     out.push_back({a.first, a.first + 1});
     return true;
   }
-  if (!a.box.intersects(b.box)) return true;  // nothing under it
+  if (!boxes_meet(a.box, b.box)) return true;  // nothing under it
   if (a.count > 0 && b.count > 0) return false;
   // Down the inner node, the larger one when both are.
   if (a.count > 0 || (b.count == 0 && b.box.volume() > a.box.volume())) {
