@@ -140,6 +140,7 @@ class SweepCulling {
   Culled decide(const Placed& p, std::size_t i, const Ends& own, const std::vector<const Candidate*>& near,
                 const std::vector<Eigen::Vector3d>& vertices, const Candidate*& prover, KeptFacet& keep,
                 CullingCounts& counts, Scratch& scratch) const;
+  int support_facet(int from, const Eigen::Vector3d& direction) const;
   Against against(const Placed& p, std::size_t i, std::uint32_t j, const std::vector<Eigen::Vector3d>& points,
                   const Faces& faces, std::vector<int>& near_faces, std::vector<int>& planes,
                   std::vector<char>& marks, CullingCounts& counts) const;
@@ -155,11 +156,12 @@ class SweepCulling {
   std::vector<Eigen::Vector3d> tool_facet_centres_;
   std::vector<double> tool_facet_radii_;
   std::vector<std::vector<int>> facets_at_vertex_;  ///< the tool facets around each tool vertex
-  std::vector<std::int64_t> tool_facet_cell_;      ///< cluster of each tool facet (a grid cell of its centre)
-  double rounding_ = 0.0;                          ///< plane values within this of zero are undecided
-  std::unique_ptr<AabbTree> tree_;                 ///< the sweeps' boxes
-  std::unique_ptr<AabbTree> tool_facet_tree_;      ///< the tool facets' boxes (grown by the rounding)
-  std::unique_ptr<ToolFacetGroups> facet_groups_;  ///< which faces can reach a point (all-face loops)
+  std::vector<std::int64_t> tool_facet_cell_;  ///< cluster of each tool facet (a grid cell of its centre)
+  std::vector<std::vector<int>> tool_facet_neighbours_;  ///< the tool facets across each facet's edges
+  double rounding_ = 0.0;                                ///< plane values within this of zero are undecided
+  std::unique_ptr<AabbTree> tree_;                       ///< the sweeps' boxes
+  std::unique_ptr<AabbTree> tool_facet_tree_;            ///< the tool facets' boxes (grown by the rounding)
+  std::unique_ptr<ToolFacetGroups> facet_groups_;        ///< which faces can reach a point (all-face loops)
 };
 
 }  // namespace morph

@@ -89,6 +89,32 @@ SweepCulling::SweepCulling(const SweepPolytopeBuilder& sweeps, std::vector<Move>
     facet_boxes.emplace_back(box.min().array() - rounding_, box.max().array() + rounding_);
   tool_facet_tree_ = std::make_unique<AabbTree>(std::move(facet_boxes));
   facet_groups_ = std::make_unique<ToolFacetGroups>(tool);
+  tool_facet_neighbours_.resize(tool.facets.size());
+  for (const SweepPolytopeBuilder::Edge& e : sweeps_.edges()) {
+    tool_facet_neighbours_[static_cast<std::size_t>(e.left)].push_back(e.right);
+    tool_facet_neighbours_[static_cast<std::size_t>(e.right)].push_back(e.left);
+  }
+}
+
+// A tool facet whose normal leans furthest toward `direction`, climbing from facet `from` to the
+// neighbour that leans further while there is one (on a convex polytope the climb ends at the
+// facet holding the direction in its normal cone, or next to it).
+int SweepCulling::support_facet(int from, const Vector3d& direction) const {
+  const ConvexPolytope& tool = sweeps_.tool();
+  int at = from;
+  double best = tool.facets[static_cast<std::size_t>(at)].normal.dot(direction);
+  for (bool climbed = true; climbed;) {
+    climbed = false;
+    for (int g : tool_facet_neighbours_[static_cast<std::size_t>(at)]) {
+      const double value = tool.facets[static_cast<std::size_t>(g)].normal.dot(direction);
+      if (value > best) {
+        best = value;
+        at = g;
+        climbed = true;
+      }
+    }
+  }
+  return at;
 }
 
 SweepCulling::~SweepCulling() = default;

@@ -167,6 +167,22 @@ SweepCulling::Against SweepCulling::against(const Placed& p, std::size_t i, std:
   const int right = p.edge >= 0 ? sweeps_.edges()[p.edge].right : -1;
   for (int h : {left, right})
     if (h >= 0 && !tie(h) && above(h)) return Against::Apart;
+  // Then the candidate's face that leans furthest from its tool's path toward the facet: where
+  // the two are apart, its plane usually shows it, and finding it costs a climb over a few tool
+  // facets, where the walk below tests every face near the facet.
+  {
+    const Vector3d a = candidate.a + Vector3d(0.0, 0.0, bounds_.centre_height);
+    const Vector3d motion = candidate.b - candidate.a;
+    const double length2 = motion.squaredNorm();
+    const double t = length2 > 0.0 ? std::clamp((p.centre - a).dot(motion) / length2, 0.0, 1.0) : 0.0;
+    Vector3d core = a + t * motion;
+    core.z() += std::clamp(p.centre.z() - core.z(), 0.0, bounds_.top - bounds_.centre_height);
+    const Vector3d away = p.centre - core;
+    if (away.squaredNorm() > 0.0) {
+      const int h = support_facet(left, away);
+      if (h != left && h != right && !tie(h) && above(h)) return Against::Apart;
+    }
+  }
   // Only the faces whose boxes meet the facet's can meet it: their planes either show it apart,
   // or leave it below (then it meets no face: wholly inside or wholly outside), or cross it.
   AlignedBox3d box = p.box;
