@@ -54,28 +54,43 @@ constexpr std::size_t kPlanesMadeOneAtATime = 4096;
 class MadePlanes {
  public:
   /// Sweep j's planes one at a time (valid until the next call).
-  const SweepPolytopeBuilder::Planes& sweep(std::uint32_t j, const CarveSweep& s) {
-    if (sweeps_.size() > kSweepsHeld) sweeps_.clear();
-    auto found = sweeps_.find(j);
-    if (found == sweeps_.end())
-      found = sweeps_.emplace(j, SweepPolytopeBuilder::Planes(*s.tool, s.from, s.to)).first;
-    return found->second;
-  }
-  /// Sweep j's plane k, ranked: sweep_planes()' plane k (valid until the next call).
-  const ExactPlane& plane(std::uint32_t j, const CarveSweep& s, int k) {
-    if (planes_.size() > kPlanesHeld) planes_.clear();
-    const std::uint64_t key = (std::uint64_t{j} << 32) | static_cast<std::uint32_t>(k);
-    const auto found = planes_.find(key);
-    if (found != planes_.end()) return found->second;
-    const Halfspace x = sweep(j, s)[static_cast<std::size_t>(k)];
-    return planes_.emplace(key, sweep_plane(x, j, static_cast<std::uint32_t>(k))).first->second;
+  const SweepPolytopeBuilder::Planes& sweep(std::uint32_t j, const CarveSweep& s) { return entry(j, s).planes; }
+  /// Appends sweep j's planes at `indices`, ranked: sweep_planes()' planes at those indices.
+  void append(std::uint32_t j, const CarveSweep& s, const std::vector<int>& indices, std::vector<ExactPlane>& out) {
+    if (pool_.size() + indices.size() > kPlanesHeld) clear();
+    Entry& e = entry(j, s);
+    if (e.slot.empty()) e.slot.assign(e.planes.size(), kNone);
+    for (int k : indices) {
+      std::uint32_t& slot = e.slot[static_cast<std::size_t>(k)];
+      if (slot == kNone) {
+        slot = static_cast<std::uint32_t>(pool_.size());
+        pool_.push_back(sweep_plane(e.planes[static_cast<std::size_t>(k)], j, static_cast<std::uint32_t>(k)));
+      }
+      out.push_back(pool_[slot]);
+    }
   }
 
  private:
   static constexpr std::size_t kSweepsHeld = 4096;      ///< a few kB each
-  static constexpr std::size_t kPlanesHeld = 1u << 18;  ///< ~40 MB
-  std::unordered_map<std::uint32_t, SweepPolytopeBuilder::Planes> sweeps_;
-  std::unordered_map<std::uint64_t, ExactPlane> planes_;
+  static constexpr std::size_t kPlanesHeld = 1u << 18;  ///< ~25 MB
+  static constexpr std::uint32_t kNone = ~std::uint32_t{0};
+  struct Entry {
+    SweepPolytopeBuilder::Planes planes;
+    std::vector<std::uint32_t> slot;  ///< per plane index: its place in the pool, or kNone
+  };
+  Entry& entry(std::uint32_t j, const CarveSweep& s) {
+    if (sweeps_.size() > kSweepsHeld) clear();
+    auto found = sweeps_.find(j);
+    if (found == sweeps_.end())
+      found = sweeps_.emplace(j, Entry{SweepPolytopeBuilder::Planes(*s.tool, s.from, s.to), {}}).first;
+    return found->second;
+  }
+  void clear() {
+    sweeps_.clear();
+    pool_.clear();
+  }
+  std::unordered_map<std::uint32_t, Entry> sweeps_;
+  std::vector<ExactPlane> pool_;  ///< the planes made, each once
 };
 
 // Per thread: the culling's scratch per tool, the counts and the CPU seconds.
@@ -272,7 +287,7 @@ class Carving {
         const std::uint32_t j = group.global[c.move];
         std::vector<ExactPlane> planes;
         planes.reserve(c.planes.size());
-        for (int h : c.planes) planes.push_back(w.made.plane(j, sweeps_[j], h));
+        w.made.append(j, sweeps_[j], c.planes, planes);
         cutters.emplace_back(j, std::move(planes));
       }
       if (groups_.size() > 1)
