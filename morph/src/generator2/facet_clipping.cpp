@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstddef>
+#include <optional>
 
 namespace morph {
 
@@ -103,35 +104,30 @@ ExactPlane box_plane(int axis, bool upper, double offset, std::uint32_t index) {
 // RoughCorners' margin holds) when `rough` is given: the exact predicates only for the others.
 // `from_old`, when given, receives for each corner of the result the index of the same corner
 // in `piece`, or -1 for a corner on `plane`.
-ConvexPiece clip_with(const ConvexPiece& piece, const ExactPlane& plane, const RoughCorners* rough,
-                      std::vector<int>* from_old = nullptr) {
-  if (from_old) {  // unchanged, unless changed below
-    from_old->resize(piece.edges.size());
-    for (std::size_t k = 0; k < piece.edges.size(); ++k) (*from_old)[k] = static_cast<int>(k);
-  }
-  if (piece.empty() || plane.rank == piece.support.rank) return piece;
-  for (const ExactPlane& e : piece.edges)
-    if (e.rank == plane.rank) return e.direction == plane.direction ? piece : ConvexPiece{piece.support, {}};
+// The part of `piece` whose corners' exact sides of `plane` are `sides` (of corner k, between
+// edges k-1 and k) take as inside (negative): the edges with a corner inside, and `plane` put after
+// the edge that leaves. Exact signs on a convex piece change twice. `from_old`, when given,
+// receives for each corner of the result the index of the same corner in `piece`, or -1 for a
+// corner on `plane`.
+ConvexPiece part_inside(const ConvexPiece& piece, const ExactPlane& plane, const std::vector<int>& sides,
+                        int sign, std::vector<int>* from_old) {
   const std::size_t n = piece.edges.size();
-  std::vector<int> sides(n);  // of corner k, between edges k-1 and k
   std::size_t inside = 0;
-  for (std::size_t k = 0; k < n; ++k) {
-    const int quick = rough ? rough->corner(k) : 0;
-    sides[k] = quick != 0 ? quick
-               : rough    ? rough->exact_side(piece, k, plane)
-                       : side_at_vertex(piece.support, piece.edges[(k + n - 1) % n], piece.edges[k], plane);
-    inside += sides[k] < 0;
+  for (int side : sides) inside += sign * side < 0;
+  if (inside == n) {
+    if (from_old) {
+      from_old->resize(n);
+      for (std::size_t k = 0; k < n; ++k) (*from_old)[k] = static_cast<int>(k);
+    }
+    return piece;
   }
-  if (inside == n) return piece;
   ConvexPiece out{piece.support, {}};
   if (inside == 0) return out;
-  // Edge k runs from corner k to corner k+1. Exact signs on a convex piece change twice: keep
-  // the edges with a corner inside, and put `plane` after the edge that leaves.
   out.edges.reserve(n + 1);  // grown one push at a time, this was ~1% of a job in reallocation
   std::vector<int> source;   // of each edge of `out`: its index in `piece`, -1 for `plane`
   source.reserve(n + 1);
   for (std::size_t k = 0; k < n; ++k) {
-    const bool from_inside = sides[k] < 0, to_inside = sides[(k + 1) % n] < 0;
+    const bool from_inside = sign * sides[k] < 0, to_inside = sign * sides[(k + 1) % n] < 0;
     if (from_inside || to_inside) {
       out.edges.push_back(piece.edges[k]);
       source.push_back(static_cast<int>(k));
@@ -154,6 +150,41 @@ ConvexPiece clip_with(const ConvexPiece& piece, const ExactPlane& plane, const R
     }
   }
   return out;
+}
+
+// The exact sides of `plane` at the corners of `piece` (the float look's where it is sure, as
+// RoughCorners' margin holds, when `rough` is given: the exact predicates only for the others);
+// none when the plane is the piece's support or one of its edges' (clip_with() decides those).
+std::optional<std::vector<int>> corner_sides(const ConvexPiece& piece, const ExactPlane& plane,
+                                             const RoughCorners* rough) {
+  if (plane.rank == piece.support.rank) return std::nullopt;
+  for (const ExactPlane& e : piece.edges)
+    if (e.rank == plane.rank) return std::nullopt;
+  const std::size_t n = piece.edges.size();
+  std::vector<int> sides(n);
+  for (std::size_t k = 0; k < n; ++k) {
+    const int quick = rough ? rough->corner(k) : 0;
+    sides[k] = quick != 0 ? quick
+               : rough    ? rough->exact_side(piece, k, plane)
+                       : side_at_vertex(piece.support, piece.edges[(k + n - 1) % n], piece.edges[k], plane);
+  }
+  return sides;
+}
+
+// clip(), with the float look's sides of the corners it is sure of when `rough` is given.
+// `from_old`, when given, receives for each corner of the result the index of the same corner
+// in `piece`, or -1 for a corner on `plane`.
+ConvexPiece clip_with(const ConvexPiece& piece, const ExactPlane& plane, const RoughCorners* rough,
+                      std::vector<int>* from_old = nullptr) {
+  if (from_old) {  // unchanged, unless changed below
+    from_old->resize(piece.edges.size());
+    for (std::size_t k = 0; k < piece.edges.size(); ++k) (*from_old)[k] = static_cast<int>(k);
+  }
+  if (piece.empty() || plane.rank == piece.support.rank) return piece;
+  for (const ExactPlane& e : piece.edges)
+    if (e.rank == plane.rank) return e.direction == plane.direction ? piece : ConvexPiece{piece.support, {}};
+  const std::optional<std::vector<int>> sides = corner_sides(piece, plane, rough);
+  return part_inside(piece, plane, *sides, 1, from_old);
 }
 
 // intersect() by the planes in [first, last), in that order.
@@ -249,9 +280,16 @@ bool subtract(const ConvexPiece& piece, const RoughCorners& look, const std::vec
   std::vector<int> from_old;
   for (const ExactPlane& plane : bounding) {
     rough.side(plane);
-    ConvexPiece inner = clip_with(rest, plane, &rough, &from_old);
-    rough.flip_looks();
-    ConvexPiece outside = clip_with(rest, flipped(plane), &rough);
+    ConvexPiece inner, outside;
+    if (const std::optional<std::vector<int>> sides = corner_sides(rest, plane, &rough)) {
+      // The flipped plane's sides are exactly the opposite: one look at the corners for both.
+      inner = part_inside(rest, plane, *sides, 1, &from_old);
+      outside = part_inside(rest, flipped(plane), *sides, -1, nullptr);
+    } else {
+      inner = clip_with(rest, plane, &rough, &from_old);
+      rough.flip_looks();
+      outside = clip_with(rest, flipped(plane), &rough);
+    }
     if (!outside.empty()) out.push_back(std::move(outside));
     if (inner.empty()) break;
     rough = RoughCorners(inner, &rough, from_old);
