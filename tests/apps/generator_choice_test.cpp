@@ -183,7 +183,7 @@ TEST(GeneratorChoice, AutoStopsGenerator1AtItsSearchLimit) {
   EXPECT_TRUE(sound.sound()) << sound.describe();
 
   // Generator 2 over the memory cap is not tried: the caller's search limit then stands.
-  options.memory_cap_bytes = std::size_t{92} << 20;  // generator 1 needs about 85 MiB, generator 2 100
+  options.memory_cap_bytes = std::size_t{88} << 20;  // generator 1 needs about 85 MiB, generator 2 91
   ASSERT_LT(morph::estimate_erode2(slots, slots.tolerance).bytes, 2.0 * options.memory_cap_bytes);
   ASSERT_GT(morph::estimate_erode2(slots, slots.tolerance).bytes, options.memory_cap_bytes);
   EXPECT_THROW(morphmill::run_generator(slots, options, morphmill::kAutoGenerator), morph::SearchLimitError);

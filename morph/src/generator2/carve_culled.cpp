@@ -40,6 +40,7 @@ struct ToolGroup {
   std::unique_ptr<ToolFacetGroups> facet_groups;
   std::vector<std::vector<int>> facet_members;  ///< of each facet group
   ToolBounds bounds;                            ///< of the tool polytope (tool_bounds.h)
+  ToolIncidence incidence;                      ///< what meets at each tool vertex (own_facet.h)
 };
 
 // From this many tool facets on, a stock piece's cutter whose planes the cache cannot hold makes
@@ -54,9 +55,12 @@ constexpr std::size_t kPlanesMadeOneAtATime = 4096;
 class MadePlanes {
  public:
   /// Sweep j's planes one at a time (valid until the next call).
-  const SweepPolytopeBuilder::Planes& sweep(std::uint32_t j, const CarveSweep& s) { return entry(j, s).planes; }
+  const SweepPolytopeBuilder::Planes& sweep(std::uint32_t j, const CarveSweep& s) {
+    return entry(j, s).planes;
+  }
   /// Appends sweep j's planes at `indices`, ranked: sweep_planes()' planes at those indices.
-  void append(std::uint32_t j, const CarveSweep& s, const std::vector<int>& indices, std::vector<ExactPlane>& out) {
+  void append(std::uint32_t j, const CarveSweep& s, const std::vector<int>& indices,
+              std::vector<ExactPlane>& out) {
     if (pool_.size() + indices.size() > kPlanesHeld) clear();
     Entry& e = entry(j, s);
     if (e.slot.empty()) e.slot.assign(e.planes.size(), kNone);
@@ -146,8 +150,13 @@ class Carving {
     for (std::size_t g = 0; g < sweeps.size(); ++g) {
       auto [it, added] = group_index.emplace(sweeps[g].tool, groups_.size());
       if (added)
-        groups_.push_back(ToolGroup{
-            sweeps[g].tool, {}, nullptr, std::make_unique<ToolFacetGroups>(sweeps[g].tool->tool()), {}, {}});
+        groups_.push_back(ToolGroup{sweeps[g].tool,
+                                    {},
+                                    nullptr,
+                                    std::make_unique<ToolFacetGroups>(sweeps[g].tool->tool()),
+                                    {},
+                                    {},
+                                    {}});
       group_of_[g] = it->second;
       local_of_[g] = groups_[it->second].global.size();
       groups_[it->second].global.push_back(static_cast<std::uint32_t>(g));
@@ -169,6 +178,7 @@ class Carving {
       for (std::size_t i = 0; i < group.facet_groups->size(); ++i)
         group.facet_members.push_back(group.facet_groups->members(i));
       group.bounds = tool_bounds(group.builder->tool());
+      group.incidence = tool_incidence(*group.builder);
       largest_inner_radius_ = std::max(largest_inner_radius_, group.bounds.inner_radius);
       group.culling =
           std::make_unique<SweepCulling>(*group.builder, std::move(moves), std::move(joined), stock.bounds);
@@ -259,8 +269,8 @@ class Carving {
     std::vector<std::pair<int, std::vector<ConvexPiece>>> out;
     if (kept.empty()) return out;
     const CarveSweep& s = sweeps_[g];
-    const OwnPlanes own =
-        own_planes(*group.builder, *group.facet_groups, group.facet_members, s.from, s.to, g);
+    const OwnPlanes own = own_planes(*group.builder, *group.facet_groups, group.facet_members,
+                                     group.incidence, s.from, s.to, g);
     // Every kept facet within the stock and its own sweep first, then each minus its cutters: the
     // two phases timed once per move (a thread's CPU clock is a system call).
     std::vector<ConvexPiece> facets;

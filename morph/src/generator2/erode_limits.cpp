@@ -24,25 +24,25 @@ namespace {
 // The process itself (libraries, the job, the output's writing); measured on single_slot.json.
 constexpr double kBytesFixed = 45.0 * (1 << 20);
 // Per facet of the sweep polytopes: its halfspace and box in the culling, and for the ones kept
-// their exact polygons, cutters, conformed loops and output triangles. Measured 280-690 bytes
-// over the bundled jobs (helix_pocket the least, slots the most).
-constexpr double kBytesPerSweepFacet = 500.0;
+// their exact polygons, cutters, conformed loops and output triangles. Measured 210-480 bytes
+// over the bundled jobs (helix_pocket the least, slots the most; 2026-11-28, after the cutters'
+// planes went into a pool and the looks' corners to double Cramer).
+constexpr double kBytesPerSweepFacet = 420.0;
 // A mesh stock's triangle is a facet carved like a sweep's, with the mesh and its index beside it
 // (generator 1 measured 1400 bytes for the same on a 1M-triangle sphere stock).
 constexpr double kBytesPerStockTriangle = 1000.0;
 
 // Each thread carving holds the exact planes of the sweeps it met last (sweep_plane_cache.h: up to
 // 64 MiB, 112 bytes a plane, about one per facet), the cutters' planes it made one at a time
-// (carve_culled.cpp MadePlanes: up to 2^18 planes, ~160 bytes each in their table, and the sides
-// of 4096 sweeps' tool facets) and the culling the faces of the last 1024 candidate sweeps
-// (sweep_culling.cpp: about 80 bytes a facet); none more than every sweep's. The constants above
-// were fitted on 2 threads; each further thread adds its own (at 64 threads about 8 GB on bear.nc
-// at 0.01).
+// (carve_culled.cpp MadePlanes: up to 2^18 planes, ~100 bytes each in their pool, and the sides
+// and plane slots of 4096 sweeps' facets, 5 bytes each) and the culling the faces of the last 1024 candidate
+// sweeps (sweep_culling.cpp: about 80 bytes a facet); none more than every sweep's. The constants above were
+// fitted on 2 threads; each further thread adds its own (at 64 threads about 8 GB on bear.nc at 0.01).
 constexpr double kFittedThreads = 2.0;
 double per_thread_bytes(double sweep_facets, double segments) {
   const double facets_per_sweep = sweep_facets / std::max(1.0, segments);
-  return std::min(64.0 * (1 << 20), 112.0 * sweep_facets) + 160.0 * std::min(double(1 << 18), sweep_facets) +
-         std::min(4096.0, segments) * facets_per_sweep +
+  return std::min(64.0 * (1 << 20), 112.0 * sweep_facets) + 100.0 * std::min(double(1 << 18), sweep_facets) +
+         5.0 * std::min(4096.0, segments) * facets_per_sweep +
          80.0 * std::min(1024.0 * facets_per_sweep, sweep_facets);
 }
 

@@ -114,11 +114,26 @@ std::optional<std::pair<std::vector<Vector3d>, double>> rounded_corners(const Co
 
 }  // namespace
 
+ToolIncidence tool_incidence(const SweepPolytopeBuilder& builder) {
+  const ConvexPolytope& tool = builder.tool();
+  ToolIncidence incidence;
+  incidence.facets_at_vertex.resize(tool.vertices.size());
+  for (std::size_t f = 0; f < tool.facets.size(); ++f)
+    for (int v : tool.facets[f].loop) incidence.facets_at_vertex[v].push_back(static_cast<int>(f));
+  incidence.edges_at_vertex.resize(tool.vertices.size());
+  const std::vector<SweepPolytopeBuilder::Edge>& edges = builder.edges();
+  for (std::size_t e = 0; e < edges.size(); ++e)
+    for (int v : {edges[e].from, edges[e].to}) incidence.edges_at_vertex[v].push_back(static_cast<int>(e));
+  return incidence;
+}
+
 OwnPlanes own_planes(const SweepPolytopeBuilder& builder, const ToolFacetGroups& groups,
-                     const std::vector<std::vector<int>>& members, const Vector3d& from, const Vector3d& to,
-                     std::uint32_t move) {
+                     const std::vector<std::vector<int>>& members, const ToolIncidence& incidence,
+                     const Vector3d& from, const Vector3d& to, std::uint32_t move) {
   OwnPlanes own;
   own.planes = sweep_planes(builder.halfspaces(from, to), move);
+  own.builder = &builder;
+  own.incidence = &incidence;
   own.groups = &groups;
   std::tie(own.a, own.b) =
       builder.degenerate(from, to) ? std::pair{from, from} : SweepPolytopeBuilder::ordered(from, to);
@@ -130,11 +145,14 @@ OwnPlanes own_planes(const SweepPolytopeBuilder& builder, const ToolFacetGroups&
     motion_sides(builder.tool(), own.b - own.a, own.side);
   for (std::size_t k = 0; k < own.tool_facets; ++k) own.at_b[k] = own.side[k] > 0;
   const std::vector<SweepPolytopeBuilder::Edge>& edges = builder.edges();
+  own.silhouette_plane.assign(edges.size(), -1);
   for (std::size_t i = 0; i < edges.size(); ++i)
     if (own.side[static_cast<std::size_t>(edges[i].left)] *
             own.side[static_cast<std::size_t>(edges[i].right)] <
-        0)
+        0) {
+      own.silhouette_plane[i] = static_cast<int>(own.tool_facets + own.silhouette.size());
       own.silhouette.push_back(static_cast<int>(i));
+    }
   own.group_ends.assign(groups.size(), 0);
   for (std::size_t i = 0; i < groups.size(); ++i)
     for (int k : members[i]) own.group_ends[i] |= own.at_b[k] ? 2 : 1;
@@ -191,12 +209,14 @@ std::optional<Ball> corner_ball(const ConvexPiece& piece) {
   return ball;
 }
 
-// Facet f of a sweep within the stock and its own polytope: first by the planes passing near
-// the facet's points (which makes the piece small), then by the others (the float look of
-// intersect() skips the planes clearly apart, so this adds little and decides exactly). Planes
-// that cannot reach the points' (then the piece's corners') balls are left out of both loops:
-// the near test would fail for them, and they hold every corner strictly inside, so clipping by
-// them would give the piece unchanged. Nor does the second loop clip by a near plane again: the
+// Facet f of a sweep within the stock and its own polytope: first by the planes through the
+// facet's vertices that pass near its points (which makes the piece small; found from what meets
+// at its tool vertices, not searched for), then by every other plane that may reach the piece's
+// corners (the float look of intersect() skips the planes clearly apart, so this adds little and
+// decides exactly). The piece is the same set of planes whichever loop a plane is clipped in.
+// Planes that cannot reach the piece's corners' balls are left out of the second loop: they hold
+// every corner strictly inside, so clipping by them would give the piece unchanged. Nor does the
+// second loop clip by a near plane again: the
 // piece lies inside it, so its corners are strictly inside or on it as an edge (clip() would
 // return the piece unchanged).
 ConvexPiece own_facet(const OwnPlanes& own, int f, const std::vector<Vector3d>& points,
@@ -210,15 +230,38 @@ ConvexPiece own_facet(const OwnPlanes& own, int f, const std::vector<Vector3d>& 
   scratch.applied_index.clear();
   std::vector<char>& applied = scratch.applied;  // all clear between calls
   applied.resize(own.planes.size(), 0);
-  // Every plane's margin below is at most this, so a plane below -reach in the balls is not near.
-  const double reach = 1e-9 * (1 + own.max_offset) * (1 + largest);
   const std::vector<Ball> point_balls = covering_balls(points, own, 0.0);
-  for_each_plane_reaching(own, point_balls, -reach, scratch.marks, [&](std::size_t k) {
-    if (static_cast<int>(k) == f) return;
+  // The planes through the facet's vertices: the tool facets and silhouette edges at its tool
+  // vertices. They bound it (and where more than three meet at a vertex, the order of terms
+  // decides which); any other plane near its points is found by the second loop below, which
+  // tests every plane that may reach the piece's corners.
+  std::vector<std::size_t>& incident = scratch.incident;
+  incident.clear();
+  const ConvexPolytope& tool = own.builder->tool();
+  const auto nf = static_cast<int>(own.tool_facets);
+  auto add_vertex = [&](int v) {
+    for (int g : own.incidence->facets_at_vertex[static_cast<std::size_t>(v)])
+      incident.push_back(static_cast<std::size_t>(g));
+    for (int e : own.incidence->edges_at_vertex[static_cast<std::size_t>(v)])
+      if (own.silhouette_plane[static_cast<std::size_t>(e)] >= 0)
+        incident.push_back(static_cast<std::size_t>(own.silhouette_plane[static_cast<std::size_t>(e)]));
+  };
+  if (f < nf) {
+    for (int v : tool.facets[static_cast<std::size_t>(f)].loop) add_vertex(v);
+  } else {
+    const SweepPolytopeBuilder::Edge& e =
+        own.builder->edges()[static_cast<std::size_t>(own.silhouette[static_cast<std::size_t>(f - nf)])];
+    add_vertex(e.from);
+    add_vertex(e.to);
+  }
+  std::sort(incident.begin(), incident.end());
+  incident.erase(std::unique(incident.begin(), incident.end()), incident.end());
+  for (const std::size_t k : incident) {
+    if (static_cast<int>(k) == f) continue;
     const ExactPlane& h = own.planes[k];
     const double margin = 1e-9 * (1 + std::fabs(h.offset));
     // Below the smallest threshold in the balls is below each point's (a group's bound is loose).
-    if (below_in_balls(h, own.lengths[k], point_balls, margin * (1 + largest))) return;
+    if (below_in_balls(h, own.lengths[k], point_balls, margin * (1 + largest))) continue;
     for (std::size_t i = 0; i < points.size(); ++i)
       if (h.normal.dot(points[i]) - h.offset > -margin * (1 + lengths[i])) {
         near.push_back(h);
@@ -226,7 +269,7 @@ ConvexPiece own_facet(const OwnPlanes& own, int f, const std::vector<Vector3d>& 
         scratch.applied_index.push_back(k);
         break;
       }
-  });
+  }
   // In decreasing rank (the same piece in any order): the tightest perturbations first, so the
   // planes through a tool vertex where many facets meet (a fan about the ball's pole) do not pile
   // up tiny edges there, each costing an exact tie at every later plane through it.

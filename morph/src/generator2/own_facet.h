@@ -4,9 +4,10 @@
 /// A kept sweep facet within the stock and its own sweep polytope: the piece the culled carving
 /// then cuts by the facet's cutters (carve_culled.h). Of a sweep's planes (a tool facet's at each
 /// end, a silhouette edge's along the move), only those that may reach the facet are clipped by:
-/// the tool's facet groups (tool_facet_groups.h) bound a group's planes over balls holding the
-/// facet's points, and a plane below every ball holds the piece strictly inside, so clipping by
-/// it would change nothing. Balls about exact corners also serve the stock pieces' tests.
+/// first those through its vertices (what meets at its tool vertices), then any other that the
+/// tool's facet groups (tool_facet_groups.h), bounding a group's planes over balls holding the
+/// piece's corners, cannot show below every ball: such a plane holds the piece strictly inside,
+/// so clipping by it would change nothing. Balls about exact corners also serve the stock pieces' tests.
 #include <morph/carve.h>
 #include <morph/facet_clipping.h>
 #include <morph/stock_polytope.h>
@@ -23,11 +24,22 @@ namespace morph {
 
 using Ball = std::pair<Eigen::Vector3d, double>;  ///< centre, radius (job units)
 
+/// What meets at each tool vertex: the planes through a sweep facet's vertices are those of the
+/// tool facets and silhouette edges there.
+struct ToolIncidence {
+  std::vector<std::vector<int>> facets_at_vertex;  ///< tool facets (joint_culling.h's facets_at_vertices())
+  std::vector<std::vector<int>> edges_at_vertex;   ///< tool edges (indices in SweepPolytopeBuilder::edges())
+};
+ToolIncidence tool_incidence(const SweepPolytopeBuilder& builder);
+
 /// A sweep's own planes (sweep_planes() of its halfspaces) with what finds the ones that reach a
 /// region without testing them all: the tool's facet groups and the sweep's ordered ends.
 struct OwnPlanes {
   std::vector<ExactPlane> planes;
-  std::vector<double> lengths;  ///< of the planes' normals
+  const SweepPolytopeBuilder* builder = nullptr;
+  const ToolIncidence* incidence = nullptr;
+  std::vector<int> silhouette_plane;  ///< per tool edge: the index of its silhouette plane, or -1
+  std::vector<double> lengths;        ///< of the planes' normals
   const ToolFacetGroups* groups = nullptr;
   Eigen::Vector3d a, b;
   std::size_t tool_facets = 0;    ///< planes[k] for k below this is tool facet k placed at a or b
@@ -39,10 +51,11 @@ struct OwnPlanes {
 };
 
 /// The own planes of the sweep of `builder`'s tool from `from` to `to`, ranked as move `move`'s
-/// (sweep_planes()); `members[g]`: the tool facets of facet group g of `groups`.
+/// (sweep_planes()); `members[g]`: the tool facets of facet group g of `groups`; `incidence`:
+/// tool_incidence() of `builder`.
 OwnPlanes own_planes(const SweepPolytopeBuilder& builder, const ToolFacetGroups& groups,
-                     const std::vector<std::vector<int>>& members, const Eigen::Vector3d& from,
-                     const Eigen::Vector3d& to, std::uint32_t move);
+                     const std::vector<std::vector<int>>& members, const ToolIncidence& incidence,
+                     const Eigen::Vector3d& from, const Eigen::Vector3d& to, std::uint32_t move);
 
 /// own_facet()'s working memory, one per thread.
 struct OwnFacetScratch {
@@ -50,6 +63,7 @@ struct OwnFacetScratch {
   std::vector<double> lengths;
   std::vector<char> applied;  ///< per own plane: clipped by in the first loop
   std::vector<std::size_t> applied_index;
+  std::vector<std::size_t> incident;  ///< the planes through a facet's vertices
   std::vector<ExactPlane> near, reaching;
 };
 
