@@ -1,6 +1,8 @@
 // SPDX-License-Identifier: Apache-2.0
 #include "generator2/own_facet.h"
 
+#include <morph/joint_culling.h>
+
 #include <algorithm>
 #include <cmath>
 #include <tuple>
@@ -117,9 +119,7 @@ std::optional<std::pair<std::vector<Vector3d>, double>> rounded_corners(const Co
 ToolIncidence tool_incidence(const SweepPolytopeBuilder& builder) {
   const ConvexPolytope& tool = builder.tool();
   ToolIncidence incidence;
-  incidence.facets_at_vertex.resize(tool.vertices.size());
-  for (std::size_t f = 0; f < tool.facets.size(); ++f)
-    for (int v : tool.facets[f].loop) incidence.facets_at_vertex[v].push_back(static_cast<int>(f));
+  incidence.facets_at_vertex = facets_at_vertices(tool);
   incidence.edges_at_vertex.resize(tool.vertices.size());
   const std::vector<SweepPolytopeBuilder::Edge>& edges = builder.edges();
   for (std::size_t e = 0; e < edges.size(); ++e)
