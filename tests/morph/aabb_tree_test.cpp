@@ -53,4 +53,41 @@ TEST(AabbTree, EveryOverlappingPairOnceWhateverTheParts) {
   }
 }
 
+// A tree large enough that its subtrees are built in parallel: every query finds what brute
+// force finds, and every build visits the items in the same order (the layout follows from the
+// item counts alone, whatever thread builds which subtree).
+TEST(AabbTree, ALargeTreeBuiltInParallelAnswersAsBruteForceAndAlwaysAlike) {
+  const std::vector<Eigen::AlignedBox3d> boxes = random_boxes(60000, 5);
+  std::mt19937 random(9);
+  std::uniform_real_distribution<double> at(0.0, 10.0);
+  std::vector<Eigen::AlignedBox3d> queries;
+  for (int q = 0; q < 100; ++q) {
+    const Eigen::Vector3d low(at(random), at(random), at(random));
+    queries.emplace_back(low, low + Eigen::Vector3d(0.5, 0.5, 0.5));
+  }
+  std::vector<std::size_t> first_order;
+  for (int build = 0; build < 4; ++build) {
+    const morph::AabbTree tree(boxes);
+    std::vector<std::size_t> order;
+    for (const Eigen::AlignedBox3d& query : queries) {
+      std::set<std::size_t> found, expected;
+      tree.for_each_overlapping(query, [&](std::size_t i) {
+        found.insert(i);
+        order.push_back(i);
+      });
+      if (build == 0) {
+        for (std::size_t i = 0; i < boxes.size(); ++i)
+          if (boxes[i].intersects(query)) expected.insert(i);
+        EXPECT_EQ(found, expected);
+      }
+    }
+    if (build == 0) {
+      ASSERT_GT(order.size(), 1000u);
+      first_order = order;
+    } else {
+      EXPECT_EQ(order, first_order) << "build " << build;
+    }
+  }
+}
+
 }  // namespace

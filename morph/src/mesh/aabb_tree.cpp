@@ -1,59 +1,82 @@
 // SPDX-License-Identifier: Apache-2.0
 #include <morph/aabb_tree.h>
 
+#include <tbb/parallel_invoke.h>
+
 #include <algorithm>
+#include <map>
 #include <numeric>
 
 namespace morph {
 
 namespace {
+
 constexpr std::uint32_t kLeafSize = 4;
+// Subtrees over at least this many items are built in parallel with their siblings.
+constexpr std::uint32_t kParallelItems = 1u << 14;
+
+// How many nodes the tree over `count` items has (a leaf holds at most kLeafSize, an inner node
+// splits its items at half), for every count the splits of `count` reach.
+std::uint32_t count_nodes(std::uint32_t count, std::map<std::uint32_t, std::uint32_t>& nodes_of) {
+  const auto found = nodes_of.find(count);
+  if (found != nodes_of.end()) return found->second;
+  const std::uint32_t n =
+      count <= kLeafSize ? 1
+                         : 1 + count_nodes(count / 2, nodes_of) + count_nodes(count - count / 2, nodes_of);
+  nodes_of.emplace(count, n);
+  return n;
 }
 
+}  // namespace
+
+// Median split on the longest axis of the centre bounds; the depth stays below 64 because each
+// split halves the item count. Nodes are numbered as a depth-first walk that splits a node, numbers
+// its two children next to each other, then goes down the right one first: each subtree's numbers
+// follow from its item count alone, so large subtrees are built in parallel into the same layout.
 AabbTree::AabbTree(std::vector<Eigen::AlignedBox3d> boxes) : boxes_(std::move(boxes)) {
   if (boxes_.empty()) return;
   order_.resize(boxes_.size());
   std::iota(order_.begin(), order_.end(), 0u);
   std::vector<Eigen::Vector3d> centres(boxes_.size());
   for (std::size_t i = 0; i < boxes_.size(); ++i) centres[i] = boxes_[i].center();
-  nodes_.reserve(2 * boxes_.size() / kLeafSize + 2);
-  nodes_.push_back(Node{});
-  // Iterative median split on the longest axis of the centre bounds; the depth stays below 64
-  // because each split halves the item count.
-  struct Task {
-    std::uint32_t node, first, count;
-  };
-  std::vector<Task> tasks{{0, 0, static_cast<std::uint32_t>(boxes_.size())}};
-  while (!tasks.empty()) {
-    const Task task = tasks.back();
-    tasks.pop_back();
+  std::map<std::uint32_t, std::uint32_t> nodes_of;
+  nodes_.resize(count_nodes(static_cast<std::uint32_t>(boxes_.size()), nodes_of));
+  // Node `node` over order_[first, first + count); its descendants numbered from `next`.
+  auto build = [&](auto&& self, std::uint32_t node, std::uint32_t first, std::uint32_t count,
+                   std::uint32_t next) -> void {
     Eigen::AlignedBox3d box, centre_box;
-    for (std::uint32_t i = task.first; i < task.first + task.count; ++i) {
+    for (std::uint32_t i = first; i < first + count; ++i) {
       box.extend(boxes_[order_[i]]);
       centre_box.extend(centres[order_[i]]);
     }
-    nodes_[task.node].box = box;
-    if (task.count <= kLeafSize) {
-      nodes_[task.node].first = task.first;
-      nodes_[task.node].count = task.count;
-      continue;
+    nodes_[node].box = box;
+    if (count <= kLeafSize) {
+      nodes_[node].first = first;
+      nodes_[node].count = count;
+      return;
     }
     int axis = 0;
     centre_box.sizes().maxCoeff(&axis);
-    const std::uint32_t half = task.count / 2;
-    auto begin = order_.begin() + task.first;
-    std::nth_element(begin, begin + half, begin + task.count, [&](std::uint32_t a, std::uint32_t b) {
+    const std::uint32_t half = count / 2;
+    auto begin = order_.begin() + first;
+    std::nth_element(begin, begin + half, begin + count, [&](std::uint32_t a, std::uint32_t b) {
       if (centres[a][axis] != centres[b][axis]) return centres[a][axis] < centres[b][axis];
       return a < b;
     });
-    const auto left = static_cast<std::uint32_t>(nodes_.size());
-    nodes_.push_back(Node{});
-    nodes_.push_back(Node{});
-    nodes_[task.node].first = left;
-    nodes_[task.node].count = 0;
-    tasks.push_back({left, task.first, half});
-    tasks.push_back({left + 1, task.first + half, task.count - half});
-  }
+    nodes_[node].first = next;
+    nodes_[node].count = 0;
+    const std::uint32_t right_next = next + 2;
+    const std::uint32_t left_next = right_next + nodes_of.at(count - half) - 1;
+    auto right = [&] { self(self, next + 1, first + half, count - half, right_next); };
+    auto left = [&] { self(self, next, first, half, left_next); };
+    if (count >= kParallelItems) {
+      tbb::parallel_invoke(right, left);
+    } else {
+      right();
+      left();
+    }
+  };
+  build(build, 0, 0, static_cast<std::uint32_t>(boxes_.size()), 1);
 }
 
 bool AabbTree::split(const PairWalk& w, std::vector<PairWalk>& out) const {
