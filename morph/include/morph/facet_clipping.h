@@ -77,8 +77,6 @@ class RoughCorners {
   bool outside(const ExactPlane& plane) const;
   /// The last side()'s look at corner k (0 when unusable).
   int corner(std::size_t k) const { return usable_ ? corners_[k].look : 0; }
-  /// The looks at the last side()'s plane flipped().
-  void flip_looks();
   /// side_at_vertex() of corner k of `piece` (the piece this look is of) and `plane`: where the
   /// corner is a point of the grid its planes and `plane` are exact on, side_at_grid_vertex()
   /// from that point, found once per corner and kept as the piece is clipped.

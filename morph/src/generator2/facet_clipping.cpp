@@ -72,10 +72,6 @@ int RoughCorners::look_at(const Corner& c, const ExactPlane& plane, double lengt
   return value < -margin ? -1 : (value > margin ? 1 : 0);
 }
 
-void RoughCorners::flip_looks() {
-  for (Corner& c : corners_) c.look = -c.look;
-}
-
 int RoughCorners::exact_side(const ConvexPiece& piece, std::size_t k, const ExactPlane& plane) const {
   const std::size_t n = piece.edges.size();
   const ExactPlane& a = piece.edges[(k + n - 1) % n];
@@ -153,13 +149,9 @@ ConvexPiece part_inside(const ConvexPiece& piece, const ExactPlane& plane, const
 }
 
 // The exact sides of `plane` at the corners of `piece` (the float look's where it is sure, as
-// RoughCorners' margin holds, when `rough` is given: the exact predicates only for the others);
-// none when the plane is the piece's support or one of its edges' (clip_with() decides those).
-std::optional<std::vector<int>> corner_sides(const ConvexPiece& piece, const ExactPlane& plane,
-                                             const RoughCorners* rough) {
-  if (plane.rank == piece.support.rank) return std::nullopt;
-  for (const ExactPlane& e : piece.edges)
-    if (e.rank == plane.rank) return std::nullopt;
+// RoughCorners' margin holds, when `rough` is given: the exact predicates only for the others).
+// `plane` is neither the piece's support nor one of its edges' (clip_with() decides those).
+std::vector<int> corner_sides(const ConvexPiece& piece, const ExactPlane& plane, const RoughCorners* rough) {
   const std::size_t n = piece.edges.size();
   std::vector<int> sides(n);
   for (std::size_t k = 0; k < n; ++k) {
@@ -183,8 +175,7 @@ ConvexPiece clip_with(const ConvexPiece& piece, const ExactPlane& plane, const R
   if (piece.empty() || plane.rank == piece.support.rank) return piece;
   for (const ExactPlane& e : piece.edges)
     if (e.rank == plane.rank) return e.direction == plane.direction ? piece : ConvexPiece{piece.support, {}};
-  const std::optional<std::vector<int>> sides = corner_sides(piece, plane, rough);
-  return part_inside(piece, plane, *sides, 1, from_old);
+  return part_inside(piece, plane, corner_sides(piece, plane, rough), 1, from_old);
 }
 
 // intersect() by the planes in [first, last), in that order.
@@ -280,16 +271,12 @@ bool subtract(const ConvexPiece& piece, const RoughCorners& look, const std::vec
   std::vector<int> from_old;
   for (const ExactPlane& plane : bounding) {
     rough.side(plane);
-    ConvexPiece inner, outside;
-    if (const std::optional<std::vector<int>> sides = corner_sides(rest, plane, &rough)) {
-      // The flipped plane's sides are exactly the opposite: one look at the corners for both.
-      inner = part_inside(rest, plane, *sides, 1, &from_old);
-      outside = part_inside(rest, flipped(plane), *sides, -1, nullptr);
-    } else {
-      inner = clip_with(rest, plane, &rough, &from_old);
-      rough.flip_looks();
-      outside = clip_with(rest, flipped(plane), &rough);
-    }
+    // A bounding plane is none of the piece's (its rank is another move's, and those already
+    // peeled are not listed twice), and the flipped plane's exact sides are exactly the opposite:
+    // one look at the corners for both parts.
+    const std::vector<int> sides = corner_sides(rest, plane, &rough);
+    ConvexPiece inner = part_inside(rest, plane, sides, 1, &from_old);
+    ConvexPiece outside = part_inside(rest, flipped(plane), sides, -1, nullptr);
     if (!outside.empty()) out.push_back(std::move(outside));
     if (inner.empty()) break;
     rough = RoughCorners(inner, &rough, from_old);
