@@ -48,6 +48,9 @@ struct OwnPlanes {
   std::vector<int> silhouette;    ///< the silhouette edges (index in edges()), in facet order
   std::vector<char> group_ends;   ///< per facet group: 1 if a member is placed at a, 2 at b, 3 both
   double max_offset = 0.0;
+  /// Every plane of the sweep exact (SweepPolytopeBuilder::exact()): then a facet is bounded by
+  /// the planes through its vertices alone (own_facet()).
+  bool exact = false;
 };
 
 /// The own planes of the sweep of `builder`'s tool from `from` to `to`, ranked as move `move`'s
