@@ -15,6 +15,18 @@ Pair pair_of(std::uint64_t a, std::uint64_t b) {
   return a < b ? Pair{a, b} : Pair{b, a};
 }
 
+// Touches every page of `bytes` bytes of fresh storage at `data` (reserved, not yet constructed)
+// under `policy`. The kernel zeroes a page on its first touch, and a vector's resize() touches
+// them all from one thread: on bear.nc the vertices' 200 MB took half a second of the assembly
+// that way, serial.
+void fault_in(void* data, std::size_t bytes, ExecutionPolicy policy) {
+  constexpr std::size_t kPage = 4096, kBlock = 512 * kPage;
+  auto* first = static_cast<unsigned char*>(data);
+  for_each_index(policy, 0, (bytes + kBlock - 1) / kBlock, [&](std::size_t b) {
+    for (std::size_t at = b * kBlock; at < std::min(bytes, (b + 1) * kBlock); at += kPage) first[at] = 0;
+  });
+}
+
 // The slot of a vertex's line through planes s and e: the index (in the vertex's rank-sorted
 // planes) of its third plane.
 int slot_of(const std::array<ExactPlane, 3>& v, std::uint64_t s, std::uint64_t e) {
@@ -57,6 +69,8 @@ class Builder {
     sort_under(policy, runs.begin(), runs.end(),
                [](const auto& a, const auto& b) { return a.first < b.first; });
     std::vector<std::uint32_t> vertex_of(corners.size());
+    surface_.vertices.reserve(runs.size());
+    fault_in(surface_.vertices.data(), runs.size() * sizeof(surface_.vertices[0]), policy);
     surface_.vertices.resize(runs.size());
     for_each_index(policy, 0, runs.size(), [&](std::size_t v) {
       const std::size_t first = runs[v].first;
@@ -78,25 +92,27 @@ class Builder {
   // outside it and c2 faces back.
   void order_lines(ExecutionPolicy policy) {
     position_.assign(surface_.vertices.size(), {0, 0, 0});
-    for_each_index(policy, 0, lines_.size(), [&](std::size_t l) {
-      std::vector<std::uint32_t>& line = lines_[l];
-      if (line.size() > 1) {
+    for_each_index(policy, 0, line_count(), [&](std::size_t l) {
+      std::uint32_t* line = line_vertices_.data() + line_start_[l];
+      const std::size_t count = line_size(l);
+      if (count > 1) {
         const std::array<ExactPlane, 3>& first = surface_.vertices[line[0]];
         const int third = slot_of_line(line[0], static_cast<std::uint32_t>(l));
         const ExactPlane& lo = first[third == 0 ? 1 : 0];
         const ExactPlane& hi = first[third == 2 ? 1 : 2];
         std::vector<std::pair<std::uint32_t, int>> facing;  // vertex, sign of its plane along the line
-        for (std::uint32_t r : line)
-          facing.emplace_back(r, normals_orientation(lo, hi, third_plane(r, static_cast<std::uint32_t>(l))));
+        for (std::size_t k = 0; k < count; ++k)
+          facing.emplace_back(
+              line[k], normals_orientation(lo, hi, third_plane(line[k], static_cast<std::uint32_t>(l))));
         std::sort(facing.begin(), facing.end(), [&](const auto& r1, const auto& r2) {
           if (r1.first == r2.first) return false;
           const ExactPlane& c1 = third_plane(r1.first, static_cast<std::uint32_t>(l));
           const ExactPlane& c2 = third_plane(r2.first, static_cast<std::uint32_t>(l));
           return (side_at_vertex(lo, hi, c1, c2) < 0) == (r2.second > 0);
         });
-        for (std::size_t k = 0; k < line.size(); ++k) line[k] = facing[k].first;
+        for (std::size_t k = 0; k < count; ++k) line[k] = facing[k].first;
       }
-      for (std::size_t k = 0; k < line.size(); ++k)
+      for (std::size_t k = 0; k < count; ++k)
         position_[line[k]][slot_of_line(line[k], static_cast<std::uint32_t>(l))] =
             static_cast<std::uint32_t>(k);
     });
@@ -108,10 +124,10 @@ class Builder {
                                          std::uint32_t q) const {
     const int slot_p = slot_of(surface_.vertices[p], s.rank, e.rank);
     const int slot_q = slot_of(surface_.vertices[q], s.rank, e.rank);
-    const std::vector<std::uint32_t>& line = lines_[vertex_lines_[p][slot_p]];
+    const std::uint32_t* line = line_vertices_.data() + line_start_[vertex_lines_[p][slot_p]];
     const std::uint32_t from = position_[p][slot_p], to = position_[q][slot_q];
-    if (from < to) return std::vector<std::uint32_t>(line.begin() + from + 1, line.begin() + to);
-    std::vector<std::uint32_t> inside(line.begin() + to + 1, line.begin() + from);
+    if (from < to) return std::vector<std::uint32_t>(line + from + 1, line + to);
+    std::vector<std::uint32_t> inside(line + to + 1, line + from);
     std::reverse(inside.begin(), inside.end());
     return inside;
   }
@@ -119,6 +135,9 @@ class Builder {
   ConformedSurface& surface() { return surface_; }
 
  private:
+  std::size_t line_count() const { return line_start_.size() - 1; }
+  std::size_t line_size(std::size_t l) const { return line_start_[l + 1] - line_start_[l]; }
+
   int slot_of_line(std::uint32_t r, std::uint32_t l) const {
     const std::array<std::uint32_t, 3>& lines = vertex_lines_[r];
     return lines[0] == l ? 0 : (lines[1] == l ? 1 : 2);
@@ -152,17 +171,23 @@ class Builder {
     sort_under(policy, entries.begin(), entries.end(), [](const OnLine& a, const OnLine& b) {
       return a.line < b.line || (a.line == b.line && a.vertex < b.vertex);
     });
+    // The lines one after another in one array (a vector per line cost a million small
+    // allocations, made one at a time).
     vertex_lines_.resize(surface_.vertices.size());
+    line_vertices_.resize(entries.size());
+    line_start_.clear();
     for (std::size_t e = 0; e < entries.size(); ++e) {
-      if (e == 0 || entries[e].line != entries[e - 1].line) lines_.emplace_back();
-      lines_.back().push_back(entries[e].vertex);
+      if (e == 0 || entries[e].line != entries[e - 1].line) line_start_.push_back(e);
+      line_vertices_[e] = entries[e].vertex;
       vertex_lines_[entries[e].vertex][static_cast<std::size_t>(entries[e].slot)] =
-          static_cast<std::uint32_t>(lines_.size() - 1);
+          static_cast<std::uint32_t>(line_start_.size() - 1);
     }
+    line_start_.push_back(entries.size());
   }
 
   ConformedSurface surface_;
-  std::vector<std::vector<std::uint32_t>> lines_;           ///< each line's vertices, sorted by order_lines()
+  std::vector<std::uint32_t> line_vertices_;  ///< each line's vertices, sorted by order_lines(), line by line
+  std::vector<std::size_t> line_start_;  ///< line l's in line_vertices_[line_start_[l], line_start_[l + 1])
   std::vector<std::array<std::uint32_t, 3>> vertex_lines_;  ///< per vertex, its line by slot
   std::vector<std::array<std::uint32_t, 3>> position_;      ///< per vertex, its index on each line
 };
