@@ -56,26 +56,30 @@ TEST(OwnFacet, AnExactSweepsFacetIsBoundedByThePlanesThroughItsVerticesAlone) {
     for (const Vector3d& motion : motions) {
       const Vector3d from = morph::snap_to_grid(start, grid), to = morph::snap_to_grid(start + motion, grid);
       ASSERT_TRUE(builder.exact(from, to));
-      const morph::OwnPlanes own = morph::own_planes(builder, groups, members, incidence, from, to, 7);
+      morph::OwnPlanes own = morph::own_planes(builder, groups, members, incidence, from, to, 7);
       ASSERT_TRUE(own.exact);
+      // Every plane of the sweep, made at once: the planes own_facet() makes one at a time are these.
+      const std::vector<morph::ExactPlane> all = morph::sweep_planes(builder.halfspaces(from, to), 7);
+      ASSERT_EQ(own.plane_count(), all.size());
       morph::OwnFacetScratch scratch;
-      for (std::size_t f = 0; f < own.planes.size(); ++f) {
+      for (std::size_t f = 0; f < all.size(); ++f) {
         const auto facet = static_cast<int>(f);
         const morph::ConvexPiece piece =
             morph::own_facet(own, facet, morph::facet_points(builder, own, facet), stock, scratch);
         // Every other plane of the sweep, in decreasing rank as the first loop clips.
         std::vector<morph::ExactPlane> others;
-        for (std::size_t k = 0; k < own.planes.size(); ++k)
-          if (k != f) others.push_back(own.planes[k]);
+        for (std::size_t k = 0; k < all.size(); ++k)
+          if (k != f) others.push_back(all[k]);
         std::reverse(others.begin(), others.end());
-        const morph::ConvexPiece whole =
-            morph::intersect(morph::piece_in_stock(own.planes[f], stock), others);
+        const morph::ConvexPiece whole = morph::intersect(morph::piece_in_stock(all[f], stock), others);
         const std::string what = "tool " + std::to_string(t) + ", motion (" + std::to_string(motion.x()) +
                                  ", " + std::to_string(motion.y()) + ", " + std::to_string(motion.z()) +
                                  "), plane " + std::to_string(f);
         ASSERT_EQ(piece.empty(), whole.empty()) << what;
         if (piece.empty()) continue;
         EXPECT_EQ(piece.support.rank, whole.support.rank) << what;
+        EXPECT_EQ(piece.support.normal, whole.support.normal) << what;
+        EXPECT_EQ(piece.support.offset, whole.support.offset) << what;
         EXPECT_EQ(sorted_edges(piece), sorted_edges(whole)) << what;
         ++facets_checked;
         for (const morph::ExactPlane& e : piece.edges)

@@ -269,8 +269,8 @@ class Carving {
     std::vector<std::pair<int, std::vector<ConvexPiece>>> out;
     if (kept.empty()) return out;
     const CarveSweep& s = sweeps_[g];
-    const OwnPlanes own = own_planes(*group.builder, *group.facet_groups, group.facet_members,
-                                     group.incidence, s.from, s.to, g);
+    OwnPlanes own = own_planes(*group.builder, *group.facet_groups, group.facet_members, group.incidence,
+                               s.from, s.to, g);
     // Every kept facet within the stock and its own sweep first, then each minus its cutters: the
     // two phases timed once per move (a thread's CPU clock is a system call).
     std::vector<ConvexPiece> facets;
@@ -482,6 +482,9 @@ std::vector<CarvedPiece> carve_culled(const StockPolytope& stock, const std::vec
     total.ties += w.stages.ties;
     total.refined += w.stages.refined;
   }
+  std::size_t total_pieces = 0;
+  for (const std::vector<CarvedPiece>& slot : slots) total_pieces += slot.size();
+  out.reserve(total_pieces);  // growing it piece by piece copied and faulted in its pages again and again
   for (std::vector<CarvedPiece>& slot : slots)
     for (CarvedPiece& p : slot) out.push_back(std::move(p));
   total.carve.pieces = static_cast<double>(out.size());

@@ -42,7 +42,7 @@ void for_each_plane_reaching(const OwnPlanes& own, const std::vector<Ball>& ball
       marks[k] = 0;
       f(static_cast<std::size_t>(k));
     }
-  for (std::size_t k = own.tool_facets; k < own.planes.size(); ++k) f(k);
+  for (std::size_t k = own.tool_facets; k < own.plane_count(); ++k) f(k);
 }
 
 // The smallest ball about the points' mean holding them.
@@ -130,8 +130,11 @@ ToolIncidence tool_incidence(const SweepPolytopeBuilder& builder) {
 OwnPlanes own_planes(const SweepPolytopeBuilder& builder, const ToolFacetGroups& groups,
                      const std::vector<std::vector<int>>& members, const ToolIncidence& incidence,
                      const Vector3d& from, const Vector3d& to, std::uint32_t move) {
-  OwnPlanes own;
-  own.planes = sweep_planes(builder.halfspaces(from, to), move);
+  OwnPlanes own(SweepPolytopeBuilder::Planes(builder, from, to));
+  own.move = move;
+  own.planes.resize(own.made.size());
+  own.lengths.resize(own.made.size());
+  own.have.assign(own.made.size(), 0);
   own.builder = &builder;
   own.incidence = &incidence;
   own.groups = &groups;
@@ -157,11 +160,21 @@ OwnPlanes own_planes(const SweepPolytopeBuilder& builder, const ToolFacetGroups&
   own.group_ends.assign(groups.size(), 0);
   for (std::size_t i = 0; i < groups.size(); ++i)
     for (int k : members[i]) own.group_ends[i] |= own.at_b[k] ? 2 : 1;
-  for (const ExactPlane& h : own.planes) {
-    own.max_offset = std::max(own.max_offset, std::fabs(h.offset));
-    own.lengths.push_back(h.normal.norm());
-  }
   return own;
+}
+
+const ExactPlane& OwnPlanes::plane(std::size_t k) {
+  if (!have[k]) {
+    planes[k] = sweep_plane(made[k], move, static_cast<std::uint32_t>(k));
+    lengths[k] = planes[k].normal.norm();
+    have[k] = 1;
+  }
+  return planes[k];
+}
+
+double OwnPlanes::length(std::size_t k) {
+  plane(k);
+  return lengths[k];
 }
 
 // The points of sweep facet `f` as the builder places it (tool vertices at the ordered ends),
@@ -230,8 +243,8 @@ std::optional<Ball> corner_ball(const ConvexPiece& piece) {
 // second loop clip by a near plane again: the
 // piece lies inside it, so its corners are strictly inside or on it as an edge (clip() would
 // return the piece unchanged).
-ConvexPiece own_facet(const OwnPlanes& own, int f, const std::vector<Vector3d>& points,
-                      const StockPolytope& stock, OwnFacetScratch& scratch) {
+ConvexPiece own_facet(OwnPlanes& own, int f, const std::vector<Vector3d>& points, const StockPolytope& stock,
+                      OwnFacetScratch& scratch) {
   std::vector<double>& lengths = scratch.lengths;
   lengths.clear();
   for (const Vector3d& x : points) lengths.push_back(x.norm());
@@ -240,7 +253,7 @@ ConvexPiece own_facet(const OwnPlanes& own, int f, const std::vector<Vector3d>& 
   near.clear();
   scratch.applied_index.clear();
   std::vector<char>& applied = scratch.applied;  // all clear between calls
-  applied.resize(own.planes.size(), 0);
+  applied.resize(own.plane_count(), 0);
   const std::vector<Ball> point_balls = covering_balls(points, own, 0.0);
   // The planes through the facet's vertices: the tool facets and silhouette edges at its tool
   // vertices. They bound it (and where more than three meet at a vertex, the order of terms
@@ -269,10 +282,10 @@ ConvexPiece own_facet(const OwnPlanes& own, int f, const std::vector<Vector3d>& 
   incident.erase(std::unique(incident.begin(), incident.end()), incident.end());
   for (const std::size_t k : incident) {
     if (static_cast<int>(k) == f) continue;
-    const ExactPlane& h = own.planes[k];
+    const ExactPlane& h = own.plane(k);
     const double margin = 1e-9 * (1 + std::fabs(h.offset));
     // Below the smallest threshold in the balls is below each point's (a group's bound is loose).
-    if (below_in_balls(h, own.lengths[k], point_balls, margin * (1 + largest))) continue;
+    if (below_in_balls(h, own.length(k), point_balls, margin * (1 + largest))) continue;
     for (std::size_t i = 0; i < points.size(); ++i)
       if (h.normal.dot(points[i]) - h.offset > -margin * (1 + lengths[i])) {
         near.push_back(h);
@@ -285,7 +298,7 @@ ConvexPiece own_facet(const OwnPlanes& own, int f, const std::vector<Vector3d>& 
   // planes through a tool vertex where many facets meet (a fan about the ball's pole) do not pile
   // up tiny edges there, each costing an exact tie at every later plane through it.
   std::reverse(near.begin(), near.end());
-  ConvexPiece piece = intersect(piece_in_stock(own.planes[f], stock), near);
+  ConvexPiece piece = intersect(piece_in_stock(own.plane(static_cast<std::size_t>(f)), stock), near);
   if (own.exact) {
     for (std::size_t k : scratch.applied_index) applied[k] = 0;
     return piece;
@@ -295,16 +308,16 @@ ConvexPiece own_facet(const OwnPlanes& own, int f, const std::vector<Vector3d>& 
   if (!piece.empty()) {
     const auto rounded = rounded_corners(piece);
     if (!rounded) {
-      for (std::size_t k = 0; k < own.planes.size(); ++k)
-        if (!applied[k]) reaching.push_back(own.planes[k]);
+      for (std::size_t k = 0; k < own.plane_count(); ++k)
+        if (!applied[k]) reaching.push_back(own.plane(k));
     } else {
       // A plane below zero in the balls holds the exact corners strictly inside: clipping by it
       // would give the piece unchanged (the margin covers its rounded look, as RoughCorners').
       const std::vector<Ball> balls = covering_balls(rounded->first, own, rounded->second);
       for_each_plane_reaching(own, balls, 0.0, scratch.marks, [&](std::size_t k) {
-        const ExactPlane& h = own.planes[k];
-        if (!applied[k] && !below_in_balls(h, own.lengths[k], balls, 1e-9 * (1 + std::fabs(h.offset))))
-          reaching.push_back(h);
+        if (applied[k]) return;
+        const ExactPlane& h = own.plane(k);
+        if (!below_in_balls(h, own.length(k), balls, 1e-9 * (1 + std::fabs(h.offset)))) reaching.push_back(h);
       });
     }
   }

@@ -4,10 +4,11 @@
 /// A kept sweep facet within the stock and its own sweep polytope: the piece the culled carving
 /// then cuts by the facet's cutters (carve_culled.h). Of a sweep's planes (a tool facet's at each
 /// end, a silhouette edge's along the move), only those that may reach the facet are clipped by:
-/// first those through its vertices (what meets at its tool vertices), then any other that the
+/// first those through its vertices (what meets at its tool vertices), which alone bound it when
+/// every plane of the sweep is exact (own_facet.cpp says why); otherwise then any other that the
 /// tool's facet groups (tool_facet_groups.h), bounding a group's planes over balls holding the
 /// piece's corners, cannot show below every ball: such a plane holds the piece strictly inside,
-/// so clipping by it would change nothing. Balls about exact corners also serve the stock pieces' tests.
+/// so clipping by it would change nothing. The planes are made as they are asked for. Balls about exact corners also serve the stock pieces' tests.
 #include <morph/carve.h>
 #include <morph/facet_clipping.h>
 #include <morph/stock_polytope.h>
@@ -35,11 +36,21 @@ ToolIncidence tool_incidence(const SweepPolytopeBuilder& builder);
 /// A sweep's own planes (sweep_planes() of its halfspaces) with what finds the ones that reach a
 /// region without testing them all: the tool's facet groups and the sweep's ordered ends.
 struct OwnPlanes {
-  std::vector<ExactPlane> planes;
+  explicit OwnPlanes(SweepPolytopeBuilder::Planes sweep) : made(std::move(sweep)) {}
+  /// Plane k (sweep_planes()' plane k of the sweep, bit for bit), made when first asked for: a
+  /// move's kept facets ask for the planes through their vertices, a few of its ~700.
+  const ExactPlane& plane(std::size_t k);
+  double length(std::size_t k);  ///< of plane(k)'s normal
+  std::size_t plane_count() const { return made.size(); }
+
+  SweepPolytopeBuilder::Planes made;
+  std::uint32_t move = 0;
+  std::vector<ExactPlane> planes;  ///< planes[k] is plane(k) once have[k]
+  std::vector<double> lengths;     ///< of planes[k]'s normal
+  std::vector<char> have;
   const SweepPolytopeBuilder* builder = nullptr;
   const ToolIncidence* incidence = nullptr;
   std::vector<int> silhouette_plane;  ///< per tool edge: the index of its silhouette plane, or -1
-  std::vector<double> lengths;        ///< of the planes' normals
   const ToolFacetGroups* groups = nullptr;
   Eigen::Vector3d a, b;
   std::size_t tool_facets = 0;    ///< planes[k] for k below this is tool facet k placed at a or b
@@ -47,7 +58,6 @@ struct OwnPlanes {
   std::vector<signed char> side;  ///< per tool facet: motion_side() (-1 for a degenerate move)
   std::vector<int> silhouette;    ///< the silhouette edges (index in edges()), in facet order
   std::vector<char> group_ends;   ///< per facet group: 1 if a member is placed at a, 2 at b, 3 both
-  double max_offset = 0.0;
   /// Every plane of the sweep exact (SweepPolytopeBuilder::exact()): then a facet is bounded by
   /// the planes through its vertices alone (own_facet()).
   bool exact = false;
@@ -75,7 +85,7 @@ struct OwnFacetScratch {
 std::vector<Eigen::Vector3d> facet_points(const SweepPolytopeBuilder& builder, const OwnPlanes& own, int f);
 
 /// Facet f of the sweep (`points`: facet_points()) within the stock and its own polytope, exact.
-ConvexPiece own_facet(const OwnPlanes& own, int f, const std::vector<Eigen::Vector3d>& points,
+ConvexPiece own_facet(OwnPlanes& own, int f, const std::vector<Eigen::Vector3d>& points,
                       const StockPolytope& stock, OwnFacetScratch& scratch);
 
 /// A ball holding the exact corners of `piece`; none when the corners cannot be bounded.
