@@ -137,6 +137,7 @@ void BM_Generator2CullBear(benchmark::State& state) {
     c["without_witness"] = counts.without_witness;
     c["candidates_placed"] = counts.candidates_placed;
     c["apart_by_support"] = counts.apart_by_support;
+    c["apart_by_box"] = counts.apart_by_box;
     c["cutters_per_kept"] = counts.cutters / std::max(1.0, counts.kept);
     c["cutting_planes_per_kept"] = counts.cutting_planes / std::max(1.0, counts.kept);
     c["pieces_out"] = pieces;

@@ -63,6 +63,8 @@ struct CullingCounts {
   double candidates = 0, bound_tests = 0, plane_tests = 0;
   /// Candidates dropped for a facet because they lie wholly below its plane (support functions).
   double apart_by_support = 0;
+  /// Candidates dropped for a facet because their box misses its box (grown by the rounding).
+  double apart_by_box = 0;
   /// Candidates' faces placed (not found in the scratch).
   double candidates_placed = 0;
   /// Cutters kept with every crossing plane: no point of the facet proven inside within rounding.
