@@ -19,6 +19,8 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
+
 namespace {
 
 using Eigen::Vector3d;
@@ -218,6 +220,22 @@ TEST(DegenerateCollapse, TheSameSurfaceUnderEitherPolicy) {
     EXPECT_EQ(limit_one.polygons[i].loop, limit_many.polygons[i].loop);
     EXPECT_EQ(limit_one.polygons[i].strictly_convex, limit_many.polygons[i].strictly_convex);
   }
+  // Emitted alike: the same points bit for bit, triangles and provenance, centroids included.
+  std::vector<std::int32_t> move_index, move_line;
+  for (std::size_t m = 0; m < sweeps.size(); ++m) {
+    move_index.push_back(static_cast<std::int32_t>(m));
+    move_line.push_back(static_cast<std::int32_t>(10 + m));
+  }
+  const morph::TriangleMesh mesh_one =
+      morph::emit(limit_one, move_index, move_line, nullptr, morph::ExecutionPolicy::Sequential);
+  const morph::TriangleMesh mesh_many =
+      morph::emit(limit_one, move_index, move_line, nullptr, morph::ExecutionPolicy::Parallel);
+  EXPECT_TRUE(std::any_of(limit_one.polygons.begin(), limit_one.polygons.end(),
+                          [](const morph::LimitPolygon& p) { return !p.strictly_convex; }));
+  EXPECT_EQ(mesh_one.vertices, mesh_many.vertices);
+  EXPECT_EQ(mesh_one.triangles, mesh_many.triangles);
+  EXPECT_TRUE(mesh_one.tags == mesh_many.tags);
+  EXPECT_GT(mesh_one.triangle_count(), 1000u);
 }
 
 }  // namespace

@@ -9,6 +9,7 @@
 /// Provenance per triangle: the stock face, or the move (its global index and G-code line).
 #include <morph/degenerate_collapse.h>
 #include <morph/mesh.h>
+#include <morph/parallel.h>
 
 #include <vector>
 
@@ -21,8 +22,10 @@ struct EmitCounts {
 };
 
 /// `move_index[m]` and `move_line[m]` give the global move index and G-code line of sweep m.
+/// The points and triangles are made in parallel under `policy` (the output does not depend on it).
 TriangleMesh emit(const LimitSurface& surface, const std::vector<std::int32_t>& move_index,
-                  const std::vector<std::int32_t>& move_line, EmitCounts* counts = nullptr);
+                  const std::vector<std::int32_t>& move_line, EmitCounts* counts = nullptr,
+                  ExecutionPolicy policy = ExecutionPolicy::Parallel);
 
 /// The same from the conformed surface: its limit (collapse_degenerates()) emitted.
 TriangleMesh emit(const ConformedSurface& surface, const std::vector<std::int32_t>& move_index,

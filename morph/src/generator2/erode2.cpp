@@ -132,7 +132,7 @@ ErodeResult erode2(const Job& job, const ErodeOptions& options) {
   cpu = process_cpu_seconds();
   const LimitSurface limit = collapse_degenerates(std::move(surface));
   EmitCounts rounding;
-  result.mesh = emit(limit, move_index, move_line, &rounding);
+  result.mesh = emit(limit, move_index, move_line, &rounding, options.policy);
   stats.stage_cpu_seconds = {{"cull", stages.seconds_cull},
                              {"kept_facets", stages.seconds_facets},
                              {"stock_faces", stages.seconds_stock},
