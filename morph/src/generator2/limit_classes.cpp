@@ -6,7 +6,7 @@
 #include <algorithm>
 #include <cmath>
 #include <numeric>
-#include <unordered_map>
+#include <optional>
 #include <utility>
 
 namespace morph {
@@ -15,18 +15,12 @@ namespace morph {
 // is tested once, in any order: the classes are the connected parts of the pairs found to be one
 // point, each represented by its smallest vertex (UnionFind), whatever the order. The points are
 // found in parallel, and the cells sorted, so each occupied cell holding a vertex near its faces
-// looks up its 13 neighbours after it (bear.nc at 0.01: 778k vertices, 27 hash look-ups each
-// took a second; 13 each still took most of this step's 1 s).
+// looks up its 13 neighbours after it among the sorted runs (bear.nc at 0.01: 778k vertices, 27
+// hash look-ups each took a second; 13 each still took most of this step's 1 s).
 std::vector<std::uint32_t> limit_classes(const std::vector<std::array<ExactPlane, 3>>& vertices,
                                          ExecutionPolicy policy) {
   constexpr double kCell = 1e-6;
   using Cell = std::array<std::int64_t, 3>;
-  struct CellHash {
-    std::size_t operator()(const Cell& c) const {
-      return static_cast<std::size_t>(c[0] * 73856093) ^ static_cast<std::size_t>(c[1] * 19349663) ^
-             static_cast<std::size_t>(c[2] * 83492791);
-    }
-  };
   std::vector<std::pair<Cell, std::uint32_t>> cells(vertices.size());
   // Per vertex: its rounded point lies near a face of its cell. vertex_point() is within 1e-12 of
   // its size of the exact point, so two vertices of one exact point in different cells are both
@@ -53,10 +47,20 @@ std::vector<std::uint32_t> limit_classes(const std::vector<std::array<ExactPlane
     if (k == 0 || cells[k].first != cells[k - 1].first) starts.push_back(k);
   starts.push_back(cells.size());
   const std::size_t runs = starts.size() - 1;
-  std::unordered_map<Cell, std::pair<std::size_t, std::size_t>, CellHash> range;  // in `cells`
-  range.reserve(runs);
-  for (std::size_t r = 0; r < runs; ++r)
-    range.emplace(cells[starts[r]].first, std::pair{starts[r], starts[r + 1]});
+  // A cell's run in `cells`, by binary search over the runs (the few cells near a face look up
+  // their neighbours; a hash table of every run was built by one thread).
+  auto find_run = [&](const Cell& cell) -> std::optional<std::pair<std::size_t, std::size_t>> {
+    std::size_t lo = 0, hi = runs;
+    while (lo < hi) {
+      const std::size_t mid = lo + (hi - lo) / 2;
+      if (cells[starts[mid]].first < cell)
+        lo = mid + 1;
+      else
+        hi = mid;
+    }
+    if (lo == runs || cells[starts[lo]].first != cell) return std::nullopt;
+    return std::pair{starts[lo], starts[lo + 1]};
+  };
   std::vector<std::vector<std::pair<std::uint32_t, std::uint32_t>>> joined(runs);
   for_each_index(policy, 0, runs, [&](std::size_t r) {
     const std::size_t k = starts[r], end = starts[r + 1];
@@ -68,8 +72,7 @@ std::vector<std::uint32_t> limit_classes(const std::vector<std::array<ExactPlane
     for (std::int64_t dx = 0; near && dx <= 1; ++dx)
       for (std::int64_t dy = dx == 0 ? 0 : -1; dy <= 1; ++dy)
         for (std::int64_t dz = dx == 0 && dy == 0 ? 1 : -1; dz <= 1; ++dz) {
-          const auto it = range.find({c[0] + dx, c[1] + dy, c[2] + dz});
-          if (it != range.end()) others.push_back(it->second);
+          if (const auto run = find_run({c[0] + dx, c[1] + dy, c[2] + dz})) others.push_back(*run);
         }
     if (end - k == 1 && others.empty()) return;
     std::vector<std::uint32_t> members;
