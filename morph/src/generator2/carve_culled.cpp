@@ -223,20 +223,24 @@ class Carving {
     // the piece (subtract() would find that out only after clipping by the planes before).
     std::optional<RoughCorners> look(piece);
     std::vector<ConvexPiece> parts;
+    // CPU time is read when this thread starts or stops carving the piece, not for each cutter:
+    // a thread's CPU clock is a system call, and a V-bit's engraving cells meet hundreds of sweeps.
+    Worker& w = workers.local();
+    double start = thread_seconds();
     for (; k < near.size(); ++k) {
       const std::uint32_t j = near[k];
       if (!box.intersects(boxes_[j])) continue;
-      Worker& w = workers.local();
-      const double start = thread_seconds();
       parts.clear();
       const std::vector<ExactPlane>& planes = reaching_planes(ball, j, near.size(), w);
       const bool missed =
           std::any_of(planes.begin(), planes.end(), [&](const ExactPlane& h) { return look->outside(h); });
       const bool reached = !missed && subtract(piece, *look, planes, parts);
       ++w.stages.carve.cutters;
-      w.stages.seconds_stock += thread_seconds() - start;
       if (!reached) continue;
-      if (parts.empty()) return;
+      if (parts.empty()) {
+        w.stages.seconds_stock += thread_seconds() - start;
+        return;
+      }
       std::vector<AlignedBox3d> boxes;
       std::size_t largest = 0;
       for (std::size_t i = 0; i < parts.size(); ++i) {
@@ -244,17 +248,23 @@ class Carving {
         if (boxes[i].diagonal().squaredNorm() > boxes[largest].diagonal().squaredNorm()) largest = i;
       }
       std::vector<std::vector<ConvexPiece>> results(parts.size());
+      w.stages.seconds_stock += thread_seconds() - start;  // the parts below time themselves
       for_each_index(policy, 0, parts.size(), [&](std::size_t i) {
         if (i != largest) carve_stock_piece(std::move(parts[i]), k + 1, near, results[i], workers, policy);
       });
+      start = thread_seconds();
       for (std::vector<ConvexPiece>& r : results)
         for (ConvexPiece& p : r) out.push_back(std::move(p));
       piece = std::move(parts[largest]);
       box = boxes[largest];
       ball = corner_ball(piece);
-      if (hidden_later(ball, box, k + 1, near)) return;
+      if (hidden_later(ball, box, k + 1, near)) {
+        w.stages.seconds_stock += thread_seconds() - start;
+        return;
+      }
       look.emplace(piece);
     }
+    w.stages.seconds_stock += thread_seconds() - start;
     out.push_back(std::move(piece));
   }
 
