@@ -70,6 +70,10 @@ class SweepPolytopeBuilder {
     Planes(const SweepPolytopeBuilder& builder, const Eigen::Vector3d& start, const Eigen::Vector3d& end);
     std::size_t size() const { return side_.size() + silhouette_.size(); }
     Halfspace operator[](std::size_t k) const;
+    /// motion_side() of each tool facet (-1 for a degenerate move): where each is placed.
+    const std::vector<signed char>& sides() const { return side_; }
+    /// The silhouette edges (indices in edges()), in order: plane side_.size() + i is edge i's.
+    const std::vector<int>& silhouette() const { return silhouette_; }
 
    private:
     const SweepPolytopeBuilder* builder_;

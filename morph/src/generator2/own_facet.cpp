@@ -142,20 +142,11 @@ OwnPlanes own_planes(const SweepPolytopeBuilder& builder, const ToolFacetGroups&
       builder.degenerate(from, to) ? std::pair{from, from} : SweepPolytopeBuilder::ordered(from, to);
   own.tool_facets = builder.tool().facets.size();
   own.at_b.resize(own.tool_facets);
-  if (own.a == own.b)
-    own.side.assign(own.tool_facets, -1);
-  else
-    motion_sides(builder.tool(), own.b - own.a, own.side);
-  for (std::size_t k = 0; k < own.tool_facets; ++k) own.at_b[k] = own.side[k] > 0;
-  const std::vector<SweepPolytopeBuilder::Edge>& edges = builder.edges();
-  own.silhouette_plane.assign(edges.size(), -1);
-  for (std::size_t i = 0; i < edges.size(); ++i)
-    if (own.side[static_cast<std::size_t>(edges[i].left)] *
-            own.side[static_cast<std::size_t>(edges[i].right)] <
-        0) {
-      own.silhouette_plane[i] = static_cast<int>(own.tool_facets + own.silhouette.size());
-      own.silhouette.push_back(static_cast<int>(i));
-    }
+  for (std::size_t k = 0; k < own.tool_facets; ++k) own.at_b[k] = own.made.sides()[k] > 0;
+  own.silhouette_plane.assign(builder.edges().size(), -1);
+  const std::vector<int>& silhouette = own.made.silhouette();
+  for (std::size_t i = 0; i < silhouette.size(); ++i)
+    own.silhouette_plane[static_cast<std::size_t>(silhouette[i])] = static_cast<int>(own.tool_facets + i);
   own.exact = builder.exact(from, to);
   own.group_ends.assign(groups.size(), 0);
   for (std::size_t i = 0; i < groups.size(); ++i)
@@ -184,14 +175,15 @@ std::vector<Vector3d> facet_points(const SweepPolytopeBuilder& builder, const Ow
   std::vector<Vector3d> points;
   const auto nf = static_cast<int>(tool.facets.size());
   if (f < nf) {
-    const int at = own.side[static_cast<std::size_t>(f)];
+    const int at = own.made.sides()[static_cast<std::size_t>(f)];
     for (int v : tool.facets[f].loop) {
       if (at <= 0) points.push_back(tool.vertices[v] + own.a);
       if (at >= 0) points.push_back(tool.vertices[v] + own.b);
     }
     return points;
   }
-  const SweepPolytopeBuilder::Edge& e = builder.edges()[own.silhouette[static_cast<std::size_t>(f - nf)]];
+  const SweepPolytopeBuilder::Edge& e =
+      builder.edges()[own.made.silhouette()[static_cast<std::size_t>(f - nf)]];
   for (int v : {e.from, e.to}) {
     points.push_back(tool.vertices[v] + own.a);
     points.push_back(tool.vertices[v] + own.b);
@@ -274,7 +266,8 @@ ConvexPiece own_facet(OwnPlanes& own, int f, const std::vector<Vector3d>& points
     for (int v : tool.facets[static_cast<std::size_t>(f)].loop) add_vertex(v);
   } else {
     const SweepPolytopeBuilder::Edge& e =
-        own.builder->edges()[static_cast<std::size_t>(own.silhouette[static_cast<std::size_t>(f - nf)])];
+        own.builder
+            ->edges()[static_cast<std::size_t>(own.made.silhouette()[static_cast<std::size_t>(f - nf)])];
     add_vertex(e.from);
     add_vertex(e.to);
   }

@@ -8,7 +8,8 @@
 /// every plane of the sweep is exact (own_facet.cpp says why); otherwise then any other that the
 /// tool's facet groups (tool_facet_groups.h), bounding a group's planes over balls holding the
 /// piece's corners, cannot show below every ball: such a plane holds the piece strictly inside,
-/// so clipping by it would change nothing. The planes are made as they are asked for. Balls about exact corners also serve the stock pieces' tests.
+/// so clipping by it would change nothing. The planes are made as they are asked for. Balls about exact
+/// corners also serve the stock pieces' tests.
 #include <morph/carve.h>
 #include <morph/facet_clipping.h>
 #include <morph/stock_polytope.h>
@@ -53,11 +54,9 @@ struct OwnPlanes {
   std::vector<int> silhouette_plane;  ///< per tool edge: the index of its silhouette plane, or -1
   const ToolFacetGroups* groups = nullptr;
   Eigen::Vector3d a, b;
-  std::size_t tool_facets = 0;    ///< planes[k] for k below this is tool facet k placed at a or b
-  std::vector<char> at_b;         ///< per tool facet: placed at b (motion_side() > 0)
-  std::vector<signed char> side;  ///< per tool facet: motion_side() (-1 for a degenerate move)
-  std::vector<int> silhouette;    ///< the silhouette edges (index in edges()), in facet order
-  std::vector<char> group_ends;   ///< per facet group: 1 if a member is placed at a, 2 at b, 3 both
+  std::size_t tool_facets = 0;   ///< planes[k] for k below this is tool facet k placed at a or b
+  std::vector<char> at_b;        ///< per tool facet: placed at b (motion_side() > 0)
+  std::vector<char> group_ends;  ///< per facet group: 1 if a member is placed at a, 2 at b, 3 both
   /// Every plane of the sweep exact (SweepPolytopeBuilder::exact()): then a facet is bounded by
   /// the planes through its vertices alone (own_facet()).
   bool exact = false;
