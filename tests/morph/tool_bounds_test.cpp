@@ -95,13 +95,20 @@ TEST(ToolBounds, SweptBoundsProveInsideAndApartSoundlyAndOften) {
       box.min().array() -= 1.0;
       box.max().array() += 1.0;
       std::uniform_real_distribution<double> radius(0.0, 0.1 * tool_box.diagonal().norm());
-      int inside = 0, apart = 0, capsules_apart = 0;
+      int inside = 0, apart = 0, capsules_apart = 0, inner_boxes_skip = 0;
       for (int k = 0; k < 1500; ++k) {
         const Vector3d centre = box.sample();
         const double rho = radius(random);
         const bool in = morph::ball_inside_sweep(b, a, e, centre, rho);
         const bool out = morph::ball_misses_sweep(b, a, e, centre, rho);
         ASSERT_FALSE(in && out);
+        // The inner box holds every ball proven inside, whichever end comes first.
+        const Eigen::AlignedBox3d ball_box(centre.array() - rho, centre.array() + rho);
+        if (in) {
+          EXPECT_TRUE(morph::inner_box(b, a, e).contains(ball_box));
+          EXPECT_TRUE(morph::inner_box(b, e, a).contains(ball_box));
+        }
+        inner_boxes_skip += !morph::inner_box(b, a, e).contains(ball_box);
         for (const Vector3d& q : ball_points) {
           if (in) {
             EXPECT_LE(sweep.plane_value(centre + rho * q), 1e-12);
@@ -123,6 +130,7 @@ TEST(ToolBounds, SweptBoundsProveInsideAndApartSoundlyAndOften) {
         }
       }
       EXPECT_GT(capsules_apart, name.rfind("tapered", 0) == 0 ? 3 : 10);
+      EXPECT_GT(inner_boxes_skip, 300);  // and it spares the test for many that are not
       EXPECT_GT(inside, 50);
       // A ball and a cylinder bound a taper loosely (the outer ball holds all below the widest
       // inscribed ball, high up the cone), so its proofs of "apart" are rarer.

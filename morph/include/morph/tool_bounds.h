@@ -10,6 +10,7 @@
 #include <morph/convex_polytope.h>
 
 #include <Eigen/Core>
+#include <Eigen/Geometry>
 #include <vector>
 
 namespace morph {
@@ -32,6 +33,11 @@ ToolBounds tool_bounds(const ConvexPolytope& tool);
 /// ball (a capsule) or inside the inner cylinder at one position of the segment.
 bool ball_inside_sweep(const ToolBounds& bounds, const Eigen::Vector3d& a, const Eigen::Vector3d& b,
                        const Eigen::Vector3d& centre, double radius);
+
+/// A box holding every ball that ball_inside_sweep() proves inside tool ⊕ [a, b] (the swept inner
+/// ball's box and the swept inner cylinder's, grown by a rounding margin); empty when there is
+/// none. A ball whose box it does not contain is not proven inside, so the test can be skipped.
+Eigen::AlignedBox3d inner_box(const ToolBounds& bounds, const Eigen::Vector3d& a, const Eigen::Vector3d& b);
 
 /// True when every point is proven inside the swept inner ball, or every point inside the swept
 /// inner cylinder: both are convex, so then the points' convex hull (a facet) is inside too.

@@ -183,6 +183,8 @@ class Carving {
       group.culling =
           std::make_unique<SweepCulling>(*group.builder, std::move(moves), std::move(joined), stock.bounds);
     }
+    for (std::size_t g = 0; g < sweeps.size(); ++g)
+      inner_boxes_.push_back(inner_box(groups_[group_of_[g]].bounds, sweeps[g].from, sweeps[g].to));
   }
 
   std::size_t tools() const { return groups_.size(); }
@@ -403,9 +405,11 @@ class Carving {
   bool hidden_later(const std::optional<Ball>& ball, const AlignedBox3d& box, std::size_t k,
                     const std::vector<std::uint32_t>& near) const {
     if (!ball || !(ball->second < largest_inner_radius_)) return false;
+    const AlignedBox3d ball_box(ball->first.array() - ball->second, ball->first.array() + ball->second);
     for (; k < near.size(); ++k) {
       const std::uint32_t j = near[k];
-      if (!box.intersects(boxes_[j])) continue;
+      // A V-bit's engraving cells meet hundreds of sweeps' boxes but lie in few inner regions.
+      if (!box.intersects(boxes_[j]) || !inner_boxes_[j].contains(ball_box)) continue;
       const CarveSweep& s = sweeps_[j];
       if (ball_inside_sweep(groups_[group_of_[j]].bounds, s.from, s.to, ball->first, ball->second))
         return true;
@@ -416,6 +420,7 @@ class Carving {
   const std::vector<CarveSweep>& sweeps_;
   const StockPolytope& stock_;
   std::vector<AlignedBox3d> boxes_;
+  std::vector<AlignedBox3d> inner_boxes_;  ///< of each sweep's inner bounds (inner_box())
   AabbTree tree_;
   CellLattice lattice_;
   std::vector<ToolGroup> groups_;

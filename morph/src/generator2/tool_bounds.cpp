@@ -147,6 +147,28 @@ bool ball_inside_sweep(const ToolBounds& bounds, const Vector3d& a, const Vector
   return in_capsule(bounds, a, b, centre, radius) || in_swept_cylinder(bounds, a, b, centre, radius);
 }
 
+Eigen::AlignedBox3d inner_box(const ToolBounds& bounds, const Vector3d& a, const Vector3d& b) {
+  Eigen::AlignedBox3d box;
+  const Vector3d low = a.cwiseMin(b), high = a.cwiseMax(b);
+  if (bounds.inner_radius > kSlack) {
+    const Vector3d c(0.0, 0.0, bounds.centre_height);
+    box.extend(Eigen::AlignedBox3d(low + c, high + c));
+    box.min().array() -= bounds.inner_radius;
+    box.max().array() += bounds.inner_radius;
+  }
+  if (bounds.cylinder_radius > kSlack) {
+    const double r = bounds.cylinder_radius;
+    box.extend(Eigen::AlignedBox3d(Vector3d(low.x() - r, low.y() - r, low.z() + bounds.centre_height),
+                                   Vector3d(high.x() + r, high.y() + r, high.z() + bounds.top)));
+  }
+  if (box.isEmpty()) return box;
+  const double margin =
+      kSlack + 1e-9 * (1.0 + box.min().cwiseAbs().cwiseMax(box.max().cwiseAbs()).maxCoeff());
+  box.min().array() -= margin;
+  box.max().array() += margin;
+  return box;
+}
+
 bool points_inside_sweep(const ToolBounds& bounds, const Vector3d& a, const Vector3d& b,
                          const std::vector<Vector3d>& points) {
   return std::all_of(points.begin(), points.end(),
