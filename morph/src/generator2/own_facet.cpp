@@ -30,7 +30,7 @@ void for_each_plane_reaching(const OwnPlanes& own, const std::vector<Ball>& ball
       own.groups->for_each_reaching(
           centre, radius, at, at, threshold, [&](std::size_t g) { return (own.group_ends[g] & end) != 0; },
           [&](int k) {
-            if ((own.at_b[k] != 0) != at_b) return true;
+            if ((own.made.sides()[static_cast<std::size_t>(k)] > 0) != at_b) return true;
             marks[k] = 1;
             lowest = std::min(lowest, k);
             highest = std::max(highest, k);
@@ -141,16 +141,15 @@ OwnPlanes own_planes(const SweepPolytopeBuilder& builder, const ToolFacetGroups&
   std::tie(own.a, own.b) =
       builder.degenerate(from, to) ? std::pair{from, from} : SweepPolytopeBuilder::ordered(from, to);
   own.tool_facets = builder.tool().facets.size();
-  own.at_b.resize(own.tool_facets);
-  for (std::size_t k = 0; k < own.tool_facets; ++k) own.at_b[k] = own.made.sides()[k] > 0;
   own.silhouette_plane.assign(builder.edges().size(), -1);
   const std::vector<int>& silhouette = own.made.silhouette();
   for (std::size_t i = 0; i < silhouette.size(); ++i)
     own.silhouette_plane[static_cast<std::size_t>(silhouette[i])] = static_cast<int>(own.tool_facets + i);
   own.exact = builder.exact(from, to);
+  if (own.exact) return own;  // the groups serve own_facet()'s second loop alone
   own.group_ends.assign(groups.size(), 0);
   for (std::size_t i = 0; i < groups.size(); ++i)
-    for (int k : members[i]) own.group_ends[i] |= own.at_b[k] ? 2 : 1;
+    for (int k : members[i]) own.group_ends[i] |= own.made.sides()[static_cast<std::size_t>(k)] > 0 ? 2 : 1;
   return own;
 }
 

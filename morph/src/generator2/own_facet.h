@@ -54,9 +54,9 @@ struct OwnPlanes {
   std::vector<int> silhouette_plane;  ///< per tool edge: the index of its silhouette plane, or -1
   const ToolFacetGroups* groups = nullptr;
   Eigen::Vector3d a, b;
-  std::size_t tool_facets = 0;   ///< planes[k] for k below this is tool facet k placed at a or b
-  std::vector<char> at_b;        ///< per tool facet: placed at b (motion_side() > 0)
-  std::vector<char> group_ends;  ///< per facet group: 1 if a member is placed at a, 2 at b, 3 both
+  std::size_t tool_facets = 0;  ///< planes[k] for k below this is tool facet k placed at a or b
+  std::vector<char>
+      group_ends;  ///< per facet group: 1 if a member is placed at a, 2 at b, 3 both (not exact only)
   /// Every plane of the sweep exact (SweepPolytopeBuilder::exact()): then a facet is bounded by
   /// the planes through its vertices alone (own_facet()).
   bool exact = false;
