@@ -50,16 +50,11 @@ std::vector<std::uint32_t> limit_classes(const std::vector<std::array<ExactPlane
   // A cell's run in `cells`, by binary search over the runs (the few cells near a face look up
   // their neighbours; a hash table of every run was built by one thread).
   auto find_run = [&](const Cell& cell) -> std::optional<std::pair<std::size_t, std::size_t>> {
-    std::size_t lo = 0, hi = runs;
-    while (lo < hi) {
-      const std::size_t mid = lo + (hi - lo) / 2;
-      if (cells[starts[mid]].first < cell)
-        lo = mid + 1;
-      else
-        hi = mid;
-    }
-    if (lo == runs || cells[starts[lo]].first != cell) return std::nullopt;
-    return std::pair{starts[lo], starts[lo + 1]};
+    const auto last = starts.end() - 1;
+    const auto run = std::lower_bound(
+        starts.begin(), last, cell, [&](std::size_t start, const Cell& c) { return cells[start].first < c; });
+    if (run == last || cells[*run].first != cell) return std::nullopt;
+    return std::pair{*run, *(run + 1)};
   };
   std::vector<std::vector<std::pair<std::uint32_t, std::uint32_t>>> joined(runs);
   for_each_index(policy, 0, runs, [&](std::size_t r) {
