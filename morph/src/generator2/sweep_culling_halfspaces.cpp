@@ -151,15 +151,18 @@ SweepCulling::Against SweepCulling::against(const Placed& p, std::size_t i, std:
   };
   // The faces' loops below skip the tool facets' groups that cannot reach the threshold
   // (tool_facet_groups.h): the silhouette faces, from index `first_silhouette` on, go one by one.
-  auto inside = [&](const Vector3d& x) {
-    // The inner bounds first: deeper than the slack inside the tool's inscribed ball or cylinder.
-    if (ball_inside_sweep(bounds_, candidate.a, candidate.b, x, 0.0)) return true;
+  // Below every face's plane by the rounding (the tie's excepted).
+  auto below_faces = [&](const Vector3d& x) {
     if (!facet_groups_->for_each_reaching(x, 0.0, candidate.a, candidate.b, -rounding_,
                                           [&](int h) { return tie(h) || value(h, x) <= -rounding_; }))
       return false;
     for (int h = first_silhouette; h < face_count; ++h)
       if (!tie(h) && value(h, x) > -rounding_) return false;
     return true;
+  };
+  // The inner bounds first: deeper than the slack inside the tool's inscribed ball or cylinder.
+  auto inside = [&](const Vector3d& x) {
+    return ball_inside_sweep(bounds_, candidate.a, candidate.b, x, 0.0) || below_faces(x);
   };
   // The candidate's planes of the facet's own tool facets first: where two sweeps are apart,
   // one of them usually shows it.
@@ -246,11 +249,12 @@ SweepCulling::Against SweepCulling::against(const Placed& p, std::size_t i, std:
     };
     // A point a crossing face has not below it is not inside unless the inner bound holds it
     // (`inside` would find that face): its walk of every face is skipped.
+    // Any point proves it, so the inner bound, cheap, goes over them all before the faces.
+    for (const Vector3d& x : points)
+      if (ball_inside_sweep(bounds_, candidate.a, candidate.b, x, 0.0)) return Against::Cuts;
     for (std::size_t k = 0; k < points.size(); ++k) {
       const bool seen_outside = k < 64 && (not_below >> k & 1);
-      if (seen_outside ? ball_inside_sweep(bounds_, candidate.a, candidate.b, points[k], 0.0)
-                       : inside(points[k]))
-        return Against::Cuts;
+      if (!seen_outside && below_faces(points[k])) return Against::Cuts;
     }
     if (!swept) {
       const std::optional<Vector3d> centroid =
