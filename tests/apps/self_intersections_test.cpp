@@ -5,7 +5,10 @@
 #include <morphmill/self_intersections.h>
 
 #include <Eigen/Geometry>
+#include <algorithm>
+#include <array>
 #include <cmath>
+#include <random>
 #include <stdexcept>
 
 #include "common/test_meshes.h"
@@ -82,6 +85,70 @@ TEST(SelfIntersections, ACommonVertexCrossesOnlyWhenTheyOverlapBeyondIt) {
     EXPECT_EQ(count({0, 2, 0}, {1, 0.25, 0}, {0.25, 1, 0}), 1u) << "flat, inside the first, view " << view;
     EXPECT_EQ(count({0, 2, 0}, {-1, 1, 0}, {1, 1, 0}), 1u) << "flat, overlapping a wedge, view " << view;
   }
+}
+
+// Two triangles (0, 1, 2) and (0, 3, 4) of integer points in a plane meet beyond their common
+// corner 0 exactly when a corner other than 0 of one lies in the other, or an edge of each
+// crosses, away from corner 0: the corners of their common part other than 0 are such points.
+// Decided here in integers (exact for these small coordinates), without the test's own geometry.
+bool meet_beyond_corner_0(const std::array<std::array<long, 2>, 5>& x) {
+  auto orientation = [&](int a, int b, int c) {
+    const long value = (x[b][0] - x[a][0]) * (x[c][1] - x[a][1]) - (x[b][1] - x[a][1]) * (x[c][0] - x[a][0]);
+    return (value > 0) - (value < 0);
+  };
+  auto in_triangle = [&](int p, int a, int b, int c) {  // closed
+    const int o = orientation(a, b, c);
+    return orientation(a, b, p) * o >= 0 && orientation(b, c, p) * o >= 0 && orientation(c, a, p) * o >= 0;
+  };
+  auto between = [&](int p, int a, int b) {  // p on the closed segment a-b, given collinear
+    return std::min(x[a][0], x[b][0]) <= x[p][0] && x[p][0] <= std::max(x[a][0], x[b][0]) &&
+           std::min(x[a][1], x[b][1]) <= x[p][1] && x[p][1] <= std::max(x[a][1], x[b][1]);
+  };
+  auto segments_meet = [&](int a, int b, int c, int d) {  // closed segments
+    const int o1 = orientation(a, b, c), o2 = orientation(a, b, d), o3 = orientation(c, d, a),
+              o4 = orientation(c, d, b);
+    if (o1 * o2 < 0 && o3 * o4 < 0) return true;
+    return (o1 == 0 && between(c, a, b)) || (o2 == 0 && between(d, a, b)) || (o3 == 0 && between(a, c, d)) ||
+           (o4 == 0 && between(b, c, d));
+  };
+  if (in_triangle(1, 0, 3, 4) || in_triangle(2, 0, 3, 4) || in_triangle(3, 0, 1, 2) ||
+      in_triangle(4, 0, 1, 2))
+    return true;
+  // Edges from corner 0 meet only there, unless they overlap along one ray (then the shorter's
+  // far corner lies in the other triangle, found above). Every other pair of edges meets away
+  // from corner 0 if at all: corner 0 lies on no edge opposite it in a proper triangle.
+  const std::array<std::array<int, 2>, 3> first{{{0, 1}, {1, 2}, {2, 0}}}, second{{{0, 3}, {3, 4}, {4, 0}}};
+  for (const auto& e : first)
+    for (const auto& f : second) {
+      if ((e[0] == 0 || e[1] == 0) && (f[0] == 0 || f[1] == 0)) continue;
+      if (segments_meet(e[0], e[1], f[0], f[1])) return true;
+    }
+  return false;
+}
+
+// Every configuration of small integer corners (collinear rays, corners on the other's edges,
+// nested and touching cones), flat in the xy-plane and tilted out of it, against that count.
+TEST(SelfIntersections, ACommonVertexCrossesExactlyWhereTheirCornersAndEdgesSay) {
+  std::mt19937 random(7);
+  std::uniform_int_distribution<long> coordinate(-2, 2);
+  int meeting = 0, apart = 0;
+  for (int trial = 0; trial < 4000; ++trial) {
+    std::array<std::array<long, 2>, 5> x;
+    for (auto& p : x) p = {coordinate(random), coordinate(random)};
+    auto cross = [&](int a, int b, int c) {
+      return (x[b][0] - x[a][0]) * (x[c][1] - x[a][1]) - (x[b][1] - x[a][1]) * (x[c][0] - x[a][0]);
+    };
+    if (cross(0, 1, 2) == 0 || cross(0, 3, 4) == 0) continue;  // proper triangles only
+    const bool expected = meet_beyond_corner_0(x);
+    (expected ? meeting : apart)++;
+    TriangleMesh mesh;
+    for (const auto& p : x) mesh.vertices.emplace_back(double(p[0]), double(p[1]), 0.0);
+    mesh.triangles = {{0, 1, 2}, {0, 3, 4}};
+    EXPECT_EQ(find_self_intersections(mesh).pairs, expected ? 1u : 0u) << "flat, trial " << trial;
+    EXPECT_EQ(find_self_intersections(tilted(mesh)).pairs, expected ? 1u : 0u) << "tilted, trial " << trial;
+  }
+  EXPECT_GT(meeting, 500);
+  EXPECT_GT(apart, 500);
 }
 
 TEST(SelfIntersections, DisjointIndicesCrossWhereverTheyMeet) {

@@ -58,18 +58,41 @@ bool apart(const Point2& p, const Point2& q, const Point2& r, std::initializer_l
   return beyond_edge(p, q, r, polygon) || beyond_edge(q, r, p, polygon) || beyond_edge(r, p, q, polygon);
 }
 
-// Proper triangle (p, q, r) against segment (a, b).
-bool meet(const Point2& p, const Point2& q, const Point2& r, const Point2& a, const Point2& b) {
-  if (apart(p, q, r, {a, b})) return false;
-  const CGAL::Orientation side = CGAL::orientation(a, b, p);
-  return !(side != CGAL::COLLINEAR && CGAL::orientation(a, b, q) == side &&
-           CGAL::orientation(a, b, r) == side);
-}
-
 // Proper triangles.
 bool meet(const Point2& p, const Point2& q, const Point2& r, const Point2& a, const Point2& b,
           const Point2& c) {
   return !apart(p, q, r, {a, b, c}) && !apart(a, b, c, {p, q, r});
+}
+
+// Whether two proper triangles sharing the corner v, the first's other corners p, q and the
+// second's c, d (in either order), meet anywhere but at v. Near v each is its cone (the rays
+// toward its other corners, less than a half turn apart), so they meet beyond v exactly when the
+// cones do: when no line through v along one of the four rays has the cones on its two sides, or
+// when they share a ray. Two convex cones with a common apex whose interiors are disjoint are
+// always split by the line along one of their rays; a line that splits them meets them only in
+// its rays, so they share more than v only where one ray of each points the same way along it.
+bool cones_meet(const Point2& v, Point2 p, Point2 q, Point2 c, Point2 d) {
+  if (CGAL::orientation(v, p, q) == CGAL::NEGATIVE) std::swap(p, q);  // both turning left
+  if (CGAL::orientation(v, c, d) == CGAL::NEGATIVE) std::swap(c, d);
+  // x and y on one line through v: whether on the same side of v (exact: the signs of
+  // coordinate differences are).
+  auto same_way = [&](const Point2& x, const Point2& y) {
+    for (int k = 0; k < 2; ++k) {
+      const int sx = CGAL::sign(x[k] - v[k]), sy = CGAL::sign(y[k] - v[k]);
+      if (sx != 0 || sy != 0) return sx == sy;
+    }
+    return false;
+  };
+  // The cone [from, to] on the left of the line v-from (left: from is its first ray) or on the
+  // right of v-to, the other cone's rays `x`, `y` on the far closed side: split, unless a ray lies
+  // on the line pointing the way of the cone's own.
+  auto split_by = [&](const Point2& ray, CGAL::Orientation far, const Point2& x, const Point2& y) {
+    const CGAL::Orientation ox = CGAL::orientation(v, ray, x), oy = CGAL::orientation(v, ray, y);
+    if ((ox != far && ox != CGAL::COLLINEAR) || (oy != far && oy != CGAL::COLLINEAR)) return false;
+    return !(ox == CGAL::COLLINEAR && same_way(ray, x)) && !(oy == CGAL::COLLINEAR && same_way(ray, y));
+  };
+  return !(split_by(p, CGAL::RIGHT_TURN, c, d) || split_by(q, CGAL::LEFT_TURN, c, d) ||
+           split_by(c, CGAL::RIGHT_TURN, p, q) || split_by(d, CGAL::LEFT_TURN, p, q));
 }
 
 // Whether triangles s and t (distinct, each with three distinct indices and not collinear) meet
@@ -125,10 +148,9 @@ bool triangles_intersect(const morph::TriangleMesh& mesh, const morph::Triangle&
       CGAL::orientation(tp[0], tp[1], tp[2]) != CGAL::COLLINEAR) {
     bool shadows_meet;
     if (shared == 1) {
-      // Their intersection is convex and holds the common vertex; it reaches further exactly
-      // when the edge opposite that vertex in one triangle meets the other.
-      shadows_meet = meet(sp[0], sp[1], sp[2], tp[(t_at + 1) % 3], tp[(t_at + 2) % 3]) ||
-                     meet(tp[0], tp[1], tp[2], sp[(s_at + 1) % 3], sp[(s_at + 2) % 3]);
+      // Near the common vertex each is its cone there (cones_meet()).
+      shadows_meet = cones_meet(sp[s_at], sp[(s_at + 1) % 3], sp[(s_at + 2) % 3], tp[(t_at + 1) % 3],
+                                tp[(t_at + 2) % 3]);
     } else {
       shadows_meet = meet(sp[0], sp[1], sp[2], tp[0], tp[1], tp[2]);
     }
