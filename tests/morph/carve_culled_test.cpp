@@ -105,11 +105,13 @@ void expect_same(const Case& c, const std::string& what) {
   for (std::size_t j = 0; j < c.sweeps.size(); ++j)
     planes.push_back(morph::sweep_planes(c.sweeps[j].tool->halfspaces(c.sweeps[j].from, c.sweeps[j].to),
                                          static_cast<std::uint32_t>(j)));
-  const std::vector<morph::CarvedPiece> reference =
-      morph::carve_box(c.box, planes, morph::sweep_boxes(c.sweeps));
   morph::CarveStages stages;
+  morph::CuttingOrders orders;
   const std::vector<morph::CarvedPiece> serial =
-      morph::carve_culled(c.box, c.sweeps, morph::ExecutionPolicy::Sequential, &stages);
+      morph::carve_culled(c.box, c.sweeps, morph::ExecutionPolicy::Sequential, &stages, nullptr, &orders);
+  // Each kept facet cut in the culled carving's order, by every sweep whose box meets it.
+  const std::vector<morph::CarvedPiece> reference =
+      morph::carve_box(c.box, planes, morph::sweep_boxes(c.sweeps), nullptr, &orders);
   const std::vector<morph::CarvedPiece> parallel = morph::carve_culled(c.box, c.sweeps);
   ASSERT_FALSE(reference.empty()) << what;
   const std::vector<PieceKey> got = keys(serial), want = keys(reference);

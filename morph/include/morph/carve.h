@@ -13,6 +13,8 @@
 #include <Eigen/Geometry>
 
 #include <cstdint>
+#include <map>
+#include <utility>
 #include <vector>
 
 namespace morph {
@@ -41,12 +43,19 @@ struct CarveCounts {
   double facets = 0, cutters = 0, pieces = 0;
 };
 
+/// The order in which sweeps cut a sweep facet, by (move, facet): the pieces of a facet depend on
+/// it (the part left is the same set in any order), so a carving that chooses its own order can
+/// give it to carve_box() to be checked piece for piece.
+using CuttingOrders = std::map<std::pair<std::int32_t, std::int32_t>, std::vector<std::uint32_t>>;
+
 /// The pieces of box \ ∪ sweeps[i] (each sweep the planes of sweep_planes(), move order = tie
 /// order), each canonical(). All pairs of sweeps whose boxes meet are tried: the reference for
-/// small jobs; carve_culled.h gives the same pieces at the scale of real jobs.
+/// small jobs; carve_culled.h gives the same pieces at the scale of real jobs. A sweep facet is
+/// cut by the sweeps in move order, or, when `orders` lists it, first by those listed in their
+/// order and then by every other in move order.
 std::vector<CarvedPiece> carve_box(const Eigen::AlignedBox3d& box,
                                    const std::vector<std::vector<ExactPlane>>& sweeps,
                                    const std::vector<Eigen::AlignedBox3d>& sweep_boxes,
-                                   CarveCounts* counts = nullptr);
+                                   CarveCounts* counts = nullptr, const CuttingOrders* orders = nullptr);
 
 }  // namespace morph

@@ -7,8 +7,8 @@
 /// with the planes of theirs that cross it (a cutter's other planes leave the facet's part inside
 /// it unchanged, and subtract() splits by that part alone); each stock face cut into cells
 /// (stock_face_cells.h), each cell minus the sweeps whose boxes meet it (AabbTree), a piece that
-/// a later sweep's inscribed capsule holds dropped at once. A job with several tools is culled tool by tool: another tool's
-/// sweeps are cutters of a kept facet whenever their boxes meet it, with all their planes.
+/// a later sweep's inscribed capsule holds dropped at once. A job with several tools is culled tool by tool:
+/// another tool's sweeps are cutters of a kept facet whenever their boxes meet it, with all their planes.
 /// Facets are independent and carved in parallel; the pieces come out in a fixed order.
 #include <morph/carve.h>
 #include <morph/parallel.h>
@@ -47,12 +47,16 @@ struct CarveStages {
   double refined = 0.0;
 };
 
-/// The pieces of box \ ∪ sweeps, as carve_box() gives them for the same moves (up to the order
-/// of the pieces): stock faces first (box_planes() order), then each move's kept facets in
-/// facet order. `policy` chooses one thread or TBB; the output does not depend on it.
+/// The pieces of box \ ∪ sweeps, as carve_box() gives them for the same moves and cutting orders
+/// (up to the order of the pieces): stock faces first (box_planes() order), then each move's kept
+/// facets in facet order. A kept facet is cut by the sweeps that may reach it, those with the
+/// fewest planes crossing it first (then in move order): a sweep that holds most of the facet
+/// crosses it with few planes and leaves few pieces for the others; that order is written to
+/// `orders` when given. `policy` chooses one thread or TBB; the output does not depend on it.
 std::vector<CarvedPiece> carve_culled(const Eigen::AlignedBox3d& box, const std::vector<CarveSweep>& sweeps,
                                       ExecutionPolicy policy = ExecutionPolicy::Parallel,
-                                      CarveStages* stages = nullptr, Progress* progress = nullptr);
+                                      CarveStages* stages = nullptr, Progress* progress = nullptr,
+                                      CuttingOrders* orders = nullptr);
 
 /// The same for a convex stock (stock_polytope.h): its faces take the place of the box's, in the
 /// order of its planes; for box_stock_polytope(box) the pieces are those of the box overload.
@@ -60,7 +64,8 @@ std::vector<CarvedPiece> carve_culled(const Eigen::AlignedBox3d& box, const std:
 /// move, and may stop it: carve_culled() then throws Interrupted.
 std::vector<CarvedPiece> carve_culled(const StockPolytope& stock, const std::vector<CarveSweep>& sweeps,
                                       ExecutionPolicy policy = ExecutionPolicy::Parallel,
-                                      CarveStages* stages = nullptr, Progress* progress = nullptr);
+                                      CarveStages* stages = nullptr, Progress* progress = nullptr,
+                                      CuttingOrders* orders = nullptr);
 
 /// The sweeps' boxes: the tool polytope's box at both ends, grown by a rounding margin.
 std::vector<Eigen::AlignedBox3d> sweep_boxes(const std::vector<CarveSweep>& sweeps);

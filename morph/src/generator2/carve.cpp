@@ -60,7 +60,8 @@ std::vector<ExactPlane> sweep_planes(const std::vector<Halfspace>& halfspaces, s
 
 std::vector<CarvedPiece> carve_box(const Eigen::AlignedBox3d& box,
                                    const std::vector<std::vector<ExactPlane>>& sweeps,
-                                   const std::vector<Eigen::AlignedBox3d>& sweep_boxes, CarveCounts* counts) {
+                                   const std::vector<Eigen::AlignedBox3d>& sweep_boxes, CarveCounts* counts,
+                                   const CuttingOrders* orders) {
   CarveCounts local;
   CarveCounts& c = counts ? *counts : local;
   const std::array<ExactPlane, 6> stock = box_planes(box);
@@ -86,7 +87,17 @@ std::vector<CarvedPiece> carve_box(const Eigen::AlignedBox3d& box,
       ++c.facets;
       const ConvexPiece facet = intersect(piece_in_box(sweeps[i][f], stock), sweeps[i]);
       if (facet.empty()) continue;
-      keep(minus_sweeps({facet}, static_cast<std::int32_t>(i), every, sweeps, sweep_boxes, c),
+      const auto listed = orders ? orders->find({static_cast<std::int32_t>(i), static_cast<std::int32_t>(f)})
+                                 : CuttingOrders::const_iterator{};
+      std::vector<std::uint32_t> order;
+      if (orders && listed != orders->end()) {
+        order = listed->second;
+        for (std::uint32_t j : every)
+          if (std::find(listed->second.begin(), listed->second.end(), j) == listed->second.end())
+            order.push_back(j);
+      }
+      keep(minus_sweeps({facet}, static_cast<std::int32_t>(i), order.empty() ? every : order, sweeps,
+                        sweep_boxes, c),
            static_cast<std::int32_t>(i), static_cast<std::int32_t>(f));
     }
   }

@@ -112,7 +112,7 @@ struct Worker {
 };
 using Workers = tbb::enumerable_thread_specific<Worker>;
 
-// `pieces` minus each cutter in turn (the order of carve_box()).
+// `pieces` minus each cutter in turn (as carve_box() does in the same order).
 // A piece a cutter misses goes on whole with its look (RoughCorners), made once for all the
 // cutters that miss it: a dense engraving's kept facet meets many.
 void minus_cutters(std::vector<ConvexPiece>& pieces,
@@ -270,8 +270,10 @@ class Carving {
     out.push_back(std::move(piece));
   }
 
-  // The kept facets of sweep g, each minus its cutters: (facet, pieces) in facet order.
-  std::vector<std::pair<int, std::vector<ConvexPiece>>> sweep(std::uint32_t g, Worker& w) const {
+  // The kept facets of sweep g, each minus its cutters: (facet, pieces) in facet order; each
+  // facet's cutting order to `orders` when given.
+  std::vector<std::pair<int, std::vector<ConvexPiece>>> sweep(
+      std::uint32_t g, Worker& w, std::vector<std::pair<int, std::vector<std::uint32_t>>>* orders) const {
     double start = thread_seconds();
     const std::size_t t = group_of_[g];
     const ToolGroup& group = groups_[t];
@@ -317,10 +319,17 @@ class Carving {
           if (group_of_[j] != t)
             cutters.emplace_back(static_cast<std::uint32_t>(j), planes_of(static_cast<std::uint32_t>(j), w));
         });
-      std::sort(cutters.begin(), cutters.end(),
-                [](const auto& x, const auto& y) { return x.first < y.first; });
+      // Those crossing it with the fewest planes first (carve_culled.h): on bear.nc 4% fewer
+      // triangles and 7% less cutting than in move order, on flower_mold 7% and 18%.
+      std::sort(cutters.begin(), cutters.end(), [](const auto& x, const auto& y) {
+        return x.second.size() < y.second.size() || (x.second.size() == y.second.size() && x.first < y.first);
+      });
       std::vector<const std::vector<ExactPlane>*> order;
       for (const auto& c : cutters) order.push_back(&c.second);
+      if (orders) {
+        orders->emplace_back(k.facet, std::vector<std::uint32_t>{});
+        for (const auto& c : cutters) orders->back().second.push_back(c.first);
+      }
       w.stages.carve.cutters += static_cast<double>(order.size());
       std::vector<ConvexPiece> pieces;
       pieces.push_back(std::move(facet));
@@ -443,12 +452,14 @@ std::vector<AlignedBox3d> sweep_boxes(const std::vector<CarveSweep>& sweeps) {
 }
 
 std::vector<CarvedPiece> carve_culled(const AlignedBox3d& box, const std::vector<CarveSweep>& sweeps,
-                                      ExecutionPolicy policy, CarveStages* stages, Progress* progress) {
-  return carve_culled(box_stock_polytope(box), sweeps, policy, stages, progress);
+                                      ExecutionPolicy policy, CarveStages* stages, Progress* progress,
+                                      CuttingOrders* orders) {
+  return carve_culled(box_stock_polytope(box), sweeps, policy, stages, progress, orders);
 }
 
 std::vector<CarvedPiece> carve_culled(const StockPolytope& stock, const std::vector<CarveSweep>& sweeps,
-                                      ExecutionPolicy policy, CarveStages* stages, Progress* progress) {
+                                      ExecutionPolicy policy, CarveStages* stages, Progress* progress,
+                                      CuttingOrders* orders) {
   Progress& report = progress ? *progress : null_progress();
   const double start = thread_seconds();
   const Carving carving(stock, sweeps);
@@ -461,6 +472,8 @@ std::vector<CarvedPiece> carve_culled(const StockPolytope& stock, const std::vec
   // Items 0 to faces-1: the stock faces; then one per move. Each writes its own slot.
   const std::size_t faces = carving.stock_faces();
   std::vector<std::vector<CarvedPiece>> slots(faces + sweeps.size());
+  std::vector<std::vector<std::pair<int, std::vector<std::uint32_t>>>> order_slots(orders ? sweeps.size()
+                                                                                          : 0);
   report.begin("erode2: carve", slots.size());
   for_each_index(policy, 0, slots.size(), [&](std::size_t item) {
     if (report.interrupted()) return;
@@ -471,7 +484,7 @@ std::vector<CarvedPiece> carve_culled(const StockPolytope& stock, const std::vec
         out.push_back(CarvedPiece{canonical(std::move(p)), -1, static_cast<std::int32_t>(item)});
     } else {
       const auto g = static_cast<std::uint32_t>(item - faces);
-      for (auto& [facet, pieces] : carving.sweep(g, w))
+      for (auto& [facet, pieces] : carving.sweep(g, w, orders ? &order_slots[g] : nullptr))
         for (ConvexPiece& p : pieces)
           out.push_back(CarvedPiece{canonical(std::move(p)), static_cast<std::int32_t>(g), facet});
     }
@@ -479,6 +492,10 @@ std::vector<CarvedPiece> carve_culled(const StockPolytope& stock, const std::vec
   });
   report.end();
   if (report.interrupted()) throw Interrupted("erode2: carve interrupted");
+  if (orders)
+    for (std::size_t g = 0; g < order_slots.size(); ++g)
+      for (auto& [facet, order] : order_slots[g])
+        (*orders)[{static_cast<std::int32_t>(g), facet}] = std::move(order);
   std::vector<CarvedPiece> out;
   CarveStages total;
   total.seconds_setup = setup;
