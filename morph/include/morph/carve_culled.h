@@ -49,10 +49,10 @@ struct CarveStages {
 
 /// The pieces of box \ ∪ sweeps, as carve_box() gives them for the same moves and cutting orders
 /// (up to the order of the pieces): stock faces first (box_planes() order), then each move's kept
-/// facets in facet order. A kept facet is cut by the sweeps that may reach it, those with the
-/// fewest planes crossing it first (then in move order): a sweep that holds most of the facet
-/// crosses it with few planes and leaves few pieces for the others; that order is written to
-/// `orders` when given. `policy` chooses one thread or TBB; the output does not depend on it.
+/// facets in facet order. A kept facet is cut by the sweeps that may reach it, those that may
+/// hold the most of it first: the most of its points below all of their faces near it, then the
+/// fewest planes crossing it, then move order (a sweep that takes most of a facet first leaves
+/// few pieces for the others); that order is written to `orders` when given. `policy` chooses one thread or TBB; the output does not depend on it.
 std::vector<CarvedPiece> carve_culled(const Eigen::AlignedBox3d& box, const std::vector<CarveSweep>& sweeps,
                                       ExecutionPolicy policy = ExecutionPolicy::Parallel,
                                       CarveStages* stages = nullptr, Progress* progress = nullptr,

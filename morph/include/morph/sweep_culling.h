@@ -48,6 +48,9 @@ class ToolFacetGroups;
 struct FacetCutter {
   std::uint32_t move = 0;
   std::vector<int> planes;
+  /// How many of the facet's points (its corners and centroid) lie below every one of its faces
+  /// near the facet, by the rounding: how much of the facet it may hold.
+  int points_below = 0;
 };
 
 struct KeptFacet {
@@ -103,6 +106,7 @@ class SweepCulling {
     std::size_t next_ = 0;
     std::vector<int> near_faces_;
     std::vector<int> planes_;                              ///< against()'s crossing planes
+    int points_below_ = 0;                                 ///< against()'s points below its near faces
     std::vector<char> marks_;                              ///< against()'s flags per tool facet, clear
     std::vector<const Candidate*> open_;                   ///< decide()'s candidates left for the halfspaces
     std::vector<std::vector<Eigen::Vector3d>> points_of_;  ///< cull()'s facet points, by facet
@@ -145,7 +149,7 @@ class SweepCulling {
   int support_facet(int from, const Eigen::Vector3d& direction) const;
   Against against(const Placed& p, std::size_t i, std::uint32_t j, const std::vector<Eigen::Vector3d>& points,
                   const Faces& faces, std::vector<int>& near_faces, std::vector<int>& planes,
-                  std::vector<char>& marks, CullingCounts& counts) const;
+                  std::vector<char>& marks, int& points_below, CullingCounts& counts) const;
 
   const SweepPolytopeBuilder& sweeps_;
   std::vector<Move> moves_;

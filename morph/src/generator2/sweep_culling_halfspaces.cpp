@@ -84,7 +84,8 @@ std::optional<Vector3d> clipped_centroid(std::vector<Vector3d> polygon, const Pl
 SweepCulling::Against SweepCulling::against(const Placed& p, std::size_t i, std::uint32_t j,
                                             const std::vector<Vector3d>& points, const Faces& candidate,
                                             std::vector<int>& near_faces, std::vector<int>& planes,
-                                            std::vector<char>& marks, CullingCounts& counts) const {
+                                            std::vector<char>& marks, int& points_below,
+                                            CullingCounts& counts) const {
   const auto first_silhouette = static_cast<int>(sweeps_.tool().facets.size());
   const int face_count = first_silhouette + static_cast<int>(candidate.silhouette.size());
   // Face h's plane and box: a tool facet's placed at the candidate's end by place()'s arithmetic
@@ -148,6 +149,12 @@ SweepCulling::Against SweepCulling::against(const Placed& p, std::size_t i, std:
     if (lo >= rounding_) return true;
     if (hi > -rounding_) planes.push_back(h);
     return false;
+  };
+  // A cutter, with how many points its near faces all have below them (its order, carve_culled.h).
+  auto cuts = [&] {
+    points_below = 0;
+    for (std::size_t k = 0; k < points.size() && k < 64; ++k) points_below += (not_below >> k & 1) == 0;
+    return Against::Cuts;
   };
   // The faces' loops below skip the tool facets' groups that cannot reach the threshold
   // (tool_facet_groups.h): the silhouette faces, from index `first_silhouette` on, go one by one.
@@ -251,15 +258,15 @@ SweepCulling::Against SweepCulling::against(const Placed& p, std::size_t i, std:
     // (`inside` would find that face): its walk of every face is skipped.
     // Any point proves it, so the inner bound, cheap, goes over them all before the faces.
     for (const Vector3d& x : points)
-      if (ball_inside_sweep(bounds_, candidate.a, candidate.b, x, 0.0)) return Against::Cuts;
+      if (ball_inside_sweep(bounds_, candidate.a, candidate.b, x, 0.0)) return cuts();
     for (std::size_t k = 0; k < points.size(); ++k) {
       const bool seen_outside = k < 64 && (not_below >> k & 1);
-      if (!seen_outside && below_faces(points[k])) return Against::Cuts;
+      if (!seen_outside && below_faces(points[k])) return cuts();
     }
     if (!swept) {
       const std::optional<Vector3d> centroid =
           clipped_centroid(ordered_polygon(p.edge >= 0 && !p.clipped, points), face_plane, planes);
-      if (centroid && below_every_face(*centroid)) return Against::Cuts;
+      if (centroid && below_every_face(*centroid)) return cuts();
     }
   }
   // Undecided within the rounding: every plane that crosses the facet.
@@ -290,7 +297,7 @@ SweepCulling::Against SweepCulling::against(const Placed& p, std::size_t i, std:
     if (tie(h)) continue;
     if (separates_or_crosses(h)) return Against::Apart;
   }
-  return planes.empty() ? Against::Inside : Against::Cuts;
+  return planes.empty() ? Against::Inside : cuts();
 }
 
 // The points the plane tests take of facet p of the sweep along [a, b] (ordered ends): its
