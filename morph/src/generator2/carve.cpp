@@ -87,17 +87,19 @@ std::vector<CarvedPiece> carve_box(const Eigen::AlignedBox3d& box,
       ++c.facets;
       const ConvexPiece facet = intersect(piece_in_box(sweeps[i][f], stock), sweeps[i]);
       if (facet.empty()) continue;
-      const auto listed = orders ? orders->find({static_cast<std::int32_t>(i), static_cast<std::int32_t>(f)})
-                                 : CuttingOrders::const_iterator{};
-      std::vector<std::uint32_t> order;
-      if (orders && listed != orders->end()) {
-        order = listed->second;
-        for (std::uint32_t j : every)
-          if (std::find(listed->second.begin(), listed->second.end(), j) == listed->second.end())
-            order.push_back(j);
+      // The listed sweeps first, in their order, then the others in move order.
+      std::vector<std::uint32_t> order = every;
+      if (orders) {
+        const auto listed = orders->find({static_cast<std::int32_t>(i), static_cast<std::int32_t>(f)});
+        if (listed != orders->end()) {
+          const std::vector<std::uint32_t>& first = listed->second;
+          std::stable_partition(order.begin(), order.end(), [&](std::uint32_t j) {
+            return std::find(first.begin(), first.end(), j) != first.end();
+          });
+          std::copy(first.begin(), first.end(), order.begin());
+        }
       }
-      keep(minus_sweeps({facet}, static_cast<std::int32_t>(i), order.empty() ? every : order, sweeps,
-                        sweep_boxes, c),
+      keep(minus_sweeps({facet}, static_cast<std::int32_t>(i), order, sweeps, sweep_boxes, c),
            static_cast<std::int32_t>(i), static_cast<std::int32_t>(f));
     }
   }

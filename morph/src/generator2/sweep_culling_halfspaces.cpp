@@ -254,9 +254,8 @@ SweepCulling::Against SweepCulling::against(const Placed& p, std::size_t i, std:
         if (value(h, x) > -rounding_) return false;
       return true;
     };
-    // A point a crossing face has not below it is not inside unless the inner bound holds it
-    // (`inside` would find that face): its walk of every face is skipped.
-    // Any point proves it, so the inner bound, cheap, goes over them all before the faces.
+    // Any point proves it, so the inner bound, cheap, goes over them all first; then every face
+    // for the points no crossing face has above it (one that has is inside only by the bound).
     for (const Vector3d& x : points)
       if (ball_inside_sweep(bounds_, candidate.a, candidate.b, x, 0.0)) return cuts();
     for (std::size_t k = 0; k < points.size(); ++k) {
