@@ -7,8 +7,9 @@
 /// with the planes of theirs that cross it (a cutter's other planes leave the facet's part inside
 /// it unchanged, and subtract() splits by that part alone); each stock face cut into cells
 /// (stock_face_cells.h), each cell minus the sweeps whose boxes meet it (AabbTree), a piece that
-/// a later sweep's inscribed capsule holds dropped at once. A job with several tools is culled tool by tool:
-/// another tool's sweeps are cutters of a kept facet whenever their boxes meet it, with all their planes.
+/// a later sweep's inscribed capsule holds dropped at once. A job with several tools is culled
+/// tool by tool: another tool's sweeps are cutters of a kept facet whenever their boxes meet it,
+/// with all their planes.
 /// Facets are independent and carved in parallel; the pieces come out in a fixed order.
 #include <morph/carve.h>
 #include <morph/parallel.h>
@@ -52,7 +53,8 @@ struct CarveStages {
 /// facets in facet order. A kept facet is cut by the sweeps that may reach it, those that may
 /// hold the most of it first: the most of its points below all of their faces near it, then the
 /// fewest planes crossing it, then move order (a sweep that takes most of a facet first leaves
-/// few pieces for the others); that order is written to `orders` when given. `policy` chooses one thread or TBB; the output does not depend on it.
+/// few pieces for the others); that order is written to `orders` when given. `policy` chooses
+/// one thread or TBB; the output does not depend on it.
 std::vector<CarvedPiece> carve_culled(const Eigen::AlignedBox3d& box, const std::vector<CarveSweep>& sweeps,
                                       ExecutionPolicy policy = ExecutionPolicy::Parallel,
                                       CarveStages* stages = nullptr, Progress* progress = nullptr,

@@ -106,7 +106,6 @@ class SweepCulling {
     std::size_t next_ = 0;
     std::vector<int> near_faces_;
     std::vector<int> planes_;                              ///< against()'s crossing planes
-    int points_below_ = 0;                                 ///< against()'s points below its near faces
     std::vector<char> marks_;                              ///< against()'s flags per tool facet, clear
     std::vector<const Candidate*> open_;                   ///< decide()'s candidates left for the halfspaces
     std::vector<std::vector<Eigen::Vector3d>> points_of_;  ///< cull()'s facet points, by facet

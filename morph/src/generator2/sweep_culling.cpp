@@ -314,12 +314,13 @@ SweepCulling::Culled SweepCulling::decide(const Placed& p, std::size_t i, const 
     ++counts.plane_tests;
     // The planes go to the scratch first: most candidates turn out apart, and a new list for each
     // grew one allocation at a time.
+    int points_below = 0;
     const Against verdict =
         against(p, i, c->move, vertices, faces(c->move, scratch, counts), scratch.near_faces_,
-                scratch.planes_, scratch.marks_, scratch.points_below_, counts);
+                scratch.planes_, scratch.marks_, points_below, counts);
     if (verdict == Against::Apart) continue;
     if (verdict == Against::Inside) return Culled::Planes;
-    keep.cutters.push_back(FacetCutter{c->move, scratch.planes_, scratch.points_below_});
+    keep.cutters.push_back(FacetCutter{c->move, scratch.planes_, points_below});
   }
   return Culled::Open;
 }
