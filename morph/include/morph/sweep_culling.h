@@ -21,7 +21,8 @@
 /// 5. what is left, by the candidate's halfspaces: every vertex below every plane culls the facet
 ///    (a convex facet in a convex polytope), every vertex above one plane drops the candidate,
 ///    else the candidate cuts the facet with the planes that cross it; when a point of the facet
-///    is inside the candidate, only the planes of its faces whose boxes meet the facet's.
+///    is inside the candidate, only the planes of its faces whose boxes meet the facet's (so too
+///    when the point is on its boundary by construction: a corner at an end both moves share).
 /// Signs within a rounding bound of zero are not decided here: the candidate stays a cutter, for
 /// the clipping's exact predicates. Ties are settled by generator 2's one order: sweeps expand
 /// by ε_0 ≫ ε_1 ≫ … in move order, so the earlier move owns a shared facet (a facet in a plane of
@@ -94,7 +95,8 @@ class SweepCulling {
   /// faces. A tool facet's face is made from the tool and the side when read (against()): only
   /// the silhouette faces, which cost a plane each to make, are kept.
   struct Faces {
-    std::vector<Face> silhouette;  ///< the faces from index tool().facets.size() on
+    std::vector<Face> silhouette;       ///< the faces from index tool().facets.size() on
+    std::vector<int> silhouette_edges;  ///< each silhouette face's edge (SweepPolytopeBuilder::edges())
     std::vector<signed char> side;
     Eigen::Vector3d a, b;  ///< the ordered ends (both the start for a degenerate move)
   };
@@ -146,9 +148,10 @@ class SweepCulling {
                 const std::vector<Eigen::Vector3d>& vertices, const Candidate*& prover, KeptFacet& keep,
                 CullingCounts& counts, Scratch& scratch) const;
   int support_facet(int from, const Eigen::Vector3d& direction) const;
-  Against against(const Placed& p, std::size_t i, std::uint32_t j, const std::vector<Eigen::Vector3d>& points,
-                  const Faces& faces, std::vector<int>& near_faces, std::vector<int>& planes,
-                  std::vector<char>& marks, int& points_below, CullingCounts& counts) const;
+  Against against(const Placed& p, std::size_t i, const Ends& own, std::uint32_t j,
+                  const std::vector<Eigen::Vector3d>& points, const Faces& faces,
+                  std::vector<int>& near_faces, std::vector<int>& planes, std::vector<char>& marks,
+                  int& points_below, CullingCounts& counts) const;
 
   const SweepPolytopeBuilder& sweeps_;
   std::vector<Move> moves_;

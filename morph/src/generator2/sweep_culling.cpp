@@ -223,6 +223,7 @@ const SweepCulling::Faces& SweepCulling::faces(std::uint32_t j, Scratch& scratch
       const Placed p = silhouette_face(e, index, faces.a, faces.b);
       faces.silhouette.push_back(
           {p.plane, AlignedBox3d(p.box.min().array() - rounding_, p.box.max().array() + rounding_)});
+      faces.silhouette_edges.push_back(static_cast<int>(e));
       ++index;
     }
   }
@@ -316,7 +317,7 @@ SweepCulling::Culled SweepCulling::decide(const Placed& p, std::size_t i, const 
     // grew one allocation at a time.
     int points_below = 0;
     const Against verdict =
-        against(p, i, c->move, vertices, faces(c->move, scratch, counts), scratch.near_faces_,
+        against(p, i, own, c->move, vertices, faces(c->move, scratch, counts), scratch.near_faces_,
                 scratch.planes_, scratch.marks_, points_below, counts);
     if (verdict == Against::Apart) continue;
     if (verdict == Against::Inside) return Culled::Planes;

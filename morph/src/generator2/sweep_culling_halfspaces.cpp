@@ -81,7 +81,7 @@ std::optional<Vector3d> clipped_centroid(std::vector<Vector3d> polygon, const Pl
 
 // Facet p of move i against candidate j's faces, by halfspaces. `points`: the facet's corners
 // and, last, its centroid. On Cuts, `planes` are the candidate's planes that cut it.
-SweepCulling::Against SweepCulling::against(const Placed& p, std::size_t i, std::uint32_t j,
+SweepCulling::Against SweepCulling::against(const Placed& p, std::size_t i, const Ends& own, std::uint32_t j,
                                             const std::vector<Vector3d>& points, const Faces& candidate,
                                             std::vector<int>& near_faces, std::vector<int>& planes,
                                             std::vector<char>& marks, int& points_below,
@@ -170,6 +170,52 @@ SweepCulling::Against SweepCulling::against(const Placed& p, std::size_t i, std:
   // The inner bounds first: deeper than the slack inside the tool's inscribed ball or cylinder.
   auto inside = [&](const Vector3d& x) {
     return ball_inside_sweep(bounds_, candidate.a, candidate.b, x, 0.0) || below_faces(x);
+  };
+  // A corner of the facet in the candidate by construction, on its boundary: a tool vertex placed
+  // at an end the two moves share (mostly a joint: the rounding leaves the facet touching the
+  // next sweep along a tool edge there undecided), where the candidate holds the whole tool. Each
+  // face of the candidate has it below by the rounding, or passes through it exactly: the tool
+  // facets around the vertex placed at that end, the silhouette faces of its edges (both sweeps'
+  // planes exact, so the corner is one of the facet's exact corners; in the stock's box grown by
+  // the rounding, so it is one of the points' polygon, cut to that box as cut_to_stock() does).
+  // Any point of the facet in the closed candidate is a witness as good as one inside it: a face
+  // whose plane bounds the facet's part in the candidate passes through a point of that part, so
+  // meets the facet, so is among the faces whose boxes meet the facet's (and so under the
+  // perturbation, whose limit lies in that part).
+  const AlignedBox3d grown_stock(stock_.min().array() - rounding_, stock_.max().array() + rounding_);
+  auto corner_in_candidate = [&] {
+    if (!exact_[i] || !exact_[j]) return false;
+    const ConvexPolytope& tool = sweeps_.tool();
+    const std::vector<SweepPolytopeBuilder::Edge>& edges = sweeps_.edges();
+    const std::vector<int> edge_ends =
+        p.edge >= 0 ? std::vector<int>{edges[p.edge].from, edges[p.edge].to} : std::vector<int>{};
+    const std::vector<int>& corners = p.edge >= 0 ? edge_ends : tool.facets[p.tool_facet].loop;
+    for (const bool at_own_end : {false, true}) {
+      if (at_own_end ? p.placement < 0 : p.placement > 0) continue;  // no corner placed there
+      const Vector3d& end = at_own_end ? own.b : own.a;
+      const bool at_a = end == candidate.a, at_b = end == candidate.b;
+      if (!at_a && !at_b) continue;
+      for (const int v : corners) {
+        const Vector3d x = tool.vertices[v] + end;
+        if (p.clipped && !grown_stock.contains(x)) continue;
+        auto through = [&](int h) {
+          if (h >= first_silhouette) {
+            const SweepPolytopeBuilder::Edge& e =
+                edges[candidate.silhouette_edges[static_cast<std::size_t>(h - first_silhouette)]];
+            return e.from == v || e.to == v;
+          }
+          if (!(candidate.side[static_cast<std::size_t>(h)] > 0 ? at_b : at_a)) return false;
+          const std::vector<int>& around = facets_at_vertex_[static_cast<std::size_t>(v)];
+          return std::find(around.begin(), around.end(), h) != around.end();
+        };
+        auto holds = [&](int h) { return tie(h) || value(h, x) <= -rounding_ || through(h); };
+        if (!facet_groups_->for_each_reaching(x, 0.0, candidate.a, candidate.b, -rounding_, holds)) continue;
+        bool all = true;
+        for (int h = first_silhouette; h < face_count && all; ++h) all = holds(h);
+        if (all) return true;
+      }
+    }
+    return false;
   };
   // The candidate's planes of the facet's own tool facets first: where two sweeps are apart,
   // one of them usually shows it.
@@ -262,6 +308,7 @@ SweepCulling::Against SweepCulling::against(const Placed& p, std::size_t i, std:
       const bool seen_outside = k < 64 && (not_below >> k & 1);
       if (!seen_outside && below_faces(points[k])) return cuts();
     }
+    if (corner_in_candidate()) return cuts();
     if (!swept) {
       const std::optional<Vector3d> centroid =
           clipped_centroid(ordered_polygon(p.edge >= 0 && !p.clipped, points), face_plane, planes);
