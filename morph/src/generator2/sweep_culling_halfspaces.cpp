@@ -8,6 +8,7 @@
 #include "generator2/tool_facet_groups.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <limits>
 #include <optional>
@@ -187,15 +188,17 @@ SweepCulling::Against SweepCulling::against(const Placed& p, std::size_t i, cons
     if (!exact_[i] || !exact_[j]) return false;
     const ConvexPolytope& tool = sweeps_.tool();
     const std::vector<SweepPolytopeBuilder::Edge>& edges = sweeps_.edges();
-    const std::vector<int> edge_ends =
-        p.edge >= 0 ? std::vector<int>{edges[p.edge].from, edges[p.edge].to} : std::vector<int>{};
-    const std::vector<int>& corners = p.edge >= 0 ? edge_ends : tool.facets[p.tool_facet].loop;
+    const std::array<int, 2> edge_ends =
+        p.edge >= 0 ? std::array<int, 2>{edges[p.edge].from, edges[p.edge].to} : std::array<int, 2>{};
+    const int* first_corner = p.edge >= 0 ? edge_ends.data() : tool.facets[p.tool_facet].loop.data();
+    const std::size_t corner_count = p.edge >= 0 ? 2 : tool.facets[p.tool_facet].loop.size();
     for (const bool at_own_end : {false, true}) {
       if (at_own_end ? p.placement < 0 : p.placement > 0) continue;  // no corner placed there
       const Vector3d& end = at_own_end ? own.b : own.a;
       const bool at_a = end == candidate.a, at_b = end == candidate.b;
       if (!at_a && !at_b) continue;
-      for (const int v : corners) {
+      for (std::size_t c = 0; c < corner_count; ++c) {
+        const int v = first_corner[c];
         const Vector3d x = tool.vertices[v] + end;
         if (p.clipped && !grown_stock.contains(x)) continue;
         auto through = [&](int h) {
