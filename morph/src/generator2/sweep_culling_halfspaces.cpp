@@ -183,9 +183,9 @@ SweepCulling::Against SweepCulling::against(const Placed& p, std::size_t i, cons
   // whose plane bounds the facet's part in the candidate passes through a point of that part, so
   // meets the facet, so is among the faces whose boxes meet the facet's (and so under the
   // perturbation, whose limit lies in that part).
-  const AlignedBox3d grown_stock(stock_.min().array() - rounding_, stock_.max().array() + rounding_);
   auto corner_in_candidate = [&] {
     if (!exact_[i] || !exact_[j]) return false;
+    const AlignedBox3d grown_stock(stock_.min().array() - rounding_, stock_.max().array() + rounding_);
     const ConvexPolytope& tool = sweeps_.tool();
     const std::vector<SweepPolytopeBuilder::Edge>& edges = sweeps_.edges();
     const std::array<int, 2> edge_ends =
