@@ -32,15 +32,19 @@ morph::Job undercut_star() {
                                           morph::sphere_tool(1.979), star, 0.02);
 }
 
-// A star {n/k} of `radius` at height z, driven twice round from the angle of (x, y).
-std::vector<Vector3d> star_twice_round(int n, int k, double radius, double z, double x, double y) {
+// A star {n/k} of `radius` at height z, driven `rounds` times round from the angle of (x, y).
+std::vector<Vector3d> star_round(int n, int k, double radius, double z, double x, double y, int rounds) {
   std::vector<Vector3d> star;
   const double phase = std::atan2(y, x);
-  for (int j = 0; j <= 2 * n; ++j) {
+  for (int j = 0; j <= rounds * n; ++j) {
     const double a = phase + 2 * M_PI * (j % n) * k / n;
     star.emplace_back(radius * std::cos(a), radius * std::sin(a), z);
   }
   return star;
+}
+
+std::vector<Vector3d> star_twice_round(int n, int k, double radius, double z, double x, double y) {
+  return star_round(n, k, radius, z, x, y, 2);
 }
 
 // verify's outcome with generator 2 for a sphere of `radius` cutting `star` in `box`.
@@ -113,6 +117,48 @@ TEST(VerifyPieces, ASmallPieceOutsideTheExactSolidIsAPhantom) {
   EXPECT_TRUE(morphmill::match_pieces({body}, {reference}, voxel, 0.02, field, &below));
   body.volume = reference.volume + 0.6 * voxel * reference.area;
   EXPECT_FALSE(morphmill::match_pieces({body}, {reference}, voxel, 0.02, field, &below));
+}
+
+// Stress seed 167, case 452: a star {11/4} once round under a sphere whose centre runs 0.713 below
+// the top frees 11 chips about 0.02 mm across and deep, where four grooves meet; the generator's
+// chip is a few flat facets, and two of their centroids fell 0.0008 outside the exact chips.
+morph::Job undercut_star_11_4() {
+  return morphmill_test::box_polyline_job(
+      Eigen::AlignedBox3d(Vector3d(-18, -18, 0), Vector3d(18, 18, 6.653)), morph::sphere_tool(2.079),
+      star_round(11, 4, 13.907, 5.94, 9.619851904859079, -10.043062198780765, 1), 0.02);
+}
+
+TEST(VerifyPieces, AChipWhoseCentroidFallsOutsideTheExactChipIsMaterialInItsBounds) {
+  const morph::Job job = undercut_star_11_4();
+  const morph::ErosionField field(job);  // holds the job by reference
+  morphmill::PieceRecord chip;
+  chip.volume = 1.19e-6;
+  chip.centroid = Vector3d(5.670905066093265, 7.239782123595939, 6.648083202922992);
+  chip.bounds = Eigen::AlignedBox3d(Vector3d(5.662271784225212, 7.232005076871865, 6.633419018918647),
+                                    Vector3d(5.6794716899612725, 7.25067152194548, 6.653));
+  ASSERT_GT(field.value(chip.centroid), 0.0);
+  EXPECT_TRUE(morphmill::holds_exact_material(field, chip));
+  // The same box moved 0.1 mm towards the groove's axis holds no material: a phantom.
+  morphmill::PieceRecord phantom = chip;
+  const Vector3d shift(0.0, 0.0, -0.1);
+  phantom.centroid += shift;
+  phantom.bounds.translate(shift);
+  EXPECT_FALSE(morphmill::holds_exact_material(field, phantom));
+  // Without bounds, the centroid alone decides.
+  chip.bounds.setEmpty();
+  EXPECT_FALSE(morphmill::holds_exact_material(field, chip));
+}
+
+TEST(VerifyPieces, ElevenChipsWhereFourUndercuttingGroovesMeet) {
+  morphmill::EvaluateOptions options;
+  options.voxel_size = 0.51975;
+  options.generator = 2;
+  const morphmill::VerifyOutcome o = morphmill::evaluate_job(undercut_star_11_4(), options).outcome;
+  ASSERT_EQ(o.morph_pieces.size(), 12u);
+  EXPECT_EQ(o.reference_pieces.size(), 1u);
+  EXPECT_TRUE(o.generator_within_tolerance);
+  EXPECT_TRUE(o.pieces_match);
+  EXPECT_EQ(o.pieces_below_resolution, 11u);
 }
 
 // Stress seed 53, case 816: a star {7/3} twice round under a sphere whose centre runs 1.667 below
