@@ -222,6 +222,30 @@ TEST(VerifyPieces, NecksFinerThanASixteenthOfAVoxelAreFoundAtTheTolerance) {
   EXPECT_EQ(o.pieces_below_resolution, 3u);
 }
 
+// Stress seed 169, case 7220: a star {7/2} once round under a sphere whose centre runs 1.178
+// below the top, at tolerance 0.05. The reference's 0.491 mm voxels cut off a ridge of 0.1 mm^3
+// between two grooves near the top; the exact solid joins it to the rest through a neck thinner
+// than the tolerance, which a grid at the tolerance sees at one lone point. A flood bridging gaps
+// up to twice the tolerance joins it; a freed chip farther apart stays apart (above).
+TEST(VerifyPieces, ANeckThinnerThanTheStepIsBridgedWithinTwiceTheTolerance) {
+  const morph::Job job = morphmill_test::box_polyline_job(
+      Eigen::AlignedBox3d(Vector3d(-18, -18, 0), Vector3d(18, 18, 9.588)), morph::sphere_tool(1.964),
+      star_round(7, 2, 13.943, 8.41, 11.642038810603738, -7.672690618837456, 1), 0.05);
+  const morph::ErosionField field(job);  // holds the job by reference
+  const double voxel = 0.491, tolerance = 0.05;
+  // The reference piece's voxel centres, grown by a voxel as match_pieces() grows them.
+  Eigen::AlignedBox3d ridge(Vector3d(3.928, 9.82, 9.329), Vector3d(3.928, 10.311, 9.329));
+  ridge.min().array() -= voxel;
+  ridge.max().array() += voxel;
+  EXPECT_FALSE(morphmill::material_reaches_out(field, ridge, 2 * voxel, tolerance));
+  EXPECT_TRUE(morphmill::material_reaches_out(field, ridge, 2 * voxel, tolerance, 2 * tolerance));
+  // Bridging does not make material where there is none: a box in a groove holds none.
+  const Vector3d in_groove(11.642038810603738, -7.672690618837456, 8.41);
+  EXPECT_FALSE(morphmill::material_reaches_out(
+      field, Eigen::AlignedBox3d(in_groove.array() - 0.2, in_groove.array() + 0.2), 0.1, tolerance,
+      2 * tolerance));
+}
+
 }  // namespace
 
 // Stress seed 53, case 1566: a star {5/2} twice round, undercut by a sphere. The reference cuts
