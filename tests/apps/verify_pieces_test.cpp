@@ -47,25 +47,27 @@ std::vector<Vector3d> star_twice_round(int n, int k, double radius, double z, do
   return star_round(n, k, radius, z, x, y, 2);
 }
 
-// verify's outcome with generator 2 for a sphere of `radius` cutting `star` in `box`.
-morphmill::VerifyOutcome sphere_star_outcome(const Eigen::AlignedBox3d& box, double radius,
-                                             const std::vector<Vector3d>& star, double tolerance,
-                                             double voxel, std::size_t face_samples = 0) {
+// verify's outcome with generator 2 for `job` at `voxel`.
+morphmill::VerifyOutcome generator2_outcome(const morph::Job& job, double voxel,
+                                            std::size_t face_samples = 0) {
   morphmill::EvaluateOptions options;
   options.voxel_size = voxel;
   options.generator = 2;
   if (face_samples > 0) options.face_samples = face_samples;
-  return morphmill::evaluate_job(
-             morphmill_test::box_polyline_job(box, morph::sphere_tool(radius), star, tolerance), options)
-      .outcome;
+  return morphmill::evaluate_job(job, options).outcome;
+}
+
+// verify's outcome with generator 2 for a sphere of `radius` cutting `star` in `box`.
+morphmill::VerifyOutcome sphere_star_outcome(const Eigen::AlignedBox3d& box, double radius,
+                                             const std::vector<Vector3d>& star, double tolerance,
+                                             double voxel, std::size_t face_samples = 0) {
+  return generator2_outcome(
+      morphmill_test::box_polyline_job(box, morph::sphere_tool(radius), star, tolerance), voxel,
+      face_samples);
 }
 
 TEST(VerifyPieces, ChipsBelowTheVoxelsAreConfirmedByTheExactField) {
-  morphmill::EvaluateOptions options;
-  options.voxel_size = 0.49475;
-  options.generator = 2;
-  options.face_samples = 20000;
-  const morphmill::VerifyOutcome o = morphmill::evaluate_job(undercut_star(), options).outcome;
+  const morphmill::VerifyOutcome o = generator2_outcome(undercut_star(), 0.49475, 20000);
   EXPECT_EQ(o.morph_pieces.size(), 14u);
   EXPECT_EQ(o.reference_pieces.size(), 1u);
   EXPECT_TRUE(o.pieces_match);
@@ -150,10 +152,7 @@ TEST(VerifyPieces, AChipWhoseCentroidFallsOutsideTheExactChipIsMaterialInItsBoun
 }
 
 TEST(VerifyPieces, ElevenChipsWhereFourUndercuttingGroovesMeet) {
-  morphmill::EvaluateOptions options;
-  options.voxel_size = 0.51975;
-  options.generator = 2;
-  const morphmill::VerifyOutcome o = morphmill::evaluate_job(undercut_star_11_4(), options).outcome;
+  const morphmill::VerifyOutcome o = generator2_outcome(undercut_star_11_4(), 0.51975);
   ASSERT_EQ(o.morph_pieces.size(), 12u);
   EXPECT_EQ(o.reference_pieces.size(), 1u);
   EXPECT_TRUE(o.generator_within_tolerance);
