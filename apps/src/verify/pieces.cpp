@@ -56,10 +56,10 @@ bool material_reaches_out(const morph::ErosionField& field, const Eigen::Aligned
                         [&](std::size_t s) { material[s] = field.value(point(s)) < 0.0; });
   // The grid steps a flood takes: the six faces' neighbours, and every other within `bridge`.
   std::vector<Eigen::Array3i> offsets;
-  const int reach = static_cast<int>(std::floor(bridge / step));
-  for (int x = -std::max(reach, 1); x <= std::max(reach, 1); ++x)
-    for (int y = -std::max(reach, 1); y <= std::max(reach, 1); ++y)
-      for (int z = -std::max(reach, 1); z <= std::max(reach, 1); ++z) {
+  const int reach = std::max(1, static_cast<int>(std::floor(bridge / step)));
+  for (int x = -reach; x <= reach; ++x)
+    for (int y = -reach; y <= reach; ++y)
+      for (int z = -reach; z <= reach; ++z) {
         const int length2 = x * x + y * y + z * z;
         if (length2 == 1 || (length2 > 1 && length2 * step * step <= bridge * bridge))
           offsets.emplace_back(x, y, z);
