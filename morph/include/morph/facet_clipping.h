@@ -97,9 +97,11 @@ class RoughCorners {
   bool usable_ = true;
 };
 
-/// subtract() with the look of `piece` made beforehand (the same pieces).
+/// subtract() with the look of `piece` made beforehand (the same pieces). When `looks` is given
+/// and the cutter reaches `piece`, it receives the look of each piece appended to `out`, made
+/// from `look`'s corners where they are the piece's (its corners off the cutter's planes).
 bool subtract(const ConvexPiece& piece, const RoughCorners& look, const std::vector<ExactPlane>& cutter,
-              std::vector<ConvexPiece>& out);
+              std::vector<ConvexPiece>& out, std::vector<RoughCorners>* looks = nullptr);
 
 /// The same piece with its edges rotated to start at the lowest rank: a convex piece's edge
 /// cycle is unique, so two pieces of the same planes compare equal after this whatever order

@@ -114,23 +114,21 @@ using Workers = tbb::enumerable_thread_specific<Worker>;
 
 // `pieces` minus each cutter in turn (as carve_box() does in the same order).
 // A piece a cutter misses goes on whole with its look (RoughCorners), made once for all the
-// cutters that miss it: a dense engraving's kept facet meets many.
+// cutters that miss it: a dense engraving's kept facet meets many. The parts a cutter leaves
+// take their old corners from the piece's look; only those on its planes are looked at anew.
 void minus_cutters(std::vector<ConvexPiece>& pieces,
                    const std::vector<const std::vector<ExactPlane>*>& cutters) {
+  if (pieces.empty() || cutters.empty()) return;
   std::vector<ConvexPiece> next;
-  std::vector<std::optional<RoughCorners>> looks(pieces.size()), next_looks;
+  std::vector<RoughCorners> looks, next_looks;
+  for (const ConvexPiece& piece : pieces) looks.emplace_back(piece);
   for (const std::vector<ExactPlane>* cutter : cutters) {
     if (pieces.empty()) return;
     next.clear();
     next_looks.clear();
-    for (std::size_t i = 0; i < pieces.size(); ++i) {
-      if (!looks[i]) looks[i].emplace(pieces[i]);
-      if (subtract(pieces[i], *looks[i], *cutter, next)) {
-        next_looks.resize(next.size());
-      } else {
+    for (std::size_t i = 0; i < pieces.size(); ++i)
+      if (!subtract(pieces[i], looks[i], *cutter, next, &next_looks))
         next_looks.push_back(std::move(looks[i]));
-      }
-    }
     pieces.swap(next);
     looks.swap(next_looks);
   }

@@ -120,8 +120,10 @@ ConvexPiece part_inside(const ConvexPiece& piece, const ExactPlane& plane, const
   ConvexPiece out{piece.support, {}};
   if (inside == 0) return out;
   out.edges.reserve(n + 1);  // grown one push at a time, this was ~1% of a job in reallocation
-  std::vector<int> source;   // of each edge of `out`: its index in `piece`, -1 for `plane`
-  source.reserve(n + 1);
+  // Of each edge of `out`: its index in `piece`, -1 for `plane` (the thread's, as part_inside()
+  // is called for every clip and does not nest).
+  thread_local std::vector<int> source;
+  source.clear();
   for (std::size_t k = 0; k < n; ++k) {
     const bool from_inside = sign * sides[k] < 0, to_inside = sign * sides[(k + 1) % n] < 0;
     if (from_inside || to_inside) {
@@ -151,9 +153,12 @@ ConvexPiece part_inside(const ConvexPiece& piece, const ExactPlane& plane, const
 // The exact sides of `plane` at the corners of `piece` (the float look's where it is sure, as
 // RoughCorners' margin holds, when `rough` is given: the exact predicates only for the others).
 // `plane` is neither the piece's support nor one of its edges' (clip_with() decides those).
-std::vector<int> corner_sides(const ConvexPiece& piece, const ExactPlane& plane, const RoughCorners* rough) {
+// In the thread's buffer, valid until its next call (every clip asks, and they do not nest).
+const std::vector<int>& corner_sides(const ConvexPiece& piece, const ExactPlane& plane,
+                                     const RoughCorners* rough) {
   const std::size_t n = piece.edges.size();
-  std::vector<int> sides(n);
+  thread_local std::vector<int> sides;
+  sides.resize(n);
   for (std::size_t k = 0; k < n; ++k) {
     const int quick = rough ? rough->corner(k) : 0;
     sides[k] = quick != 0 ? quick
@@ -237,7 +242,7 @@ bool subtract(const ConvexPiece& piece, const std::vector<ExactPlane>& cutter,
 }
 
 bool subtract(const ConvexPiece& piece, const RoughCorners& look, const std::vector<ExactPlane>& cutter,
-              std::vector<ConvexPiece>& out) {
+              std::vector<ConvexPiece>& out, std::vector<RoughCorners>* looks) {
   // Facet minus a convex polytope: peel off, plane by plane, the part outside that plane; what
   // is inside every plane is inside the cutter and goes. Only the cutter's planes that bound the
   // part inside it are peeled by, in rank order: the same set as peeling by all of them, and
@@ -255,8 +260,8 @@ bool subtract(const ConvexPiece& piece, const RoughCorners& look, const std::vec
     out.push_back(piece);
     return false;
   }
-  std::vector<ExactPlane> bounding;
-  bounding.reserve(inside.edges.size());
+  thread_local std::vector<ExactPlane> bounding;  // subtract() does not nest
+  bounding.clear();
   for (const ExactPlane& e : inside.edges) {
     const bool own = std::any_of(piece.edges.begin(), piece.edges.end(),
                                  [&](const ExactPlane& p) { return p.rank == e.rank; });
@@ -268,16 +273,19 @@ bool subtract(const ConvexPiece& piece, const RoughCorners& look, const std::vec
   // plane's sides are exactly the opposite).
   ConvexPiece rest = piece;
   RoughCorners rough = look;
-  std::vector<int> from_old;
+  std::vector<int> from_old, from_old_outside;
   for (const ExactPlane& plane : bounding) {
     rough.side(plane);
     // A bounding plane is none of the piece's (its rank is another move's, and those already
     // peeled are not listed twice), and the flipped plane's exact sides are exactly the opposite:
     // one look at the corners for both parts.
-    const std::vector<int> sides = corner_sides(rest, plane, &rough);
+    const std::vector<int>& sides = corner_sides(rest, plane, &rough);
     ConvexPiece inner = part_inside(rest, plane, sides, 1, &from_old);
-    ConvexPiece outside = part_inside(rest, flipped(plane), sides, -1, nullptr);
-    if (!outside.empty()) out.push_back(std::move(outside));
+    ConvexPiece outside = part_inside(rest, flipped(plane), sides, -1, looks ? &from_old_outside : nullptr);
+    if (!outside.empty()) {
+      if (looks) looks->emplace_back(outside, &rough, from_old_outside);
+      out.push_back(std::move(outside));
+    }
     if (inner.empty()) break;
     rough = RoughCorners(inner, &rough, from_old);
     rest = std::move(inner);
