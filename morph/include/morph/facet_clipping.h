@@ -67,12 +67,19 @@ bool subtract(const ConvexPiece& piece, const std::vector<ExactPlane>& cutter, s
 class RoughCorners {
  public:
   explicit RoughCorners(const ConvexPiece& piece) : RoughCorners(piece, nullptr, {}) {}
+  /// No look (every side() undecided): storage for remake().
+  RoughCorners() : usable_(false) {}
   /// The look at `piece`, taking from `old` the corners that were its corners: from_old[k] is the
   /// index in `old` of corner k, or -1 for a new corner (the same three planes give the same point).
   RoughCorners(const ConvexPiece& piece, const RoughCorners* old, const std::vector<int>& from_old);
+  /// This look made again, as that constructor makes it, of `piece` from `old` (not this one),
+  /// in the storage this one has: a clip's next look without an allocation.
+  void remake(const ConvexPiece& piece, const RoughCorners& old, const std::vector<int>& from_old);
   /// -1: every corner clearly inside `plane`; +1: every corner clearly outside; 0: undecided,
   /// and then corner(k) is -1 or +1 for a corner clearly inside or outside, 0 for one too close.
   int side(const ExactPlane& plane);
+  /// side() without keeping the corners' looks.
+  int peek(const ExactPlane& plane) const;
   /// True when every corner is clearly outside `plane` (side() would be +1), then the piece is.
   bool outside(const ExactPlane& plane) const;
   /// The last side()'s look at corner k (0 when unusable).
@@ -83,6 +90,7 @@ class RoughCorners {
   int exact_side(const ConvexPiece& piece, std::size_t k, const ExactPlane& plane) const;
 
  private:
+  void make(const ConvexPiece& piece, const RoughCorners* old, const std::vector<int>& from_old);
   struct Corner {
     Eigen::Vector3d point;
     double length = 0.0;  ///< of point

@@ -12,7 +12,18 @@ namespace morph {
 
 RoughCorners::RoughCorners(const ConvexPiece& piece, const RoughCorners* old,
                            const std::vector<int>& from_old) {
+  make(piece, old, from_old);
+}
+
+void RoughCorners::remake(const ConvexPiece& piece, const RoughCorners& old,
+                          const std::vector<int>& from_old) {
+  make(piece, &old, from_old);
+}
+
+void RoughCorners::make(const ConvexPiece& piece, const RoughCorners* old, const std::vector<int>& from_old) {
   const std::size_t n = piece.edges.size();
+  corners_.clear();
+  usable_ = true;
   corners_.reserve(n);
   for (std::size_t k = 0; k < n; ++k) {
     if (old && old->usable_ && from_old[k] >= 0) {
@@ -54,6 +65,18 @@ int RoughCorners::side(const ExactPlane& plane) {
     c.look = look_at(c, plane, length);
     below += c.look < 0;
     above += c.look > 0;
+  }
+  return below == corners_.size() ? -1 : (above == corners_.size() ? 1 : 0);
+}
+
+int RoughCorners::peek(const ExactPlane& plane) const {
+  if (!usable_) return 0;
+  std::size_t below = 0, above = 0;
+  const double length = plane.normal.norm();
+  for (const Corner& c : corners_) {
+    const int look = look_at(c, plane, length);
+    below += look < 0;
+    above += look > 0;
   }
   return below == corners_.size() ? -1 : (above == corners_.size() ? 1 : 0);
 }
@@ -185,8 +208,9 @@ ConvexPiece clip_with(const ConvexPiece& piece, const ExactPlane& plane, const R
 
 // intersect() by the planes in [first, last), in that order.
 template <class Iterator>
-ConvexPiece intersect_in_order(ConvexPiece piece, RoughCorners rough, Iterator first, Iterator last) {
+ConvexPiece clip_in_order(ConvexPiece piece, RoughCorners rough, Iterator first, Iterator last) {
   std::vector<int> from_old;
+  RoughCorners next;  // the storage of each clip's look, swapped with the last one's
   for (; first != last; ++first) {
     const ExactPlane& plane = *first;
     if (piece.empty()) break;
@@ -194,9 +218,27 @@ ConvexPiece intersect_in_order(ConvexPiece piece, RoughCorners rough, Iterator f
     if (quick < 0) continue;
     if (quick > 0) return ConvexPiece{piece.support, {}};
     piece = clip_with(piece, plane, &rough, &from_old);
-    if (!piece.empty()) rough = RoughCorners(piece, &rough, from_old);
+    if (!piece.empty()) {
+      next.remake(piece, rough, from_old);
+      std::swap(rough, next);
+    }
   }
   return piece;
+}
+
+// clip_in_order() of `whole` with its look, copied only once a plane cuts it: a cutter's planes
+// mostly hold the piece inside, or one misses it.
+template <class Iterator>
+ConvexPiece intersect_in_order(const ConvexPiece& whole, const RoughCorners& whole_look, Iterator first,
+                               Iterator last) {
+  if (whole.empty()) return whole;
+  for (; first != last; ++first) {
+    const int quick = whole_look.peek(*first);
+    if (quick > 0) return ConvexPiece{whole.support, {}};
+    if (quick == 0) break;
+  }
+  if (first == last) return whole;
+  return clip_in_order(whole, whole_look, first, last);
 }
 
 }  // namespace
@@ -233,7 +275,7 @@ ConvexPiece clip(const ConvexPiece& piece, const ExactPlane& plane) {
 
 ConvexPiece intersect(ConvexPiece piece, const std::vector<ExactPlane>& planes) {
   RoughCorners rough(piece);
-  return intersect_in_order(std::move(piece), std::move(rough), planes.begin(), planes.end());
+  return clip_in_order(std::move(piece), std::move(rough), planes.begin(), planes.end());
 }
 
 bool subtract(const ConvexPiece& piece, const std::vector<ExactPlane>& cutter,
@@ -271,24 +313,27 @@ bool subtract(const ConvexPiece& piece, const RoughCorners& look, const std::vec
             [](const ExactPlane& x, const ExactPlane& y) { return x.rank < y.rank; });
   // The float look decides the corners it is sure of for both sides of each plane (the flipped
   // plane's sides are exactly the opposite).
-  ConvexPiece rest = piece;
-  RoughCorners rough = look;
+  const ConvexPiece* rest = &piece;  // then each inner part, held in `inner_part`
+  ConvexPiece inner_part;
+  RoughCorners rough = look, next;
   std::vector<int> from_old, from_old_outside;
   for (const ExactPlane& plane : bounding) {
     rough.side(plane);
     // A bounding plane is none of the piece's (its rank is another move's, and those already
     // peeled are not listed twice), and the flipped plane's exact sides are exactly the opposite:
     // one look at the corners for both parts.
-    const std::vector<int>& sides = corner_sides(rest, plane, &rough);
-    ConvexPiece inner = part_inside(rest, plane, sides, 1, &from_old);
-    ConvexPiece outside = part_inside(rest, flipped(plane), sides, -1, looks ? &from_old_outside : nullptr);
+    const std::vector<int>& sides = corner_sides(*rest, plane, &rough);
+    ConvexPiece inner = part_inside(*rest, plane, sides, 1, &from_old);
+    ConvexPiece outside = part_inside(*rest, flipped(plane), sides, -1, looks ? &from_old_outside : nullptr);
     if (!outside.empty()) {
       if (looks) looks->emplace_back(outside, &rough, from_old_outside);
       out.push_back(std::move(outside));
     }
     if (inner.empty()) break;
-    rough = RoughCorners(inner, &rough, from_old);
-    rest = std::move(inner);
+    next.remake(inner, rough, from_old);
+    std::swap(rough, next);
+    inner_part = std::move(inner);
+    rest = &inner_part;
   }
   return true;
 }
