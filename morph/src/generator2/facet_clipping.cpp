@@ -209,8 +209,10 @@ ConvexPiece clip_with(const ConvexPiece& piece, const ExactPlane& plane, const R
 // intersect() by the planes in [first, last), in that order.
 template <class Iterator>
 ConvexPiece clip_in_order(ConvexPiece piece, RoughCorners rough, Iterator first, Iterator last) {
-  std::vector<int> from_old;
-  RoughCorners next;  // the storage of each clip's look, swapped with the last one's
+  // The thread's (clip_in_order() does not nest): from_old, and the storage of each clip's look,
+  // swapped with the last one's.
+  thread_local std::vector<int> from_old;
+  thread_local RoughCorners next;
   for (; first != last; ++first) {
     const ExactPlane& plane = *first;
     if (piece.empty()) break;
@@ -315,8 +317,9 @@ bool subtract(const ConvexPiece& piece, const RoughCorners& look, const std::vec
   // plane's sides are exactly the opposite).
   const ConvexPiece* rest = &piece;  // then each inner part, held in `inner_part`
   ConvexPiece inner_part;
-  RoughCorners rough = look, next;
-  std::vector<int> from_old, from_old_outside;
+  RoughCorners rough = look;
+  thread_local RoughCorners next;  // storage, swapped with the last look's
+  thread_local std::vector<int> from_old, from_old_outside;
   for (const ExactPlane& plane : bounding) {
     rough.side(plane);
     // A bounding plane is none of the piece's (its rank is another move's, and those already
