@@ -108,6 +108,8 @@ struct Worker {
   /// more than the plane cache holds).
   MadePlanes made;
   SweepPlaneCache planes;
+  /// A kept facet's cutters' planes, one list per cutter, reused from facet to facet.
+  std::vector<std::vector<ExactPlane>> cutter_planes;
   CarveStages stages;
 };
 using Workers = tbb::enumerable_thread_specific<Worker>;
@@ -302,35 +304,44 @@ class Carving {
       const KeptFacet& k = kept[f];
       ConvexPiece& facet = facets[f];
       if (facet.empty()) continue;
-      // The listed cutters with their crossing planes, and other tools' sweeps with all theirs.
+      // The listed cutters with their crossing planes, and other tools' sweeps with all theirs,
+      // in the worker's lists.
       struct Cutter {
         std::uint32_t move;
-        std::vector<ExactPlane> planes;
+        std::size_t list;  // in the worker's lists (which may move as they grow)
         int points_below;
       };
+      std::vector<std::vector<ExactPlane>>& lists = w.cutter_planes;
+      std::size_t used = 0;
+      auto next_list = [&]() -> std::vector<ExactPlane>& {
+        if (used == lists.size()) lists.emplace_back();
+        lists[used].clear();
+        return lists[used++];
+      };
       std::vector<Cutter> cutters;
+      cutters.reserve(k.cutters.size());
       for (const FacetCutter& c : k.cutters) {
         // Made only where a cutter crosses a kept facet (sweep_planes()' planes at those indices).
         const std::uint32_t j = group.global[c.move];
-        std::vector<ExactPlane> planes;
-        planes.reserve(c.planes.size());
-        w.made.append(j, sweeps_[j], c.planes, planes);
-        cutters.push_back({j, std::move(planes), c.points_below});
+        w.made.append(j, sweeps_[j], c.planes, next_list());
+        cutters.push_back({j, used - 1, c.points_below});
       }
       if (groups_.size() > 1)
         tree_.for_each_overlapping(reach_of(facet), [&](std::size_t j) {
-          if (group_of_[j] != t)
-            cutters.push_back(
-                {static_cast<std::uint32_t>(j), planes_of(static_cast<std::uint32_t>(j), w), 0});
+          if (group_of_[j] != t) {
+            next_list() = planes_of(static_cast<std::uint32_t>(j), w);
+            cutters.push_back({static_cast<std::uint32_t>(j), used - 1, 0});
+          }
         });
       // Those that may hold the most of it first (carve_culled.h).
-      std::sort(cutters.begin(), cutters.end(), [](const Cutter& x, const Cutter& y) {
+      std::sort(cutters.begin(), cutters.end(), [&](const Cutter& x, const Cutter& y) {
         if (x.points_below != y.points_below) return x.points_below > y.points_below;
-        if (x.planes.size() != y.planes.size()) return x.planes.size() < y.planes.size();
+        if (lists[x.list].size() != lists[y.list].size()) return lists[x.list].size() < lists[y.list].size();
         return x.move < y.move;
       });
       std::vector<const std::vector<ExactPlane>*> order;
-      for (const Cutter& c : cutters) order.push_back(&c.planes);
+      order.reserve(cutters.size());
+      for (const Cutter& c : cutters) order.push_back(&lists[c.list]);
       if (orders) {
         orders->emplace_back(k.facet, std::vector<std::uint32_t>{});
         for (const Cutter& c : cutters) orders->back().second.push_back(c.move);
