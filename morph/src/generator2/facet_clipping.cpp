@@ -128,8 +128,9 @@ ExactPlane box_plane(int axis, bool upper, double offset, std::uint32_t index) {
 // the edge that leaves. Exact signs on a convex piece change twice. `from_old`, when given,
 // receives for each corner of the result the index of the same corner in `piece`, or -1 for a
 // corner on `plane`.
-ConvexPiece part_inside(const ConvexPiece& piece, const ExactPlane& plane, const std::vector<int>& sides,
-                        int sign, std::vector<int>* from_old) {
+// Made in `out` (not `piece`), whose storage is reused.
+void part_inside(const ConvexPiece& piece, const ExactPlane& plane, const std::vector<int>& sides, int sign,
+                 std::vector<int>* from_old, ConvexPiece& out) {
   const std::size_t n = piece.edges.size();
   std::size_t inside = 0;
   for (int side : sides) inside += sign * side < 0;
@@ -138,10 +139,12 @@ ConvexPiece part_inside(const ConvexPiece& piece, const ExactPlane& plane, const
       from_old->resize(n);
       for (std::size_t k = 0; k < n; ++k) (*from_old)[k] = static_cast<int>(k);
     }
-    return piece;
+    out = piece;
+    return;
   }
-  ConvexPiece out{piece.support, {}};
-  if (inside == 0) return out;
+  out.support = piece.support;
+  out.edges.clear();
+  if (inside == 0) return;
   out.edges.reserve(n + 1);  // grown one push at a time, this was ~1% of a job in reallocation
   // Of each edge of `out`: its index in `piece`, -1 for `plane` (the thread's, as part_inside()
   // is called for every clip and does not nest).
@@ -170,6 +173,12 @@ ConvexPiece part_inside(const ConvexPiece& piece, const ExactPlane& plane, const
                                                                                                        : -1;
     }
   }
+}
+
+ConvexPiece part_inside(const ConvexPiece& piece, const ExactPlane& plane, const std::vector<int>& sides,
+                        int sign, std::vector<int>* from_old) {
+  ConvexPiece out;
+  part_inside(piece, plane, sides, sign, from_old, out);
   return out;
 }
 
@@ -194,16 +203,28 @@ const std::vector<int>& corner_sides(const ConvexPiece& piece, const ExactPlane&
 // clip(), with the float look's sides of the corners it is sure of when `rough` is given.
 // `from_old`, when given, receives for each corner of the result the index of the same corner
 // in `piece`, or -1 for a corner on `plane`.
-ConvexPiece clip_with(const ConvexPiece& piece, const ExactPlane& plane, const RoughCorners* rough,
-                      std::vector<int>* from_old = nullptr) {
+// Made in `out` (not `piece`), whose storage is reused.
+void clip_with(const ConvexPiece& piece, const ExactPlane& plane, const RoughCorners* rough,
+               std::vector<int>* from_old, ConvexPiece& out) {
   if (from_old) {  // unchanged, unless changed below
     from_old->resize(piece.edges.size());
     for (std::size_t k = 0; k < piece.edges.size(); ++k) (*from_old)[k] = static_cast<int>(k);
   }
-  if (piece.empty() || plane.rank == piece.support.rank) return piece;
+  if (piece.empty() || plane.rank == piece.support.rank) {
+    out = piece;
+    return;
+  }
   for (const ExactPlane& e : piece.edges)
-    if (e.rank == plane.rank) return e.direction == plane.direction ? piece : ConvexPiece{piece.support, {}};
-  return part_inside(piece, plane, corner_sides(piece, plane, rough), 1, from_old);
+    if (e.rank == plane.rank) {
+      if (e.direction == plane.direction) {
+        out = piece;
+      } else {
+        out.support = piece.support;
+        out.edges.clear();
+      }
+      return;
+    }
+  part_inside(piece, plane, corner_sides(piece, plane, rough), 1, from_old, out);
 }
 
 // intersect() by the planes in [first, last), in that order.
@@ -213,13 +234,15 @@ ConvexPiece clip_in_order(ConvexPiece piece, RoughCorners rough, Iterator first,
   // swapped with the last one's.
   thread_local std::vector<int> from_old;
   thread_local RoughCorners next;
+  thread_local ConvexPiece clipped;  // storage, swapped with the last piece's
   for (; first != last; ++first) {
     const ExactPlane& plane = *first;
     if (piece.empty()) break;
     const int quick = rough.side(plane);
     if (quick < 0) continue;
     if (quick > 0) return ConvexPiece{piece.support, {}};
-    piece = clip_with(piece, plane, &rough, &from_old);
+    clip_with(piece, plane, &rough, &from_old, clipped);
+    std::swap(piece, clipped);
     if (!piece.empty()) {
       next.remake(piece, rough, from_old);
       std::swap(rough, next);
@@ -272,7 +295,9 @@ ConvexPiece piece_in_box(const ExactPlane& support, const std::array<ExactPlane,
 }
 
 ConvexPiece clip(const ConvexPiece& piece, const ExactPlane& plane) {
-  return clip_with(piece, plane, nullptr);
+  ConvexPiece out;
+  clip_with(piece, plane, nullptr, nullptr, out);
+  return out;
 }
 
 ConvexPiece intersect(ConvexPiece piece, const std::vector<ExactPlane>& planes) {
@@ -315,8 +340,8 @@ bool subtract(const ConvexPiece& piece, const RoughCorners& look, const std::vec
             [](const ExactPlane& x, const ExactPlane& y) { return x.rank < y.rank; });
   // The float look decides the corners it is sure of for both sides of each plane (the flipped
   // plane's sides are exactly the opposite).
-  const ConvexPiece* rest = &piece;  // then each inner part, held in `inner_part`
-  ConvexPiece inner_part;
+  const ConvexPiece* rest = &piece;            // then each inner part, held in `inner_part`
+  thread_local ConvexPiece inner_part, inner;  // the thread's storage (subtract() does not nest)
   RoughCorners rough = look;
   thread_local RoughCorners next;  // storage, swapped with the last look's
   thread_local std::vector<int> from_old, from_old_outside;
@@ -326,7 +351,7 @@ bool subtract(const ConvexPiece& piece, const RoughCorners& look, const std::vec
     // peeled are not listed twice), and the flipped plane's exact sides are exactly the opposite:
     // one look at the corners for both parts.
     const std::vector<int>& sides = corner_sides(*rest, plane, &rough);
-    ConvexPiece inner = part_inside(*rest, plane, sides, 1, &from_old);
+    part_inside(*rest, plane, sides, 1, &from_old, inner);
     ConvexPiece outside = part_inside(*rest, flipped(plane), sides, -1, looks ? &from_old_outside : nullptr);
     if (!outside.empty()) {
       if (looks) looks->emplace_back(outside, &rough, from_old_outside);
@@ -335,7 +360,7 @@ bool subtract(const ConvexPiece& piece, const RoughCorners& look, const std::vec
     if (inner.empty()) break;
     next.remake(inner, rough, from_old);
     std::swap(rough, next);
-    inner_part = std::move(inner);
+    std::swap(inner_part, inner);
     rest = &inner_part;
   }
   return true;
