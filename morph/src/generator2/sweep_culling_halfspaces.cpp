@@ -174,11 +174,13 @@ SweepCulling::Against SweepCulling::against(const Placed& p, std::size_t i, cons
   };
   // A corner of the facet in the candidate by construction, on its boundary: a tool vertex placed
   // at an end the two moves share (mostly a joint: the rounding leaves the facet touching the
-  // next sweep along a tool edge there undecided), where the candidate holds the whole tool. Each
-  // face of the candidate has it below by the rounding, or passes through it exactly: the tool
-  // facets around the vertex placed at that end, the silhouette faces of its edges (both sweeps'
-  // planes exact, so the corner is one of the facet's exact corners; in the stock's box grown by
-  // the rounding, so it is one of the points' polygon, cut to that box as cut_to_stock() does).
+  // next sweep along a tool edge there undecided). When both sweeps' planes are exact, the
+  // candidate's exact polytope holds the whole tool placed at either of its ends: a tool facet's
+  // plane placed at one end holds the tool there, and at the other end by the exact sign of its
+  // side; a silhouette plane holds both placements, its normal lying in its edge's normal cone
+  // (the edge's facets face opposite ways along the motion). So no face need be looked at. The
+  // corner is one of the facet's exact corners; in the stock's box grown by the rounding, it is
+  // one of the points' polygon, cut to that box as cut_to_stock() does.
   // Any point of the facet in the closed candidate is a witness as good as one inside it: a face
   // whose plane bounds the facet's part in the candidate passes through a point of that part, so
   // meets the facet, so is among the faces whose boxes meet the facet's (and so under the
@@ -195,28 +197,10 @@ SweepCulling::Against SweepCulling::against(const Placed& p, std::size_t i, cons
     for (const bool at_own_end : {false, true}) {
       if (at_own_end ? p.placement < 0 : p.placement > 0) continue;  // no corner placed there
       const Vector3d& end = at_own_end ? own.b : own.a;
-      const bool at_a = end == candidate.a, at_b = end == candidate.b;
-      if (!at_a && !at_b) continue;
-      for (std::size_t c = 0; c < corner_count; ++c) {
-        const int v = first_corner[c];
-        const Vector3d x = tool.vertices[v] + end;
-        if (p.clipped && !grown_stock.contains(x)) continue;
-        auto through = [&](int h) {
-          if (h >= first_silhouette) {
-            const SweepPolytopeBuilder::Edge& e =
-                edges[candidate.silhouette_edges[static_cast<std::size_t>(h - first_silhouette)]];
-            return e.from == v || e.to == v;
-          }
-          if (!(candidate.side[static_cast<std::size_t>(h)] > 0 ? at_b : at_a)) return false;
-          const std::vector<int>& around = facets_at_vertex_[static_cast<std::size_t>(v)];
-          return std::find(around.begin(), around.end(), h) != around.end();
-        };
-        auto holds = [&](int h) { return tie(h) || value(h, x) <= -rounding_ || through(h); };
-        if (!facet_groups_->for_each_reaching(x, 0.0, candidate.a, candidate.b, -rounding_, holds)) continue;
-        bool all = true;
-        for (int h = first_silhouette; h < face_count && all; ++h) all = holds(h);
-        if (all) return true;
-      }
+      if (end != candidate.a && end != candidate.b) continue;
+      if (!p.clipped) return true;
+      for (std::size_t c = 0; c < corner_count; ++c)
+        if (grown_stock.contains(Vector3d(tool.vertices[first_corner[c]] + end))) return true;
     }
     return false;
   };
