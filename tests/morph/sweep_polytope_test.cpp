@@ -1,4 +1,5 @@
 // SPDX-License-Identifier: Apache-2.0
+#include <morph/quantize.h>
 #include <morph/sweep_polytope.h>
 #include <morph/tool_polytope.h>
 
@@ -158,6 +159,45 @@ TEST(SweepPolytope, ARetraceIsTheSamePolytopeAndAZeroMoveIsTheTool) {
   const morph::ConvexPolytope still = sweep_of(a, a);
   EXPECT_EQ(still.facets.size(), built.polytope.facets.size());
   EXPECT_NEAR(still.volume(), built.polytope.volume(), 1e-12 * still.volume());
+}
+
+// The culling takes a tool corner at an end two exact sweeps share as a point of the other sweep
+// without looking at its faces (sweep_culling_halfspaces.cpp): every exact plane of an exact sweep
+// holds the tool placed at both its ends. Checked in integers, ends on the grid.
+TEST(SweepPolytope, AnExactSweepsPlanesHoldTheToolAtBothEndsExactly) {
+  const double deviation = 0.004;
+  for (const auto& [name, tool] : morph_test::every_tool_shape()) {
+    const morph::ToolPolytope built = morph::tool_polytope(tool.profile, deviation);
+    const morph::SweepPolytopeBuilder sweep_of(built.polytope);
+    const int g = built.grid_exponent;
+    std::vector<morph::GridPoint> corners;
+    for (const Vector3d& v : built.polytope.vertices) corners.push_back(*morph::grid_point(v, g));
+    const Vector3d start = morph::snap_to_grid(Vector3d(1.0, -2.0, 3.0), g);
+    for (const auto& [motion_name, motion] : motions()) {
+      SCOPED_TRACE(name + ", " + motion_name);
+      const Vector3d end = morph::snap_to_grid(start + motion, g);
+      ASSERT_TRUE(sweep_of.exact(start, end));
+      int planes_touching_a_corner = 0;
+      for (const morph::Halfspace& h : sweep_of.halfspaces(start, end)) {
+        ASSERT_TRUE(h.exact.set());
+        ASSERT_EQ(h.exact.grid_exponent, g);
+        bool touches = false;
+        for (const Vector3d& at : {start, end}) {
+          const morph::GridPoint shift = *morph::grid_point(at, g);
+          for (const morph::GridPoint& c : corners) {
+            const morph::GridPoint x{c[0] + shift[0], c[1] + shift[1], c[2] + shift[2]};
+            const __int128 value = h.exact.value_at(x);
+            EXPECT_LE(value, 0) << "a tool corner outside its own sweep";
+            touches = touches || value == 0;
+          }
+        }
+        planes_touching_a_corner += touches;
+      }
+      // And each plane is a supporting plane of the placed tools: one that held them with room to
+      // spare would be no face of the sweep.
+      EXPECT_EQ(planes_touching_a_corner, static_cast<int>(sweep_of.halfspaces(start, end).size()));
+    }
+  }
 }
 
 }  // namespace
