@@ -54,6 +54,20 @@ ConvexPiece intersect(ConvexPiece piece, const std::vector<ExactPlane>& planes);
 /// Returns false when the polytope misses `piece` (then `piece` is appended whole).
 bool subtract(const ConvexPiece& piece, const std::vector<ExactPlane>& cutter, std::vector<ConvexPiece>& out);
 
+/// The float look at the vertex of three planes, as RoughCorners takes each corner of a piece
+/// (below): a point near the exact vertex, and where the planes are close to parallel a bound of
+/// its distance from it.
+struct CornerLook {
+  Eigen::Vector3d point;
+  double length = 0.0;  ///< of point
+  double error = 0.0;   ///< a bound of point's distance from the exact corner (0: well conditioned)
+};
+/// The look at the vertex of s, a, b; nothing when no bound of its error holds.
+std::optional<CornerLook> corner_look(const ExactPlane& s, const ExactPlane& a, const ExactPlane& b);
+/// side_at_vertex()'s sign of `plane` at the looked-at vertex when the look is sure of it (with
+/// RoughCorners' margin), else 0. `length`: of plane.normal.
+int look_side(const CornerLook& corner, const ExactPlane& plane, double length);
+
 /// A float look at a piece, to skip planes that are clearly apart from it (all corners below, or
 /// all above, by far more than the rounding of the corners): the exact predicates would decide
 /// the same, so nothing depends on it but speed. For corners whose normals' determinant is above
@@ -91,16 +105,12 @@ class RoughCorners {
 
  private:
   void make(const ConvexPiece& piece, const RoughCorners* old, const std::vector<int>& from_old);
-  struct Corner {
-    Eigen::Vector3d point;
-    double length = 0.0;  ///< of point
-    double error = 0.0;   ///< a bound of point's distance from the exact corner (0: well conditioned)
-    int look = 0;         ///< the last side()'s look at it
+  struct Corner : CornerLook {
+    int look = 0;  ///< the last side()'s look at it
     /// The corner as a grid point (grid_vertex()), once looked for.
     mutable std::optional<GridPoint> grid;
     mutable bool grid_looked_for = false;
   };
-  static int look_at(const Corner& c, const ExactPlane& plane, double length);
   std::vector<Corner> corners_;
   bool usable_ = true;
 };

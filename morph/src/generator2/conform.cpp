@@ -1,8 +1,10 @@
 // SPDX-License-Identifier: Apache-2.0
 #include <morph/conform.h>
+#include <morph/facet_clipping.h>
 #include <morph/parallel.h>
 
 #include <algorithm>
+#include <optional>
 #include <utility>
 
 namespace morph {
@@ -100,17 +102,30 @@ class Builder {
         const int third = slot_of_line(line[0], static_cast<std::uint32_t>(l));
         const ExactPlane& lo = first[third == 0 ? 1 : 0];
         const ExactPlane& hi = first[third == 2 ? 1 : 2];
-        std::vector<std::pair<std::uint32_t, int>> facing;  // vertex, sign of its plane along the line
-        for (std::size_t k = 0; k < count; ++k)
-          facing.emplace_back(
-              line[k], normals_orientation(lo, hi, third_plane(line[k], static_cast<std::uint32_t>(l))));
-        std::sort(facing.begin(), facing.end(), [&](const auto& r1, const auto& r2) {
-          if (r1.first == r2.first) return false;
-          const ExactPlane& c1 = third_plane(r1.first, static_cast<std::uint32_t>(l));
-          const ExactPlane& c2 = third_plane(r2.first, static_cast<std::uint32_t>(l));
-          return (side_at_vertex(lo, hi, c1, c2) < 0) == (r2.second > 0);
+        // Each vertex with the sign of its third plane's normal along the line, and the float look
+        // at it (facet_clipping.h): the look orders most pairs, the exact predicate the rest
+        // (ties and near ties), with the same answers.
+        struct OnLine {
+          std::uint32_t vertex;
+          int facing;
+          const ExactPlane* third;
+          double length;  // of third->normal
+          std::optional<CornerLook> look;
+        };
+        std::vector<OnLine> on_line;
+        on_line.reserve(count);
+        for (std::size_t k = 0; k < count; ++k) {
+          const ExactPlane& third = third_plane(line[k], static_cast<std::uint32_t>(l));
+          on_line.push_back({line[k], normals_orientation(lo, hi, third), &third, third.normal.norm(),
+                             corner_look(lo, hi, third)});
+        }
+        std::sort(on_line.begin(), on_line.end(), [&](const OnLine& r1, const OnLine& r2) {
+          if (r1.vertex == r2.vertex) return false;
+          int side = r1.look ? look_side(*r1.look, *r2.third, r2.length) : 0;
+          if (side == 0) side = side_at_vertex(lo, hi, *r1.third, *r2.third);
+          return (side < 0) == (r2.facing > 0);
         });
-        for (std::size_t k = 0; k < count; ++k) line[k] = facing[k].first;
+        for (std::size_t k = 0; k < count; ++k) line[k] = on_line[k].vertex;
       }
       for (std::size_t k = 0; k < count; ++k)
         position_[line[k]][slot_of_line(line[k], static_cast<std::uint32_t>(l))] =

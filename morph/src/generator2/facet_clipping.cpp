@@ -10,6 +10,32 @@
 
 namespace morph {
 
+std::optional<CornerLook> corner_look(const ExactPlane& s, const ExactPlane& a, const ExactPlane& b) {
+  CornerLook c;
+  if (const std::optional<Eigen::Vector3d> look = look_vertex_point(s, a, b)) {
+    c.point = *look;
+  } else {
+    const double det = std::fabs(s.normal.dot(a.normal.cross(b.normal)));
+    const double scale = s.normal.norm() * a.normal.norm() * b.normal.norm();
+    if (det > 1e-7 * scale) {
+      c.point = conditioned_vertex_point(s, a, b);
+    } else {
+      const auto bounded = bounded_vertex_point(s, a, b);
+      if (!bounded) return std::nullopt;
+      c.point = bounded->point;
+      c.error = bounded->error;
+    }
+  }
+  c.length = c.point.norm();
+  return c;
+}
+
+int look_side(const CornerLook& c, const ExactPlane& plane, double length) {
+  const double value = plane.normal.dot(c.point) - plane.offset;
+  const double margin = 1e-9 * (1 + std::fabs(plane.offset) + length * c.length) + length * c.error;
+  return value < -margin ? -1 : (value > margin ? 1 : 0);
+}
+
 RoughCorners::RoughCorners(const ConvexPiece& piece, const RoughCorners* old,
                            const std::vector<int>& from_old) {
   make(piece, old, from_old);
@@ -30,29 +56,14 @@ void RoughCorners::make(const ConvexPiece& piece, const RoughCorners* old, const
       corners_.push_back(old->corners_[static_cast<std::size_t>(from_old[k])]);
       continue;
     }
-    const ExactPlane& a = piece.edges[(k + n - 1) % n];
-    const ExactPlane& b = piece.edges[k];
+    const std::optional<CornerLook> look =
+        corner_look(piece.support, piece.edges[(k + n - 1) % n], piece.edges[k]);
+    if (!look) {
+      usable_ = false;
+      return;
+    }
     Corner c;
-    if (const std::optional<Eigen::Vector3d> look = look_vertex_point(piece.support, a, b)) {
-      c.point = *look;
-      c.length = c.point.norm();
-      corners_.push_back(c);
-      continue;
-    }
-    const double det = std::fabs(piece.support.normal.dot(a.normal.cross(b.normal)));
-    const double scale = piece.support.normal.norm() * a.normal.norm() * b.normal.norm();
-    if (det > 1e-7 * scale) {
-      c.point = conditioned_vertex_point(piece.support, a, b);
-    } else {
-      const auto bounded = bounded_vertex_point(piece.support, a, b);
-      if (!bounded) {
-        usable_ = false;
-        return;
-      }
-      c.point = bounded->point;
-      c.error = bounded->error;
-    }
-    c.length = c.point.norm();
+    static_cast<CornerLook&>(c) = *look;
     corners_.push_back(c);
   }
 }
@@ -62,7 +73,7 @@ int RoughCorners::side(const ExactPlane& plane) {
   std::size_t below = 0, above = 0;
   const double length = plane.normal.norm();
   for (Corner& c : corners_) {
-    c.look = look_at(c, plane, length);
+    c.look = look_side(c, plane, length);
     below += c.look < 0;
     above += c.look > 0;
   }
@@ -74,7 +85,7 @@ int RoughCorners::peek(const ExactPlane& plane) const {
   std::size_t below = 0, above = 0;
   const double length = plane.normal.norm();
   for (const Corner& c : corners_) {
-    const int look = look_at(c, plane, length);
+    const int look = look_side(c, plane, length);
     below += look < 0;
     above += look > 0;
   }
@@ -85,14 +96,8 @@ bool RoughCorners::outside(const ExactPlane& plane) const {
   if (!usable_) return false;
   const double length = plane.normal.norm();
   for (const Corner& c : corners_)
-    if (look_at(c, plane, length) <= 0) return false;
+    if (look_side(c, plane, length) <= 0) return false;
   return true;
-}
-
-int RoughCorners::look_at(const Corner& c, const ExactPlane& plane, double length) {
-  const double value = plane.normal.dot(c.point) - plane.offset;
-  const double margin = 1e-9 * (1 + std::fabs(plane.offset) + length * c.length) + length * c.error;
-  return value < -margin ? -1 : (value > margin ? 1 : 0);
 }
 
 int RoughCorners::exact_side(const ConvexPiece& piece, std::size_t k, const ExactPlane& plane) const {
