@@ -90,7 +90,7 @@ void BM_Generator2CullBear(benchmark::State& state) {
             found = planes_of.end() - 1;
           }
           std::vector<Plane>& cutter = cutters.emplace_back();
-          for (int h : c.planes) cutter.push_back({found->second[h].normal, found->second[h].offset});
+          for (int h : k.planes_of(c)) cutter.push_back({found->second[h].normal, found->second[h].offset});
         }
         clip(polygon, cutters, pieces, kept_area);
       }

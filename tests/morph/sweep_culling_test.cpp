@@ -134,7 +134,8 @@ TEST(SweepCulling, CullsOnlyWhatAnotherSweepOrTheStockProvesAndListsEveryCutter)
           for (const Vector3d& x : samples(polygon)) {
             if (!stock.contains(x)) continue;
             double listed = -1e300;
-            for (int h : c.planes) listed = std::max(listed, planes[h].normal.dot(x) - planes[h].offset);
+            for (int h : by_facet[f]->planes_of(c))
+              listed = std::max(listed, planes[h].normal.dot(x) - planes[h].offset);
             if (listed < -kOn) {
               EXPECT_LE(polytopes[c.move].plane_value(x), kOn);
             }

@@ -45,18 +45,33 @@ class ToolFacetGroups;
 
 /// A move whose polytope may cut a kept facet, and the indices of its halfspaces (in
 /// SweepPolytopeBuilder::halfspaces() order) that cross the facet: the facet's part inside the
-/// polytope is its part below all of these.
+/// polytope is its part below all of these. The indices are KeptFacet::planes_of() it.
 struct FacetCutter {
   std::uint32_t move = 0;
-  std::vector<int> planes;
+  std::uint32_t first = 0, count = 0;  ///< its indices in KeptFacet::planes
   /// How many of the facet's points (its corners and centroid) lie below every one of its faces
   /// near the facet, by the rounding: how much of the facet it may hold.
   int points_below = 0;
 };
 
+/// A cutter's plane indices, in a kept facet's list.
+struct PlaneIndices {
+  const int* first = nullptr;
+  const int* last = nullptr;
+  const int* begin() const { return first; }
+  const int* end() const { return last; }
+  std::size_t size() const { return static_cast<std::size_t>(last - first); }
+};
+
 struct KeptFacet {
   int facet = 0;  ///< index in the sweep's facet order (sweep_polytope.h)
   std::vector<FacetCutter> cutters;
+  /// Every cutter's plane indices, cutter after cutter (one list per facet, not one per cutter:
+  /// a kept facet of a dense raster has a dozen cutters).
+  std::vector<int> planes;
+  PlaneIndices planes_of(const FacetCutter& c) const {
+    return {planes.data() + c.first, planes.data() + c.first + c.count};
+  }
 };
 
 /// What each proof decided, summed over the moves culled.
@@ -107,9 +122,10 @@ class SweepCulling {
     std::vector<std::pair<std::uint32_t, Faces>> recent_;
     std::size_t next_ = 0;
     std::vector<int> near_faces_;
-    std::vector<int> planes_;                              ///< against()'s crossing planes
-    std::vector<char> marks_;                              ///< against()'s flags per tool facet, clear
-    std::vector<const Candidate*> open_;                   ///< decide()'s candidates left for the halfspaces
+    std::vector<int> planes_;             ///< against()'s crossing planes
+    std::vector<char> marks_;             ///< against()'s flags per tool facet, clear
+    std::vector<const Candidate*> open_;  ///< decide()'s candidates left for the halfspaces
+    KeptFacet keep_;                      ///< the facet cull() decides, copied out when it is kept
     std::vector<std::vector<Eigen::Vector3d>> points_of_;  ///< cull()'s facet points, by facet
     std::vector<Eigen::AlignedBox3d> candidate_boxes_;     ///< cull()'s candidates' boxes
   };

@@ -59,7 +59,7 @@ class MadePlanes {
     return entry(j, s).planes;
   }
   /// Appends sweep j's planes at `indices`, ranked: sweep_planes()' planes at those indices.
-  void append(std::uint32_t j, const CarveSweep& s, const std::vector<int>& indices,
+  void append(std::uint32_t j, const CarveSweep& s, const PlaneIndices& indices,
               std::vector<ExactPlane>& out) {
     if (pool_.size() + indices.size() > kPlanesHeld) clear();
     Entry& e = entry(j, s);
@@ -323,7 +323,7 @@ class Carving {
       for (const FacetCutter& c : k.cutters) {
         // Made only where a cutter crosses a kept facet (sweep_planes()' planes at those indices).
         const std::uint32_t j = group.global[c.move];
-        w.made.append(j, sweeps_[j], c.planes, next_list());
+        w.made.append(j, sweeps_[j], k.planes_of(c), next_list());
         cutters.push_back({j, used - 1, c.points_below});
       }
       if (groups_.size() > 1)

@@ -321,7 +321,9 @@ SweepCulling::Culled SweepCulling::decide(const Placed& p, std::size_t i, const 
                 scratch.planes_, scratch.marks_, points_below, counts);
     if (verdict == Against::Apart) continue;
     if (verdict == Against::Inside) return Culled::Planes;
-    keep.cutters.push_back(FacetCutter{c->move, scratch.planes_, points_below});
+    keep.cutters.push_back(FacetCutter{c->move, static_cast<std::uint32_t>(keep.planes.size()),
+                                       static_cast<std::uint32_t>(scratch.planes_.size()), points_below});
+    keep.planes.insert(keep.planes.end(), scratch.planes_.begin(), scratch.planes_.end());
   }
   return Culled::Open;
 }
@@ -442,7 +444,10 @@ std::vector<KeptFacet> SweepCulling::cull(std::size_t i, CullingCounts& counts, 
     }
     for (std::size_t k = begin; k < end; ++k) {
       const Placed& p = live[k];
-      KeptFacet keep{p.facet, {}};
+      KeptFacet& keep = scratch.keep_;  // its lists' storage kept from facet to facet
+      keep.facet = p.facet;
+      keep.cutters.clear();
+      keep.planes.clear();
       const Culled culled_by =
           decide(p, i, Ends{a, b, degenerate}, near, points_of[p.facet], last_prover, keep, counts, scratch);
       switch (culled_by) {
@@ -458,9 +463,8 @@ std::vector<KeptFacet> SweepCulling::cull(std::size_t i, CullingCounts& counts, 
         case Culled::Open:
           ++counts.kept;
           counts.cutters += static_cast<double>(keep.cutters.size());
-          for (const FacetCutter& c : keep.cutters)
-            counts.cutting_planes += static_cast<double>(c.planes.size());
-          kept.push_back(std::move(keep));
+          counts.cutting_planes += static_cast<double>(keep.planes.size());
+          kept.push_back(keep);
       }
     }
   }
