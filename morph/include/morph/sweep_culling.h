@@ -181,11 +181,15 @@ class SweepCulling {
   std::vector<double> tool_facet_radii_;
   std::vector<std::vector<int>> facets_at_vertex_;  ///< the tool facets around each tool vertex
   std::vector<std::int64_t> tool_facet_cell_;  ///< cluster of each tool facet (a grid cell of its centre)
-  std::vector<std::vector<int>> tool_facet_neighbours_;  ///< the tool facets across each facet's edges
-  double rounding_ = 0.0;                                ///< plane values within this of zero are undecided
-  std::unique_ptr<AabbTree> tree_;                       ///< the sweeps' boxes
-  std::unique_ptr<AabbTree> tool_facet_tree_;            ///< the tool facets' boxes (grown by the rounding)
-  std::unique_ptr<ToolFacetGroups> facet_groups_;        ///< which faces can reach a point (all-face loops)
+  /// The tool facets across each facet's edges, facet f's at [neighbour_start_[f],
+  /// neighbour_start_[f + 1]), with their normals beside them (the climb reads nothing else).
+  std::vector<std::uint32_t> neighbour_start_;
+  std::vector<int> neighbour_facet_;
+  std::vector<Eigen::Vector3d> neighbour_normal_;
+  double rounding_ = 0.0;                          ///< plane values within this of zero are undecided
+  std::unique_ptr<AabbTree> tree_;                 ///< the sweeps' boxes
+  std::unique_ptr<AabbTree> tool_facet_tree_;      ///< the tool facets' boxes (grown by the rounding)
+  std::unique_ptr<ToolFacetGroups> facet_groups_;  ///< which faces can reach a point (all-face loops)
 };
 
 }  // namespace morph

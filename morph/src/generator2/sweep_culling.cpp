@@ -89,10 +89,18 @@ SweepCulling::SweepCulling(const SweepPolytopeBuilder& sweeps, std::vector<Move>
     facet_boxes.emplace_back(box.min().array() - rounding_, box.max().array() + rounding_);
   tool_facet_tree_ = std::make_unique<AabbTree>(std::move(facet_boxes));
   facet_groups_ = std::make_unique<ToolFacetGroups>(tool);
-  tool_facet_neighbours_.resize(tool.facets.size());
+  std::vector<std::vector<int>> neighbours(tool.facets.size());
   for (const SweepPolytopeBuilder::Edge& e : sweeps_.edges()) {
-    tool_facet_neighbours_[static_cast<std::size_t>(e.left)].push_back(e.right);
-    tool_facet_neighbours_[static_cast<std::size_t>(e.right)].push_back(e.left);
+    neighbours[static_cast<std::size_t>(e.left)].push_back(e.right);
+    neighbours[static_cast<std::size_t>(e.right)].push_back(e.left);
+  }
+  neighbour_start_.push_back(0);
+  for (const std::vector<int>& around : neighbours) {
+    for (int g : around) {
+      neighbour_facet_.push_back(g);
+      neighbour_normal_.push_back(tool.facets[static_cast<std::size_t>(g)].normal);
+    }
+    neighbour_start_.push_back(static_cast<std::uint32_t>(neighbour_facet_.size()));
   }
 }
 
@@ -100,16 +108,16 @@ SweepCulling::SweepCulling(const SweepPolytopeBuilder& sweeps, std::vector<Move>
 // neighbour that leans further while there is one (on a convex polytope the climb ends at the
 // facet holding the direction in its normal cone, or next to it).
 int SweepCulling::support_facet(int from, const Vector3d& direction) const {
-  const ConvexPolytope& tool = sweeps_.tool();
   int at = from;
-  double best = tool.facets[static_cast<std::size_t>(at)].normal.dot(direction);
+  double best = tool_planes_[static_cast<std::size_t>(at)].normal.dot(direction);
   for (bool climbed = true; climbed;) {
     climbed = false;
-    for (int g : tool_facet_neighbours_[static_cast<std::size_t>(at)]) {
-      const double value = tool.facets[static_cast<std::size_t>(g)].normal.dot(direction);
+    const std::size_t end = neighbour_start_[static_cast<std::size_t>(at) + 1];
+    for (std::size_t k = neighbour_start_[static_cast<std::size_t>(at)]; k < end; ++k) {
+      const double value = neighbour_normal_[k].dot(direction);
       if (value > best) {
         best = value;
-        at = g;
+        at = neighbour_facet_[k];
         climbed = true;
       }
     }
