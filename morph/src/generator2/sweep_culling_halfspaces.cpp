@@ -287,13 +287,13 @@ SweepCulling::Against SweepCulling::against(const Placed& p, std::size_t i, cons
         if (value(h, x) > -rounding_) return false;
       return true;
     };
-    // Any point proves it, so the inner bound, cheap, goes over them all first; then a corner at
-    // an end both moves share (one look at every face, where the points' looks failed on most of
-    // such facets: a joint's facets touch the next sweep); then every face for the points no
-    // crossing face has above it (one that has is inside only by the bound).
+    // Any point proves it, so a corner at an end both moves share goes first (no face looked at;
+    // the points' looks fail on most of such facets: a joint's facets touch the next sweep), then
+    // the inner bound, cheap, over all points; then every face for the points no crossing face
+    // has above it (one that has is inside only by the bound).
+    if (corner_in_candidate()) return cuts();
     for (const Vector3d& x : points)
       if (ball_inside_sweep(bounds_, candidate.a, candidate.b, x, 0.0)) return cuts();
-    if (corner_in_candidate()) return cuts();
     for (std::size_t k = 0; k < points.size(); ++k) {
       const bool seen_outside = k < 64 && (not_below >> k & 1);
       if (!seen_outside && below_faces(points[k])) return cuts();
