@@ -19,6 +19,13 @@ namespace {
 using Eigen::AlignedBox3d;
 using Eigen::Vector3d;
 
+double squared_distance_to_segment(const Vector3d& x, const Vector3d& a, const Vector3d& b) {
+  const Vector3d d = b - a;
+  const double dd = d.squaredNorm();
+  const double t = dd > 0.0 ? std::clamp((x - a).dot(d) / dd, 0.0, 1.0) : 0.0;
+  return (x - (a + t * d)).squaredNorm();
+}
+
 bool outside(const AlignedBox3d& box, const AlignedBox3d& stock) {
   return (box.min().array() > stock.max().array()).any() || (box.max().array() < stock.min().array()).any();
 }
@@ -318,6 +325,22 @@ SweepCulling::Culled SweepCulling::decide(const Placed& p, std::size_t i, const 
         (p.placement == 0 && capsule_misses_sweep(bounds_, c->a, c->b, p.from, p.to, p.thickness)))
       continue;
     open.push_back(c);
+  }
+  // The nearest core first: the candidate that holds the whole facet, when one does, is mostly
+  // the one whose tool passes closest to it, and the cutters found before it are work thrown
+  // away. The order changes nothing else: every candidate is asked when none holds the facet,
+  // and the carving orders the cutters by itself.
+  if (open.size() > 1) {
+    const Vector3d centre_height(0.0, 0.0, bounds_.centre_height);
+    std::size_t nearest = 0;
+    double least = std::numeric_limits<double>::infinity();
+    for (std::size_t k = 0; k < open.size(); ++k) {
+      const double d =
+          squared_distance_to_segment(p.centre, open[k]->a + centre_height, open[k]->b + centre_height);
+      if (d < least) least = d, nearest = k;
+    }
+    std::rotate(open.begin(), open.begin() + static_cast<std::ptrdiff_t>(nearest),
+                open.begin() + static_cast<std::ptrdiff_t>(nearest) + 1);
   }
   for (const Candidate* c : open) {
     ++counts.plane_tests;
