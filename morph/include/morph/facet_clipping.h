@@ -105,6 +105,9 @@ class RoughCorners {
 
  private:
   void make(const ConvexPiece& piece, const RoughCorners* old, const std::vector<int>& from_old);
+  // side() and peek(): the corners' looks at `plane`, each given to keep(corner, look).
+  template <class Corners, class Keep>
+  static int sides(Corners& corners, const ExactPlane& plane, Keep&& keep);
   struct Corner : CornerLook {
     int look = 0;  ///< the last side()'s look at it
     /// The corner as a grid point (grid_vertex()), once looked for.

@@ -68,28 +68,27 @@ void RoughCorners::make(const ConvexPiece& piece, const RoughCorners* old, const
   }
 }
 
-int RoughCorners::side(const ExactPlane& plane) {
-  if (!usable_) return 0;
+template <class Corners, class Keep>
+int RoughCorners::sides(Corners& corners, const ExactPlane& plane, Keep&& keep) {
   std::size_t below = 0, above = 0;
   const double length = plane.normal.norm();
-  for (Corner& c : corners_) {
-    c.look = look_side(c, plane, length);
-    below += c.look < 0;
-    above += c.look > 0;
+  for (auto& c : corners) {
+    const int look = look_side(c, plane, length);
+    keep(c, look);
+    below += look < 0;
+    above += look > 0;
   }
-  return below == corners_.size() ? -1 : (above == corners_.size() ? 1 : 0);
+  return below == corners.size() ? -1 : (above == corners.size() ? 1 : 0);
+}
+
+int RoughCorners::side(const ExactPlane& plane) {
+  if (!usable_) return 0;
+  return sides(corners_, plane, [](Corner& c, int look) { c.look = look; });
 }
 
 int RoughCorners::peek(const ExactPlane& plane) const {
   if (!usable_) return 0;
-  std::size_t below = 0, above = 0;
-  const double length = plane.normal.norm();
-  for (const Corner& c : corners_) {
-    const int look = look_side(c, plane, length);
-    below += look < 0;
-    above += look > 0;
-  }
-  return below == corners_.size() ? -1 : (above == corners_.size() ? 1 : 0);
+  return sides(corners_, plane, [](const Corner&, int) {});
 }
 
 bool RoughCorners::outside(const ExactPlane& plane) const {
