@@ -294,8 +294,10 @@ ConvexPiece piece_in_box(const ExactPlane& support, const std::array<ExactPlane,
   ConvexPiece piece{support, {box[2 * c], box[2 * b + 1], box[2 * c + 1], box[2 * b]}};
   // Counter-clockwise seen from +a in the (b, c) plane; from -a the other way round.
   if (support.normal[a] < 0) std::swap(piece.edges[1], piece.edges[3]);
-  piece = clip(piece, box[2 * a]);
-  return clip(piece, box[2 * a + 1]);
+  // With the float look of the corners: the exact predicates decide only those it is not sure of.
+  const std::array<ExactPlane, 2> ends{box[2 * a], box[2 * a + 1]};
+  RoughCorners rough(piece);
+  return clip_in_order(std::move(piece), std::move(rough), ends.begin(), ends.end());
 }
 
 ConvexPiece clip(const ConvexPiece& piece, const ExactPlane& plane) {
