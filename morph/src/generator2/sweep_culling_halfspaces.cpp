@@ -19,6 +19,9 @@ namespace {
 using Eigen::AlignedBox3d;
 using Eigen::Vector3d;
 
+// A tool of this many facets or fewer has their boxes scanned, not walked as a tree.
+constexpr std::size_t kScannedToolFacets = 128;
+
 bool same_plane(const SweepCulling::FacePlane& p, const SweepCulling::FacePlane& q) {
   return p.normal == q.normal && p.offset == q.offset;
 }
@@ -242,12 +245,18 @@ SweepCulling::Against SweepCulling::against(const Placed& p, std::size_t i, cons
   const AlignedBox3d at_a(box.min() - a, box.max() - a), at_b(box.min() - b, box.max() - b);
   const AlignedBox3d swept(box.min() - a.cwiseMax(b), box.max() - a.cwiseMin(b));
   // Each kept only where its face, as placed, meets the facet's box.
-  tool_facet_tree_->for_each_overlapping(swept, [&](std::size_t k) {
+  auto near_face = [&](std::size_t k) {
     const int side = candidate.side[k];
     if ((side == 0 || boxes_meet(tool_facet_tree_->box(k), side < 0 ? at_a : at_b)) &&
         boxes_meet(face_box(static_cast<int>(k)), box))
       near_faces.push_back(static_cast<int>(k));
-  });
+  };
+  if (tool_facet_tree_->size() <= kScannedToolFacets) {
+    for (std::size_t k = 0; k < tool_facet_tree_->size(); ++k)
+      if (boxes_meet(tool_facet_tree_->box(k), swept)) near_face(k);
+  } else {
+    tool_facet_tree_->for_each_overlapping(swept, near_face);
+  }
   // The silhouette faces, a few dozen, by their boxes: a walk of the edges' tree with the swept
   // box met most of the tool's edges when the candidate is long, to find the few on its silhouette.
   for (int h = first_silhouette; h < face_count; ++h)
