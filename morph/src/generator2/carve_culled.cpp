@@ -121,8 +121,10 @@ using Workers = tbb::enumerable_thread_specific<Worker>;
 void minus_cutters(std::vector<ConvexPiece>& pieces,
                    const std::vector<const std::vector<ExactPlane>*>& cutters) {
   if (pieces.empty() || cutters.empty()) return;
-  std::vector<ConvexPiece> next;
-  std::vector<RoughCorners> looks, next_looks;
+  // The thread's lists (minus_cutters() does not nest), their storage kept from facet to facet.
+  thread_local std::vector<ConvexPiece> next;
+  thread_local std::vector<RoughCorners> looks, next_looks;
+  looks.clear();
   for (const ConvexPiece& piece : pieces) looks.emplace_back(piece);
   for (const std::vector<ExactPlane>* cutter : cutters) {
     if (pieces.empty()) return;

@@ -348,8 +348,8 @@ bool subtract(const ConvexPiece& piece, const RoughCorners& look, const std::vec
   // plane's sides are exactly the opposite).
   const ConvexPiece* rest = &piece;            // then each inner part, held in `inner_part`
   thread_local ConvexPiece inner_part, inner;  // the thread's storage (subtract() does not nest)
-  RoughCorners rough = look;
-  thread_local RoughCorners next;  // storage, swapped with the last look's
+  thread_local RoughCorners rough, next;       // storage, swapped with the last look's
+  rough = look;
   thread_local std::vector<int> from_old, from_old_outside;
   for (const ExactPlane& plane : bounding) {
     rough.side(plane);
