@@ -102,6 +102,10 @@ TEST(ToolBounds, SweptBoundsProveInsideAndApartSoundlyAndOften) {
         const bool in = morph::ball_inside_sweep(b, a, e, centre, rho);
         const bool out = morph::ball_misses_sweep(b, a, e, centre, rho);
         ASSERT_FALSE(in && out);
+        // The fused test gives both proofs' verdicts, bit for bit.
+        EXPECT_EQ(morph::ball_against_sweep(b, a, e, centre, rho), in    ? morph::BallVerdict::Inside
+                                                                   : out ? morph::BallVerdict::Misses
+                                                                         : morph::BallVerdict::Unknown);
         // The inner box holds every ball proven inside, whichever end comes first.
         const Eigen::AlignedBox3d ball_box(centre.array() - rho, centre.array() + rho);
         if (in) {

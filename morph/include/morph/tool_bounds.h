@@ -49,6 +49,12 @@ bool points_inside_sweep(const ToolBounds& bounds, const Eigen::Vector3d& a, con
 bool ball_misses_sweep(const ToolBounds& bounds, const Eigen::Vector3d& a, const Eigen::Vector3d& b,
                        const Eigen::Vector3d& centre, double radius);
 
+/// Both proofs above at once, sharing their distance from the swept centre: Inside when
+/// ball_inside_sweep() holds, else Misses when ball_misses_sweep() does, else Unknown.
+enum class BallVerdict { Inside, Misses, Unknown };
+BallVerdict ball_against_sweep(const ToolBounds& bounds, const Eigen::Vector3d& a, const Eigen::Vector3d& b,
+                               const Eigen::Vector3d& centre, double radius);
+
 /// True when the capsule (segment [from, to] grown by `radius`) is proven apart from
 /// tool ⊕ [a, b]: farther than the outer ball's radius from its swept centre (segment to
 /// segment), and its bounding ball apart from the swept outer cylinder. Long thin facets (a

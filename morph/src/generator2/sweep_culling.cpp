@@ -316,12 +316,17 @@ SweepCulling::Culled SweepCulling::decide(const Placed& p, std::size_t i, const 
       continue;
     }
     ++counts.bound_tests;
-    if (c != prover && (ball_inside_sweep(bounds_, c->a, c->b, p.centre, p.radius) ||
-                        points_inside_sweep(bounds_, c->a, c->b, vertices))) {
-      prover = c;
-      return Culled::Bound;
+    BallVerdict ball = BallVerdict::Unknown;
+    if (c == prover) {  // asked above whether it holds the facet
+      if (ball_misses_sweep(bounds_, c->a, c->b, p.centre, p.radius)) ball = BallVerdict::Misses;
+    } else {
+      ball = ball_against_sweep(bounds_, c->a, c->b, p.centre, p.radius);
+      if (ball == BallVerdict::Inside || points_inside_sweep(bounds_, c->a, c->b, vertices)) {
+        prover = c;
+        return Culled::Bound;
+      }
     }
-    if (ball_misses_sweep(bounds_, c->a, c->b, p.centre, p.radius) ||
+    if (ball == BallVerdict::Misses ||
         (p.placement == 0 && capsule_misses_sweep(bounds_, c->a, c->b, p.from, p.to, p.thickness)))
       continue;
     open.push_back(c);
@@ -462,12 +467,13 @@ std::vector<KeptFacet> SweepCulling::cull(std::size_t i, CullingCounts& counts, 
     for (const Candidate* c : reaching) {
       if (hidden) break;
       ++counts.bound_tests;
-      if (ball_inside_sweep(bounds_, c->a, c->b, centre, radius)) {
+      const BallVerdict verdict = ball_against_sweep(bounds_, c->a, c->b, centre, radius);
+      if (verdict == BallVerdict::Inside) {
         hidden = true;
         last_hider = c;
         break;
       }
-      if (!ball_misses_sweep(bounds_, c->a, c->b, centre, radius)) near.push_back(c);
+      if (verdict == BallVerdict::Unknown) near.push_back(c);
     }
     if (hidden) {
       counts.by_cluster_bound += static_cast<double>(end - begin);

@@ -122,10 +122,19 @@ ToolBounds tool_bounds(const ConvexPolytope& tool) {
 
 namespace {
 
+// The distance of `centre` from the swept centre c + [a, b], which both capsules are about.
+double core_distance(const ToolBounds& bounds, const Vector3d& a, const Vector3d& b, const Vector3d& centre) {
+  const Vector3d c(0.0, 0.0, bounds.centre_height);
+  return point_segment_distance(centre, a + c, b + c);
+}
+
+bool in_capsule(const ToolBounds& bounds, double core, double radius) {
+  return core + radius <= bounds.inner_radius - kSlack;
+}
+
 bool in_capsule(const ToolBounds& bounds, const Vector3d& a, const Vector3d& b, const Vector3d& centre,
                 double radius) {
-  const Vector3d c(0.0, 0.0, bounds.centre_height);
-  return point_segment_distance(centre, a + c, b + c) + radius <= bounds.inner_radius - kSlack;
+  return in_capsule(bounds, core_distance(bounds, a, b, centre), radius);
 }
 
 // Inside the inner cylinder at one position a + t(b - a): its [z + centre_height, z + top]
@@ -145,6 +154,30 @@ bool in_swept_cylinder(const ToolBounds& bounds, const Vector3d& a, const Vector
 bool ball_inside_sweep(const ToolBounds& bounds, const Vector3d& a, const Vector3d& b, const Vector3d& centre,
                        double radius) {
   return in_capsule(bounds, a, b, centre, radius) || in_swept_cylinder(bounds, a, b, centre, radius);
+}
+
+namespace {
+
+// ball_misses_sweep(), given the ball's centre's core_distance().
+bool misses(const ToolBounds& bounds, const Vector3d& a, const Vector3d& b, const Vector3d& centre,
+            double radius, double core) {
+  if (core <= bounds.outer_radius + radius + kSlack) return false;
+  // Positions whose upper cylinder [z + centre_height, z + top] meets the ball's heights.
+  double t0, t1;
+  if (!height_interval(a.z(), b.z() - a.z(), centre.z() - radius - bounds.top,
+                       centre.z() + radius - bounds.centre_height, t0, t1))
+    return true;
+  return xy_distance(centre, a, b, t0, t1) > bounds.max_radius + radius + kSlack;
+}
+
+}  // namespace
+
+BallVerdict ball_against_sweep(const ToolBounds& bounds, const Vector3d& a, const Vector3d& b,
+                               const Vector3d& centre, double radius) {
+  const double core = core_distance(bounds, a, b, centre);
+  if (in_capsule(bounds, core, radius) || in_swept_cylinder(bounds, a, b, centre, radius))
+    return BallVerdict::Inside;
+  return misses(bounds, a, b, centre, radius, core) ? BallVerdict::Misses : BallVerdict::Unknown;
 }
 
 Eigen::AlignedBox3d inner_box(const ToolBounds& bounds, const Vector3d& a, const Vector3d& b) {
@@ -179,14 +212,7 @@ bool points_inside_sweep(const ToolBounds& bounds, const Vector3d& a, const Vect
 
 bool ball_misses_sweep(const ToolBounds& bounds, const Vector3d& a, const Vector3d& b, const Vector3d& centre,
                        double radius) {
-  const Vector3d c(0.0, 0.0, bounds.centre_height);
-  if (point_segment_distance(centre, a + c, b + c) <= bounds.outer_radius + radius + kSlack) return false;
-  // Positions whose upper cylinder [z + centre_height, z + top] meets the ball's heights.
-  double t0, t1;
-  if (!height_interval(a.z(), b.z() - a.z(), centre.z() - radius - bounds.top,
-                       centre.z() + radius - bounds.centre_height, t0, t1))
-    return true;
-  return xy_distance(centre, a, b, t0, t1) > bounds.max_radius + radius + kSlack;
+  return misses(bounds, a, b, centre, radius, core_distance(bounds, a, b, centre));
 }
 
 }  // namespace morph
