@@ -5,6 +5,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <random>
 
@@ -95,7 +96,7 @@ TEST(ToolBounds, SweptBoundsProveInsideAndApartSoundlyAndOften) {
       box.min().array() -= 1.0;
       box.max().array() += 1.0;
       std::uniform_real_distribution<double> radius(0.0, 0.1 * tool_box.diagonal().norm());
-      int inside = 0, apart = 0, capsules_apart = 0, inner_boxes_skip = 0;
+      int inside = 0, apart = 0, capsules_apart = 0, inner_boxes_skip = 0, points_inside_somewhere = 0;
       for (int k = 0; k < 1500; ++k) {
         const Vector3d centre = box.sample();
         const double rho = radius(random);
@@ -123,6 +124,14 @@ TEST(ToolBounds, SweptBoundsProveInsideAndApartSoundlyAndOften) {
         }
         inside += in;
         apart += out;
+        // Points: some proven inside by the batch test exactly when by the test of each.
+        std::vector<Vector3d> points;
+        for (std::size_t q = 0; q < 6; ++q)
+          points.push_back(centre + rho * ball_points[(k + 7 * q) % ball_points.size()]);
+        EXPECT_EQ(morph::any_point_inside_sweep(b, a, e, points),
+                  std::any_of(points.begin(), points.end(),
+                              [&](const Vector3d& x) { return morph::ball_inside_sweep(b, a, e, x, 0.0); }));
+        points_inside_somewhere += morph::any_point_inside_sweep(b, a, e, points);
         // A capsule from the centre along a random direction: apart means no sampled point of it
         // lies in the sweep.
         const Vector3d to = centre + 3.0 * rho * directions(7)[k % 7];
@@ -136,6 +145,7 @@ TEST(ToolBounds, SweptBoundsProveInsideAndApartSoundlyAndOften) {
       EXPECT_GT(capsules_apart, name.rfind("tapered", 0) == 0 ? 3 : 10);
       EXPECT_GT(inner_boxes_skip, 300);  // and it spares the test for many that are not
       EXPECT_GT(inside, 50);
+      EXPECT_GT(points_inside_somewhere, inside);  // a point inside is proven more often than a ball
       // A ball and a cylinder bound a taper loosely (the outer ball holds all below the widest
       // inscribed ball, high up the cone), so its proofs of "apart" are rarer.
       EXPECT_GT(apart, name.rfind("tapered", 0) == 0 ? 30 : 150);

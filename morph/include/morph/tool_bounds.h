@@ -44,6 +44,10 @@ Eigen::AlignedBox3d inner_box(const ToolBounds& bounds, const Eigen::Vector3d& a
 bool points_inside_sweep(const ToolBounds& bounds, const Eigen::Vector3d& a, const Eigen::Vector3d& b,
                          const std::vector<Eigen::Vector3d>& points);
 
+/// True when some point is proven inside tool ⊕ [a, b] by ball_inside_sweep() (radius 0).
+bool any_point_inside_sweep(const ToolBounds& bounds, const Eigen::Vector3d& a, const Eigen::Vector3d& b,
+                            const std::vector<Eigen::Vector3d>& points);
+
 /// True when the ball (centre, radius) is proven apart from tool ⊕ [a, b]: outside the swept
 /// outer ball (a capsule) and outside the swept outer cylinder.
 bool ball_misses_sweep(const ToolBounds& bounds, const Eigen::Vector3d& a, const Eigen::Vector3d& b,

@@ -301,8 +301,7 @@ SweepCulling::Against SweepCulling::against(const Placed& p, std::size_t i, cons
     // the inner bound, cheap, over all points; then every face for the points no crossing face
     // has above it (one that has is inside only by the bound).
     if (corner_in_candidate()) return cuts();
-    for (const Vector3d& x : points)
-      if (ball_inside_sweep(bounds_, candidate.a, candidate.b, x, 0.0)) return cuts();
+    if (any_point_inside_sweep(bounds_, candidate.a, candidate.b, points)) return cuts();
     for (std::size_t k = 0; k < points.size(); ++k) {
       const bool seen_outside = k < 64 && (not_below >> k & 1);
       if (!seen_outside && below_faces(points[k])) return cuts();

@@ -202,12 +202,62 @@ Eigen::AlignedBox3d inner_box(const ToolBounds& bounds, const Vector3d& a, const
   return box;
 }
 
+namespace {
+
+// The inner bounds' tests of points (radius 0) against one sweep, with what depends on the sweep
+// alone worked out once: the same arithmetic as in_capsule() and in_swept_cylinder(), bit for bit.
+class InnerTests {
+ public:
+  InnerTests(const ToolBounds& bounds, const Vector3d& a, const Vector3d& b)
+      : bounds_(bounds),
+        a_(a),
+        b_(b),
+        core_from_(a + Vector3d(0.0, 0.0, bounds.centre_height)),
+        core_(b + Vector3d(0.0, 0.0, bounds.centre_height) - core_from_),
+        core_length2_(core_.squaredNorm()),
+        xy_(a.head<2>()),
+        xy_motion_((b - a).head<2>()),
+        xy_length2_(xy_motion_.squaredNorm()) {}
+
+  bool in_capsule(const Vector3d& x) const {
+    const double t =
+        core_length2_ > 0.0 ? std::clamp((x - core_from_).dot(core_) / core_length2_, 0.0, 1.0) : 0.0;
+    return (x - (core_from_ + t * core_)).norm() <= bounds_.inner_radius - kSlack;
+  }
+
+  bool in_cylinder(const Vector3d& x) const {
+    if (bounds_.cylinder_radius <= kSlack) return false;
+    double t0, t1;
+    if (!height_interval(a_.z(), b_.z() - a_.z(), x.z() - bounds_.top, x.z() - bounds_.centre_height, t0, t1))
+      return false;
+    const Vector2d q = x.head<2>();
+    const double t = xy_length2_ > 0.0 ? std::clamp((q - xy_).dot(xy_motion_) / xy_length2_, t0, t1) : t0;
+    return (q - (xy_ + t * xy_motion_)).norm() <= bounds_.cylinder_radius - kSlack;
+  }
+
+ private:
+  const ToolBounds& bounds_;
+  const Vector3d &a_, &b_;
+  const Vector3d core_from_, core_;
+  const double core_length2_;
+  const Vector2d xy_, xy_motion_;
+  const double xy_length2_;
+};
+
+}  // namespace
+
 bool points_inside_sweep(const ToolBounds& bounds, const Vector3d& a, const Vector3d& b,
                          const std::vector<Vector3d>& points) {
-  return std::all_of(points.begin(), points.end(),
-                     [&](const Vector3d& x) { return in_capsule(bounds, a, b, x, 0.0); }) ||
-         std::all_of(points.begin(), points.end(),
-                     [&](const Vector3d& x) { return in_swept_cylinder(bounds, a, b, x, 0.0); });
+  const InnerTests inner(bounds, a, b);
+  return std::all_of(points.begin(), points.end(), [&](const Vector3d& x) { return inner.in_capsule(x); }) ||
+         std::all_of(points.begin(), points.end(), [&](const Vector3d& x) { return inner.in_cylinder(x); });
+}
+
+bool any_point_inside_sweep(const ToolBounds& bounds, const Vector3d& a, const Vector3d& b,
+                            const std::vector<Vector3d>& points) {
+  const InnerTests inner(bounds, a, b);
+  return std::any_of(points.begin(), points.end(),
+                     [&](const Vector3d& x) { return inner.in_capsule(x) || inner.in_cylinder(x); });
 }
 
 bool ball_misses_sweep(const ToolBounds& bounds, const Vector3d& a, const Vector3d& b, const Vector3d& centre,
