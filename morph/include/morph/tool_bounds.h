@@ -29,6 +29,11 @@ struct ToolBounds {
 /// The bounds of a closed convex tool polytope about the z axis (tool_polytope.h).
 ToolBounds tool_bounds(const ConvexPolytope& tool);
 
+/// The distance of `x` from the swept centre c + [a, b] (c the axis point at centre_height),
+/// which the capsules of the tests below are about.
+double core_distance(const ToolBounds& bounds, const Eigen::Vector3d& a, const Eigen::Vector3d& b,
+                     const Eigen::Vector3d& x);
+
 /// True when the ball (centre, radius) is proven inside tool ⊕ [a, b]: inside the swept inner
 /// ball (a capsule) or inside the inner cylinder at one position of the segment.
 bool ball_inside_sweep(const ToolBounds& bounds, const Eigen::Vector3d& a, const Eigen::Vector3d& b,

@@ -19,13 +19,6 @@ namespace {
 using Eigen::AlignedBox3d;
 using Eigen::Vector3d;
 
-double squared_distance_to_segment(const Vector3d& x, const Vector3d& a, const Vector3d& b) {
-  const Vector3d d = b - a;
-  const double dd = d.squaredNorm();
-  const double t = dd > 0.0 ? std::clamp((x - a).dot(d) / dd, 0.0, 1.0) : 0.0;
-  return (x - (a + t * d)).squaredNorm();
-}
-
 bool outside(const AlignedBox3d& box, const AlignedBox3d& stock) {
   return (box.min().array() > stock.max().array()).any() || (box.max().array() < stock.min().array()).any();
 }
@@ -336,12 +329,10 @@ SweepCulling::Culled SweepCulling::decide(const Placed& p, std::size_t i, const 
   // away. The order changes nothing else: every candidate is asked when none holds the facet,
   // and the carving orders the cutters by itself.
   if (open.size() > 1) {
-    const Vector3d centre_height(0.0, 0.0, bounds_.centre_height);
     std::size_t nearest = 0;
     double least = std::numeric_limits<double>::infinity();
     for (std::size_t k = 0; k < open.size(); ++k) {
-      const double d =
-          squared_distance_to_segment(p.centre, open[k]->a + centre_height, open[k]->b + centre_height);
+      const double d = core_distance(bounds_, open[k]->a, open[k]->b, p.centre);
       if (d < least) least = d, nearest = k;
     }
     std::rotate(open.begin(), open.begin() + static_cast<std::ptrdiff_t>(nearest),

@@ -36,7 +36,7 @@ std::vector<Vector3d> ordered_polygon(bool silhouette, const std::vector<Vector3
 
 // The part of the convex polygon inside the box (Sutherland-Hodgman, one face at a time).
 void clip_to_box(std::vector<Vector3d>& polygon, const AlignedBox3d& box) {
-  std::vector<Vector3d> kept;
+  thread_local std::vector<Vector3d> kept;  // storage, swapped with the polygon's
   for (int axis = 0; axis < 3 && polygon.size() >= 3; ++axis)
     for (const bool upper : {false, true}) {
       const double bound = upper ? box.max()[axis] : box.min()[axis];
@@ -368,7 +368,7 @@ bool SweepCulling::cut_to_stock(Placed& p, const Vector3d& a, const Vector3d& b,
   const bool swept = p.tool_facet >= 0 && p.placement == 0;
   if (!swept &&
       !std::all_of(points.begin(), points.end(), [&](const Vector3d& x) { return stock.contains(x); })) {
-    if (p.edge >= 0) points = {points[0], points[2], points[3], points[1]};
+    if (p.edge >= 0) std::swap(points[1], points[2]), std::swap(points[2], points[3]);  // in loop order
     clip_to_box(points, stock);
     if (points.size() < 3) return false;
     p.clipped = true;

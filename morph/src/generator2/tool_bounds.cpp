@@ -85,6 +85,11 @@ double xy_distance(const Vector3d& p, const Vector3d& a, const Vector3d& b, doub
 
 }  // namespace
 
+double core_distance(const ToolBounds& bounds, const Vector3d& a, const Vector3d& b, const Vector3d& x) {
+  const Vector3d c(0.0, 0.0, bounds.centre_height);
+  return point_segment_distance(x, a + c, b + c);
+}
+
 ToolBounds tool_bounds(const ConvexPolytope& tool) {
   if (tool.facets.empty()) throw InputError("tool bounds: the tool polytope is empty");
   ToolBounds bounds;
@@ -121,12 +126,6 @@ ToolBounds tool_bounds(const ConvexPolytope& tool) {
 }
 
 namespace {
-
-// The distance of `centre` from the swept centre c + [a, b], which both capsules are about.
-double core_distance(const ToolBounds& bounds, const Vector3d& a, const Vector3d& b, const Vector3d& centre) {
-  const Vector3d c(0.0, 0.0, bounds.centre_height);
-  return point_segment_distance(centre, a + c, b + c);
-}
 
 bool in_capsule(const ToolBounds& bounds, double core, double radius) {
   return core + radius <= bounds.inner_radius - kSlack;
