@@ -6,6 +6,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 
 #include "morph/tool_shapes_support.h"
@@ -194,7 +195,8 @@ TEST(JointCulling, BetweenExactSweepsStartCapsAreCulledAtTheRimToo) {
     const int grid = quantized.grid_exponent;
     const morph::SweepPolytopeBuilder sweeps(quantized.polytope);
     const morph::ConvexPolytope& shape = sweeps.tool();
-    const std::vector<std::vector<int>> around = morph::facets_at_vertices(shape);
+    const morph::FacetsAround around = morph::facets_around(shape);
+    const std::vector<std::vector<int>> at_vertex = morph::facets_at_vertices(shape);
     for (double deg : {30.0, 90.0, 150.0})
       for (bool axis : {false, true}) {
         SCOPED_TRACE(name + " turn " + std::to_string(deg) + (axis ? " from an axis move" : ""));
@@ -222,7 +224,8 @@ TEST(JointCulling, BetweenExactSweepsStartCapsAreCulledAtTheRimToo) {
           more += morph::culled(exact[f]) && !morph::culled(rounded[f]);
           bool touches_swept = false;
           for (int v : shape.facets[f].loop)
-            for (int g : around[v]) touches_swept |= morph::motion_side(shape.facets[g].normal, j - s) == 0;
+            for (int g : at_vertex[v])
+              touches_swept |= morph::motion_side(shape.facets[g].normal, j - s) == 0;
           if (touches_swept) {
             EXPECT_EQ(exact[f], JointVerdict::Kept) << "facet " << f;
           }
@@ -242,6 +245,27 @@ TEST(JointCulling, BetweenExactSweepsStartCapsAreCulledAtTheRimToo) {
       }
   }
   EXPECT_GT(more, 0);
+}
+
+TEST(JointCulling, TheFacetsAroundAFacetAreThoseAtItsVerticesEachOnce) {
+  for (const auto& [name, tool] : morph_test::every_tool_shape()) {
+    SCOPED_TRACE(name);
+    const morph::ConvexPolytope shape = morph::tool_polytope(tool.profile, 0.01).polytope;
+    const morph::FacetsAround around = morph::facets_around(shape);
+    ASSERT_EQ(around.start.size(), shape.facets.size() + 1);
+    for (std::size_t f = 0; f < shape.facets.size(); ++f) {
+      const std::vector<int> listed(around.facets.begin() + around.start[f],
+                                    around.facets.begin() + around.start[f + 1]);
+      // Each other facet g is listed exactly when it has a vertex of f among its own.
+      for (std::size_t g = 0; g < shape.facets.size(); ++g) {
+        bool shares = false;
+        for (int v : shape.facets[f].loop)
+          for (int w : shape.facets[g].loop) shares |= v == w;
+        EXPECT_EQ(std::count(listed.begin(), listed.end(), static_cast<int>(g)), shares ? 1 : 0)
+            << "facet " << f << ", facet " << g;
+      }
+    }
+  }
 }
 
 TEST(JointCulling, OnlyStraightMovesOfOneToolMeetingBitForBitAreJoined) {

@@ -43,8 +43,16 @@ std::vector<JointVerdict> joint_verdicts(const ConvexPolytope& tool, const Eigen
                                          const std::optional<Eigen::Vector3d>& previous_motion,
                                          const std::optional<Eigen::Vector3d>& next_motion);
 
-/// The tool facets around each tool vertex (indices into tool.facets), for the rim conditions.
+/// The tool facets around each tool vertex (indices into tool.facets).
 std::vector<std::vector<int>> facets_at_vertices(const ConvexPolytope& tool);
+
+/// The tool facets sharing a vertex with each tool facet (itself among them), each listed once:
+/// what the rim conditions below read.
+struct FacetsAround {
+  std::vector<std::uint32_t> start;  ///< facet f's are facets[start[f] … start[f + 1])
+  std::vector<int> facets;
+};
+FacetsAround facets_around(const ConvexPolytope& tool);
 
 /// joint_verdicts() for the rounded planes: the verdicts hold for the exact tool, but a facet
 /// with a vertex on the neighbour's boundary (the neighbour's rim there) is inside it, or shares
@@ -52,8 +60,7 @@ std::vector<std::vector<int>> facets_at_vertices(const ConvexPolytope& tool);
 /// the exact clipping finds. Such a facet is Kept (the caller lists the neighbour among its
 /// cutters). A facet whose every vertex has all its facets on its own side of the motions keeps
 /// its verdict: it is decided by a real margin.
-std::vector<JointVerdict> joint_verdicts_off_rim(const ConvexPolytope& tool,
-                                                 const std::vector<std::vector<int>>& facets_at_vertex,
+std::vector<JointVerdict> joint_verdicts_off_rim(const ConvexPolytope& tool, const FacetsAround& around,
                                                  const Eigen::Vector3d& motion,
                                                  const std::optional<Eigen::Vector3d>& previous_motion,
                                                  const std::optional<Eigen::Vector3d>& next_motion);
@@ -68,8 +75,7 @@ std::vector<JointVerdict> joint_verdicts_off_rim(const ConvexPolytope& tool,
 /// facet is exactly parallel to the motion); and the end caps, whose verdicts stay those of
 /// joint_verdicts_off_rim(): by the tie order the later polytope expands by less, so a facet
 /// touching its rim keeps a sliver outside it.
-std::vector<JointVerdict> joint_verdicts_exact(const ConvexPolytope& tool,
-                                               const std::vector<std::vector<int>>& facets_at_vertex,
+std::vector<JointVerdict> joint_verdicts_exact(const ConvexPolytope& tool, const FacetsAround& around,
                                                const Eigen::Vector3d& motion,
                                                const std::optional<Eigen::Vector3d>& previous_motion,
                                                const std::optional<Eigen::Vector3d>& next_motion);
@@ -90,8 +96,8 @@ struct Placement {
 /// near it the same bit for bit when every tool facet around its vertices is placed on those
 /// same sides by both; then the tie order alone decides (the earlier move owns it). Otherwise a
 /// neighbour's rim passes through a vertex and the rounding decides: the facet is kept.
-bool cap_placed_alike(const ConvexPolytope& tool, const std::vector<std::vector<int>>& facets_at_vertex,
-                      int facet, const Placement& own, int own_side, const Placement& other, int other_side);
+bool cap_placed_alike(const ConvexPolytope& tool, const FacetsAround& around, int facet, const Placement& own,
+                      int own_side, const Placement& other, int other_side);
 
 /// True when `next` follows `move` at a joint the verdicts may use: both straight, the same
 /// tool, `move`'s end is `next`'s start bit for bit, and neither is degenerate for `sweeps`.

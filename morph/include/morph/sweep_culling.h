@@ -179,7 +179,7 @@ class SweepCulling {
   std::vector<Eigen::AlignedBox3d> tool_facet_boxes_;
   std::vector<Eigen::Vector3d> tool_facet_centres_;
   std::vector<double> tool_facet_radii_;
-  std::vector<std::vector<int>> facets_at_vertex_;  ///< the tool facets around each tool vertex
+  FacetsAround facets_around_;                 ///< the tool facets sharing a vertex with each tool facet
   std::vector<std::int64_t> tool_facet_cell_;  ///< cluster of each tool facet (a grid cell of its centre)
   /// The tool facets across each facet's edges, facet f's at [neighbour_start_[f],
   /// neighbour_start_[f + 1]), with their normals beside them (the climb reads nothing else).

@@ -44,7 +44,7 @@ SweepCulling::SweepCulling(const SweepPolytopeBuilder& sweeps, std::vector<Move>
   bounds_ = tool_bounds(tool);
   // Clusters: a grid of cells of half the inscribed radius (at least a fiftieth of the tool).
   const AlignedBox3d tool_box = tool.bounds();
-  facets_at_vertex_ = facets_at_vertices(tool);
+  facets_around_ = facets_around(tool);
   const double cell = std::max(0.5 * bounds_.inner_radius, 0.02 * tool_box.diagonal().norm());
   for (const PolytopeFacet& f : tool.facets) {
     AlignedBox3d box;
@@ -294,7 +294,7 @@ SweepCulling::Culled SweepCulling::decide(const Placed& p, std::size_t i, const 
         // Between exact sweeps the cap has one exact plane in both (sweep_polytope.h).
         if (side != 0 && (side > 0 ? c->b : c->a) == at &&
             ((exact_[i] && c->exact) ||
-             cap_placed_alike(tool, facets_at_vertex_, p.tool_facet, mine, p.placement, other, side))) {
+             cap_placed_alike(tool, facets_around_, p.tool_facet, mine, p.placement, other, side))) {
           if (c->move < i) return Culled::Shared;
           continue;
         }
@@ -367,8 +367,8 @@ std::vector<KeptFacet> SweepCulling::cull(std::size_t i, CullingCounts& counts, 
     if (after) previous = moves_[i - 1].end - moves_[i - 1].start;
     if (before) next = moves_[i + 1].end - moves_[i + 1].start;
     const bool exact = exact_[i] && (!after || exact_[i - 1]) && (!before || exact_[i + 1]);
-    joint = exact ? joint_verdicts_exact(tool, facets_at_vertex_, move.end - move.start, previous, next)
-                  : joint_verdicts_off_rim(tool, facets_at_vertex_, move.end - move.start, previous, next);
+    joint = exact ? joint_verdicts_exact(tool, facets_around_, move.end - move.start, previous, next)
+                  : joint_verdicts_off_rim(tool, facets_around_, move.end - move.start, previous, next);
   }
   std::vector<Placed> facets;
   const std::size_t by_joint = place(i, joint, facets);
