@@ -13,6 +13,7 @@
 #include <Eigen/Geometry>
 
 #include <array>
+#include <cmath>
 #include <cstddef>
 #include <optional>
 #include <vector>
@@ -61,12 +62,18 @@ struct CornerLook {
   Eigen::Vector3d point;
   double length = 0.0;  ///< of point
   double error = 0.0;   ///< a bound of point's distance from the exact corner (0: well conditioned)
+  double slack = 0.0;   ///< 1e-9·length + error: the corner's part of look_side()'s margin, per unit normal
 };
 /// The look at the vertex of s, a, b; nothing when no bound of its error holds.
 std::optional<CornerLook> corner_look(const ExactPlane& s, const ExactPlane& a, const ExactPlane& b);
 /// side_at_vertex()'s sign of `plane` at the looked-at vertex when the look is sure of it (with
-/// RoughCorners' margin), else 0. `length`: of plane.normal.
-int look_side(const CornerLook& corner, const ExactPlane& plane, double length);
+/// RoughCorners' margin, 1e-9·(1 + |offset| + length·|corner|) + length·error), else 0.
+/// `length`: of plane.normal. Inline: the clipping asks it of every corner for every plane.
+inline int look_side(const CornerLook& corner, const ExactPlane& plane, double length) {
+  const double value = plane.normal.dot(corner.point) - plane.offset;
+  const double margin = 1e-9 * (1 + std::abs(plane.offset)) + length * corner.slack;
+  return value < -margin ? -1 : (value > margin ? 1 : 0);
+}
 
 /// A float look at a piece, to skip planes that are clearly apart from it (all corners below, or
 /// all above, by far more than the rounding of the corners): the exact predicates would decide

@@ -27,13 +27,8 @@ std::optional<CornerLook> corner_look(const ExactPlane& s, const ExactPlane& a, 
     }
   }
   c.length = c.point.norm();
+  c.slack = 1e-9 * c.length + c.error;
   return c;
-}
-
-int look_side(const CornerLook& c, const ExactPlane& plane, double length) {
-  const double value = plane.normal.dot(c.point) - plane.offset;
-  const double margin = 1e-9 * (1 + std::fabs(plane.offset) + length * c.length) + length * c.error;
-  return value < -margin ? -1 : (value > margin ? 1 : 0);
 }
 
 RoughCorners::RoughCorners(const ConvexPiece& piece, const RoughCorners* old,
