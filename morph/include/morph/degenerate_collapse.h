@@ -69,6 +69,9 @@ struct LimitSurface {
   /// Each vertex's planes (conform's; vertices merged away are no longer in a loop, but their
   /// planes may still be named by a PlaneRef).
   std::vector<std::array<ExactPlane, 3>> vertices;
+  /// vertex_point() of each vertex, as the limit step found them; emit() finds them itself when
+  /// this is empty.
+  std::vector<Eigen::Vector3d> points;
   std::vector<LimitPolygon> polygons;
   LimitCounts counts;
   /// The normal of `polygon`'s plane, pointing out of the solid.

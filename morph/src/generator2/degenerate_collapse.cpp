@@ -220,7 +220,8 @@ class Limit {
 
   // The limit surface, its polygons moved out (the last use of this).
   // `vertices`: the conformed surface's (this reads them until it moves them out at the end).
-  LimitSurface result(LimitCounts counts, std::vector<Triple>&& vertices) {
+  LimitSurface result(LimitCounts counts, std::vector<Triple>&& vertices,
+                      std::vector<Eigen::Vector3d>&& points) {
     LimitSurface out;
     std::vector<char> convex(polygons_.size(), 0), still_flat(polygons_.size(), 0);
     for_each_index(policy_, 0, polygons_.size(), [&](std::size_t i) {
@@ -244,6 +245,7 @@ class Limit {
     for (std::uint32_t v = 0; v < rep_.size(); ++v) counts.merged_vertices += rep_[v] != v;
     out.counts = counts;
     out.vertices = std::move(vertices);  // a copy took half a second on bear.nc
+    out.points = std::move(points);
     return out;
   }
 
@@ -403,7 +405,8 @@ LimitSurface collapse_degenerates(ConformedSurface surface, ExecutionPolicy poli
   std::vector<PlanarLoop> planar(surface.polygons.size());
   for_each_index(policy, 0, planar.size(),
                  [&](std::size_t i) { planar[i] = planar_loop(surface, surface.polygons[i]); });
-  const std::vector<std::uint32_t> root = limit_classes(surface.vertices, policy);
+  std::vector<Eigen::Vector3d> points;
+  const std::vector<std::uint32_t> root = limit_classes(surface.vertices, policy, &points);
   std::vector<std::size_t> class_size(root.size(), 0);
   for (std::uint32_t r : root) ++class_size[r];
   // Merge every class, then keep apart those where the limit is not a 2-manifold, until none is.
@@ -415,7 +418,7 @@ LimitSurface collapse_degenerates(ConformedSurface surface, ExecutionPolicy poli
     if (bad.empty()) {
       LimitCounts counts;
       counts.kept_apart = apart.size();
-      return limit.result(counts, std::move(surface.vertices));
+      return limit.result(counts, std::move(surface.vertices), std::move(points));
     }
     const std::size_t before = apart.size();
     for (std::uint32_t c : bad)
@@ -431,7 +434,7 @@ LimitSurface collapse_degenerates(ConformedSurface surface, ExecutionPolicy poli
   LimitCounts counts;
   counts.kept_apart = apart.size();
   counts.unsettled = 1;
-  return limit.result(counts, std::move(surface.vertices));
+  return limit.result(counts, std::move(surface.vertices), std::move(points));
 }
 
 }  // namespace morph

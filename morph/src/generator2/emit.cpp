@@ -41,7 +41,7 @@ TriangleMesh emit(const LimitSurface& surface, const std::vector<std::int32_t>& 
   mesh.vertices.resize(vertex_count);
   for_each_index(policy, 0, used.size(), [&](std::size_t k) {
     const auto& t = surface.vertices[used[k]];
-    mesh.vertices[k] = vertex_point(t[0], t[1], t[2]);
+    mesh.vertices[k] = surface.points.empty() ? vertex_point(t[0], t[1], t[2]) : surface.points[used[k]];
   });
   mesh.triangles.resize(first_triangle.back());
   mesh.tags.resize(first_triangle.back());

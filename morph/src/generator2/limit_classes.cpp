@@ -18,7 +18,7 @@ namespace morph {
 // looks up its 13 neighbours after it among the sorted runs (bear.nc at 0.01: 778k vertices, 27
 // hash look-ups each took a second; 13 each still took most of this step's 1 s).
 std::vector<std::uint32_t> limit_classes(const std::vector<std::array<ExactPlane, 3>>& vertices,
-                                         ExecutionPolicy policy) {
+                                         ExecutionPolicy policy, std::vector<Eigen::Vector3d>* points) {
   constexpr double kCell = 1e-6;
   using Cell = std::array<std::int64_t, 3>;
   std::vector<std::pair<Cell, std::uint32_t>> cells(vertices.size());
@@ -27,8 +27,10 @@ std::vector<std::uint32_t> limit_classes(const std::vector<std::array<ExactPlane
   // within a millionth of that of the face between: only cells holding such a vertex look at
   // their neighbours.
   std::vector<char> near_face(vertices.size(), 0);
+  if (points) points->resize(vertices.size());
   for_each_index(policy, 0, vertices.size(), [&](std::size_t v) {
     const Eigen::Vector3d x = vertex_point(vertices[v][0], vertices[v][1], vertices[v][2]);
+    if (points) (*points)[v] = x;
     const double reach = 1e-9 * std::max(1.0, x.cwiseAbs().maxCoeff()) / kCell;
     Cell c{};
     for (int i = 0; i < 3; ++i) {

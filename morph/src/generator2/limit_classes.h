@@ -12,8 +12,10 @@
 namespace morph {
 
 /// Each vertex's class of one exact point (same_limit_point()), as its smallest member: the same
-/// whatever the order or the threads.
+/// whatever the order or the threads. `points`, when given, receives each vertex's
+/// vertex_point(), which the classes are found by.
 std::vector<std::uint32_t> limit_classes(const std::vector<std::array<ExactPlane, 3>>& vertices,
-                                         ExecutionPolicy policy);
+                                         ExecutionPolicy policy,
+                                         std::vector<Eigen::Vector3d>* points = nullptr);
 
 }  // namespace morph
