@@ -403,13 +403,21 @@ TEST(PlanePredicates, SideAtAGridVertexIsSideAtVertex) {
   for (int trial = 0; trial < 2000; ++trial) {
     const morph::GridPoint x{coordinate(rng), coordinate(rng), coordinate(rng)};
     const ExactPlane a = exact_plane(x, 7, 1), b = exact_plane(x, 2, -1), c = exact_plane(x, 9, 1);
+    // A point a third of a grid step off the vertex finds it too.
+    const double step = std::ldexp(1.0, grid);
+    const Vector3d near(static_cast<double>(x[0]) * step + step / 3,
+                        static_cast<double>(x[1]) * step - step / 3, static_cast<double>(x[2]) * step);
     if (!morph::vertex_exists(a, b, c)) {
       EXPECT_FALSE(morph::grid_vertex(a, b, c));
+      EXPECT_FALSE(morph::grid_vertex_near(a, b, c, near));
       continue;
     }
     const std::optional<morph::GridPoint> vertex = morph::grid_vertex(a, b, c);
     ASSERT_TRUE(vertex);
     EXPECT_EQ(*vertex, x);
+    EXPECT_EQ(morph::grid_vertex_near(a, b, c, near), vertex);
+    // Two steps off, the nearest grid point is not the vertex: nothing.
+    EXPECT_FALSE(morph::grid_vertex_near(a, b, c, near + Vector3d(2 * step, 0, 0)));
     ++found;
     const morph::GridPoint y =
         trial % 3 == 0 ? x : morph::GridPoint{x[0] + shift(rng), x[1] + shift(rng), x[2] + shift(rng)};
@@ -431,6 +439,7 @@ TEST(PlanePredicates, SideAtAGridVertexIsSideAtVertex) {
   const ExactPlane zs{Vector3d(0, 0, 1), 0.0, 3, 1, *morph::plane_through({0, 0, 1}, {0, 0, 0}, grid)};
   ASSERT_TRUE(morph::vertex_exists(off, ys, zs));
   EXPECT_FALSE(morph::grid_vertex(off, ys, zs));
+  EXPECT_FALSE(morph::grid_vertex_near(off, ys, zs, Vector3d(0.5 * std::ldexp(1.0, grid), 0, 0)));
 }
 
 }  // namespace

@@ -72,6 +72,13 @@ int side_at_vertex(const ExactPlane& a, const ExactPlane& b, const ExactPlane& c
 /// common point, or meet between grid points.
 std::optional<GridPoint> grid_vertex(const ExactPlane& a, const ExactPlane& b, const ExactPlane& c);
 
+/// grid_vertex() from a point `near` the vertex (a float look at it, well within half a grid
+/// step): the grid point nearest `near`, when the three planes' integer values there are zero
+/// and their normals independent (checked exactly). Nothing otherwise, also when the vertex is a
+/// grid point that `near` is too far from: then side_at_vertex() decides, at more cost.
+std::optional<GridPoint> grid_vertex_near(const ExactPlane& a, const ExactPlane& b, const ExactPlane& c,
+                                          const Eigen::Vector3d& near);
+
 /// side_at_vertex() at a vertex of a, b, c that is the grid point `x` (grid_vertex()), for d
 /// exact on the same grid: d's integer value at x, and where that is zero (the tie of most of a
 /// carving's undecided corners: a tool vertex where several facets meet) the perturbation, from

@@ -127,7 +127,8 @@ class Builder {
         auto exact_side = [&](OnLine& r1, const ExactPlane& plane) {
           if (plane.exact.set() && lo.exact.set() && plane.exact.grid_exponent == lo.exact.grid_exponent) {
             if (!r1.grid_looked_for) {
-              r1.grid = grid_vertex(lo, hi, *r1.third);
+              r1.grid = r1.look ? grid_vertex_near(lo, hi, *r1.third, r1.look->point)
+                                : grid_vertex(lo, hi, *r1.third);
               r1.grid_looked_for = true;
             }
             if (r1.grid) return side_at_grid_vertex(lo, hi, *r1.third, *r1.grid, plane);

@@ -102,7 +102,7 @@ int RoughCorners::exact_side(const ConvexPiece& piece, std::size_t k, const Exac
       plane.exact.grid_exponent == piece.support.exact.grid_exponent) {
     const Corner& c = corners_[k];
     if (!c.grid_looked_for) {
-      c.grid = grid_vertex(piece.support, a, b);
+      c.grid = grid_vertex_near(piece.support, a, b, c.point);  // the look is well within a grid step
       c.grid_looked_for = true;
     }
     if (c.grid) return side_at_grid_vertex(piece.support, a, b, *c.grid, plane);

@@ -371,6 +371,22 @@ std::optional<GridPoint> grid_vertex(const ExactPlane& a, const ExactPlane& b, c
   return point;
 }
 
+std::optional<GridPoint> grid_vertex_near(const ExactPlane& a, const ExactPlane& b, const ExactPlane& c,
+                                          const Eigen::Vector3d& near) {
+  if (!on_one_grid(std::array<const ExactPlane*, 3>{&a, &b, &c})) return std::nullopt;
+  const double scale = std::ldexp(1.0, -a.exact.grid_exponent);
+  GridPoint point{};
+  for (int i = 0; i < 3; ++i) {
+    const double steps = std::nearbyint(near[i] * scale);
+    if (!(std::fabs(steps) < 0x1p62)) return std::nullopt;
+    point[i] = static_cast<std::int64_t>(steps);
+  }
+  for (const ExactPlane* p : {&a, &b, &c})
+    if (p->exact.value_at(point) != 0) return std::nullopt;
+  if (normals_orientation(a, b, c) == 0) return std::nullopt;
+  return point;
+}
+
 int side_at_grid_vertex(const ExactPlane& a, const ExactPlane& b, const ExactPlane& c, const GridPoint& x,
                         const ExactPlane& d) {
   ++predicate_counts().calls;
