@@ -424,6 +424,11 @@ TEST(PlanePredicates, SideAtAGridVertexIsSideAtVertex) {
     const ExactPlane d = exact_plane(y, static_cast<std::uint64_t>(trial % 12), trial % 2 ? 1 : -1);
     ties += d.exact.value_at(x) == 0 && d.rank != 2 && d.rank != 7 && d.rank != 9;
     EXPECT_EQ(morph::side_at_grid_vertex(a, b, c, x, d), morph::side_at_vertex(a, b, c, d)) << trial;
+    EXPECT_EQ(morph::limit_side_at_grid_vertex(a, b, c, x, d), morph::limit_side_at_vertex(a, b, c, d))
+        << trial;
+    // The same point named by other planes through it, or not: decided alike with a point near it.
+    const std::array<ExactPlane, 3> u{a, b, c}, v{d, exact_plane(x, 20, 1), exact_plane(x, 21, -1)};
+    EXPECT_EQ(morph::same_limit_point(u, v, near), morph::same_limit_point(u, v)) << trial;
     // A plane of the same rank as one of the three is on the vertex.
     EXPECT_EQ(morph::side_at_grid_vertex(a, b, c, x, b), 0);
   }

@@ -91,9 +91,18 @@ int side_at_grid_vertex(const ExactPlane& a, const ExactPlane& b, const ExactPla
 /// c). Same filter and exact fallback as side_at_vertex(); throws like it.
 int limit_side_at_vertex(const ExactPlane& a, const ExactPlane& b, const ExactPlane& c, const ExactPlane& d);
 
+/// limit_side_at_vertex() at a vertex of a, b, c that is the grid point `x` (grid_vertex()): d's
+/// integer value there when d is exact on the same grid, else limit_side_at_vertex().
+int limit_side_at_grid_vertex(const ExactPlane& a, const ExactPlane& b, const ExactPlane& c,
+                              const GridPoint& x, const ExactPlane& d);
+
 /// True iff the vertices u and v (plane triples) are the same exact point in the limit: every
 /// plane of v passes exactly through u's point (three independent planes meet in one point).
 bool same_limit_point(const std::array<ExactPlane, 3>& u, const std::array<ExactPlane, 3>& v);
+/// The same, given a point near u's vertex (its vertex_point()): where that vertex is a grid
+/// point (grid_vertex_near()), v's planes' integer values there decide.
+bool same_limit_point(const std::array<ExactPlane, 3>& u, const std::array<ExactPlane, 3>& v,
+                      const Eigen::Vector3d& near_u);
 
 /// The vertex of three planes rounded to doubles: Cramer's rule in long double where its error
 /// bound is within 1e-12 of the coordinates' size, otherwise (normals nearly dependent, as a tool

@@ -89,9 +89,10 @@ PlanarLoop planar_loop(const ConformedSurface& surface, const ConformedPolygon& 
 
 class Limit {
  public:
-  Limit(const ConformedSurface& surface, const std::vector<PlanarLoop>& planar,
-        const std::vector<std::uint32_t>& root, const std::set<std::uint32_t>& apart, ExecutionPolicy policy)
-      : surface_(surface), policy_(policy) {
+  Limit(const ConformedSurface& surface, const std::vector<Eigen::Vector3d>& points,
+        const std::vector<PlanarLoop>& planar, const std::vector<std::uint32_t>& root,
+        const std::set<std::uint32_t>& apart, ExecutionPolicy policy)
+      : surface_(surface), points_(points), policy_(policy) {
     rep_.resize(root.size());
     apart_.resize(root.size());
     for (std::uint32_t v = 0; v < root.size(); ++v) {
@@ -252,9 +253,15 @@ class Limit {
  private:
   const Triple& at(std::uint32_t v) const { return surface_.vertices[v]; }
   const ExactPlane& plane(PlaneRef ref) const { return plane_at(surface_.vertices, ref); }
-  bool on(std::uint32_t v, const ExactPlane& e) const {
-    return limit_side_at_vertex(at(v)[0], at(v)[1], at(v)[2], e) == 0;
+  // limit_side_at_vertex() at vertex v, by the integers where v is a grid point (most vertices
+  // the limit step looks at are ties, which the filter cannot decide).
+  int limit_side(std::uint32_t v, const ExactPlane& e) const {
+    const Triple& t = at(v);
+    if (const std::optional<GridPoint> x = grid_vertex_near(t[0], t[1], t[2], points_[v]))
+      return limit_side_at_grid_vertex(t[0], t[1], t[2], *x, e);
+    return limit_side_at_vertex(t[0], t[1], t[2], e);
   }
+  bool on(std::uint32_t v, const ExactPlane& e) const { return limit_side(v, e) == 0; }
 
   // Step 2: the polygon's edges between distinct points, as polygon i.
   void add(std::size_t i, const ConformedPolygon& polygon, const PlanarLoop& planar) {
@@ -325,7 +332,7 @@ class Limit {
         }
     const auto after = [&](std::uint32_t q, std::uint32_t p) {
       const auto [c, o] = crossing.at(p);
-      return limit_side_at_vertex(at(q)[0], at(q)[1], at(q)[2], *c) * o > 0;
+      return limit_side(q, *c) * o > 0;
     };
     const std::size_t n = d.loop.size();
     std::size_t low = 0, high = 0;
@@ -377,6 +384,7 @@ class Limit {
   }
 
   const ConformedSurface& surface_;
+  const std::vector<Eigen::Vector3d>& points_;  // vertex_point() of each vertex
   ExecutionPolicy policy_;
   std::vector<std::uint32_t> rep_;
   std::vector<LimitPolygon> polygons_;
@@ -412,7 +420,7 @@ LimitSurface collapse_degenerates(ConformedSurface surface, ExecutionPolicy poli
   // Merge every class, then keep apart those where the limit is not a 2-manifold, until none is.
   std::set<std::uint32_t> apart;
   for (;;) {
-    Limit limit(surface, planar, root, apart, policy);
+    Limit limit(surface, points, planar, root, apart, policy);
     limit.zip_slivers(true);
     const std::set<std::uint32_t> bad = limit.non_manifold(root);
     if (bad.empty()) {
@@ -429,7 +437,7 @@ LimitSurface collapse_degenerates(ConformedSurface surface, ExecutionPolicy poli
   // surface itself, a 2-manifold by construction.
   for (std::uint32_t v = 0; v < root.size(); ++v)
     if (class_size[root[v]] > 1) apart.insert(root[v]);
-  Limit limit(surface, planar, root, apart, policy);
+  Limit limit(surface, points, planar, root, apart, policy);
   limit.zip_slivers(false);
   LimitCounts counts;
   counts.kept_apart = apart.size();

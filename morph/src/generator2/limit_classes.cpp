@@ -27,10 +27,12 @@ std::vector<std::uint32_t> limit_classes(const std::vector<std::array<ExactPlane
   // within a millionth of that of the face between: only cells holding such a vertex look at
   // their neighbours.
   std::vector<char> near_face(vertices.size(), 0);
-  if (points) points->resize(vertices.size());
+  std::vector<Eigen::Vector3d> own_points;
+  std::vector<Eigen::Vector3d>& point = points ? *points : own_points;
+  point.resize(vertices.size());
   for_each_index(policy, 0, vertices.size(), [&](std::size_t v) {
     const Eigen::Vector3d x = vertex_point(vertices[v][0], vertices[v][1], vertices[v][2]);
-    if (points) (*points)[v] = x;
+    point[v] = x;
     const double reach = 1e-9 * std::max(1.0, x.cwiseAbs().maxCoeff()) / kCell;
     Cell c{};
     for (int i = 0; i < 3; ++i) {
@@ -84,7 +86,7 @@ std::vector<std::uint32_t> limit_classes(const std::vector<std::array<ExactPlane
     };
     auto test = [&](std::uint32_t u, std::uint32_t v) {
       const std::uint32_t a = local_index(u), b = local_index(v);
-      if (local.find(a) != local.find(b) && same_limit_point(vertices[u], vertices[v])) {
+      if (local.find(a) != local.find(b) && same_limit_point(vertices[u], vertices[v], point[u])) {
         local.unite(a, b);
         joined[r].emplace_back(u, v);
       }

@@ -433,9 +433,28 @@ int limit_side_at_vertex(const ExactPlane& a, const ExactPlane& b, const ExactPl
   return -four.determinant_sign() * orientation;
 }
 
+int limit_side_at_grid_vertex(const ExactPlane& a, const ExactPlane& b, const ExactPlane& c,
+                              const GridPoint& x, const ExactPlane& d) {
+  if (d.rank == a.rank || d.rank == b.rank || d.rank == c.rank) return 0;
+  if (!d.exact.set() || d.exact.grid_exponent != a.exact.grid_exponent)
+    return limit_side_at_vertex(a, b, c, d);
+  ++predicate_counts().calls;
+  const __int128 value = d.exact.value_at(x);
+  return value == 0 ? 0 : (value > 0 ? 1 : -1);
+}
+
 bool same_limit_point(const std::array<ExactPlane, 3>& u, const std::array<ExactPlane, 3>& v) {
   for (const ExactPlane& d : v)
     if (limit_side_at_vertex(u[0], u[1], u[2], d) != 0) return false;
+  return true;
+}
+
+bool same_limit_point(const std::array<ExactPlane, 3>& u, const std::array<ExactPlane, 3>& v,
+                      const Eigen::Vector3d& near_u) {
+  const std::optional<GridPoint> x = grid_vertex_near(u[0], u[1], u[2], near_u);
+  if (!x) return same_limit_point(u, v);
+  for (const ExactPlane& d : v)
+    if (limit_side_at_grid_vertex(u[0], u[1], u[2], *x, d) != 0) return false;
   return true;
 }
 
