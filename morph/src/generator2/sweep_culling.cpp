@@ -492,7 +492,7 @@ std::vector<KeptFacet> SweepCulling::cull(std::size_t i, CullingCounts& counts, 
           ++counts.kept;
           counts.cutters += static_cast<double>(keep.cutters.size());
           counts.cutting_planes += static_cast<double>(keep.planes.size());
-          kept.push_back(keep);
+          kept.push_back(keep);  // a copy: only kept facets allocate; the scratch's lists stay
       }
     }
   }
