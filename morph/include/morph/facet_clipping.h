@@ -117,9 +117,8 @@ class RoughCorners {
   static int sides(Corners& corners, const ExactPlane& plane, Keep&& keep);
   struct Corner : CornerLook {
     int look = 0;  ///< the last side()'s look at it
-    /// The corner as a grid point (grid_vertex()), once looked for.
-    mutable std::optional<GridPoint> grid;
-    mutable bool grid_looked_for = false;
+    /// The corner as a grid point, once looked for (side_at_vertex_near()).
+    mutable VertexGrid grid;
   };
   std::vector<Corner> corners_;
   bool usable_ = true;

@@ -79,6 +79,18 @@ std::optional<GridPoint> grid_vertex(const ExactPlane& a, const ExactPlane& b, c
 std::optional<GridPoint> grid_vertex_near(const ExactPlane& a, const ExactPlane& b, const ExactPlane& c,
                                           const Eigen::Vector3d& near);
 
+/// A vertex's grid point, looked for once and kept for every plane asked of the vertex after.
+struct VertexGrid {
+  std::optional<GridPoint> point;
+  bool looked_for = false;
+};
+
+/// side_at_vertex(a, b, c, d), through the vertex's grid point (side_at_grid_vertex()) where it is
+/// one and d is exact on that grid: `near` a float look at the vertex (grid_vertex_near()),
+/// `grid` what was found of it before.
+int side_at_vertex_near(const ExactPlane& a, const ExactPlane& b, const ExactPlane& c,
+                        const Eigen::Vector3d& near, VertexGrid& grid, const ExactPlane& d);
+
 /// side_at_vertex() at a vertex of a, b, c that is the grid point `x` (grid_vertex()), for d
 /// exact on the same grid: d's integer value at x, and where that is zero (the tie of most of a
 /// carving's undecided corners: a tool vertex where several facets meet) the perturbation, from

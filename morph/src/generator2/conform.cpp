@@ -106,7 +106,7 @@ class Builder {
         // at it (facet_clipping.h): the look orders most pairs, the exact predicate the rest
         // (ties and near ties), with the same answers.
         // Where the look is not sure, the exact side at the vertex's grid point when it is one
-        // (side_at_grid_vertex(), the same sign as side_at_vertex() at a fraction of its cost),
+        // (side_at_vertex_near(): the same sign as side_at_vertex() at a fraction of its cost),
         // looked for once per vertex.
         struct OnLine {
           std::uint32_t vertex;
@@ -114,26 +114,18 @@ class Builder {
           const ExactPlane* third;
           double length;  // of third->normal
           std::optional<CornerLook> look;
-          std::optional<GridPoint> grid;
-          bool grid_looked_for = false;
+          VertexGrid grid;
         };
         std::vector<OnLine> on_line;
         on_line.reserve(count);
         for (std::size_t k = 0; k < count; ++k) {
           const ExactPlane& third = third_plane(line[k], static_cast<std::uint32_t>(l));
           on_line.push_back({line[k], normals_orientation(lo, hi, third), &third, third.normal.norm(),
-                             corner_look(lo, hi, third), std::nullopt, false});
+                             corner_look(lo, hi, third), VertexGrid{}});
         }
         auto exact_side = [&](OnLine& r1, const ExactPlane& plane) {
-          if (plane.exact.set() && lo.exact.set() && plane.exact.grid_exponent == lo.exact.grid_exponent) {
-            if (!r1.grid_looked_for) {
-              r1.grid = r1.look ? grid_vertex_near(lo, hi, *r1.third, r1.look->point)
-                                : grid_vertex(lo, hi, *r1.third);
-              r1.grid_looked_for = true;
-            }
-            if (r1.grid) return side_at_grid_vertex(lo, hi, *r1.third, *r1.grid, plane);
-          }
-          return side_at_vertex(lo, hi, *r1.third, plane);
+          return r1.look ? side_at_vertex_near(lo, hi, *r1.third, r1.look->point, r1.grid, plane)
+                         : side_at_vertex(lo, hi, *r1.third, plane);
         };
         std::sort(on_line.begin(), on_line.end(), [&](OnLine& r1, OnLine& r2) {
           if (r1.vertex == r2.vertex) return false;

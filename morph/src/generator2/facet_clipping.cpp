@@ -98,16 +98,9 @@ int RoughCorners::exact_side(const ConvexPiece& piece, std::size_t k, const Exac
   const std::size_t n = piece.edges.size();
   const ExactPlane& a = piece.edges[(k + n - 1) % n];
   const ExactPlane& b = piece.edges[k];
-  if (usable_ && plane.exact.set() && piece.support.exact.set() &&
-      plane.exact.grid_exponent == piece.support.exact.grid_exponent) {
-    const Corner& c = corners_[k];
-    if (!c.grid_looked_for) {
-      c.grid = grid_vertex_near(piece.support, a, b, c.point);  // the look is well within a grid step
-      c.grid_looked_for = true;
-    }
-    if (c.grid) return side_at_grid_vertex(piece.support, a, b, *c.grid, plane);
-  }
-  return side_at_vertex(piece.support, a, b, plane);
+  if (!usable_) return side_at_vertex(piece.support, a, b, plane);
+  const Corner& c = corners_[k];  // its look is well within a grid step of the vertex
+  return side_at_vertex_near(piece.support, a, b, c.point, c.grid, plane);
 }
 
 namespace {

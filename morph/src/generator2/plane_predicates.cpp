@@ -387,6 +387,18 @@ std::optional<GridPoint> grid_vertex_near(const ExactPlane& a, const ExactPlane&
   return point;
 }
 
+int side_at_vertex_near(const ExactPlane& a, const ExactPlane& b, const ExactPlane& c,
+                        const Eigen::Vector3d& near, VertexGrid& grid, const ExactPlane& d) {
+  if (d.exact.set() && a.exact.set() && d.exact.grid_exponent == a.exact.grid_exponent) {
+    if (!grid.looked_for) {
+      grid.point = grid_vertex_near(a, b, c, near);
+      grid.looked_for = true;
+    }
+    if (grid.point) return side_at_grid_vertex(a, b, c, *grid.point, d);
+  }
+  return side_at_vertex(a, b, c, d);
+}
+
 int side_at_grid_vertex(const ExactPlane& a, const ExactPlane& b, const ExactPlane& c, const GridPoint& x,
                         const ExactPlane& d) {
   ++predicate_counts().calls;
