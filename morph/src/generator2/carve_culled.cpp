@@ -460,8 +460,11 @@ class Carving {
 std::vector<AlignedBox3d> sweep_boxes(const std::vector<CarveSweep>& sweeps) {
   std::vector<AlignedBox3d> boxes;
   boxes.reserve(sweeps.size());
+  // The tool's box once per run of sweeps of one tool (a tool has hundreds of vertices).
+  const SweepPolytopeBuilder* last = nullptr;
+  AlignedBox3d tool;
   for (const CarveSweep& s : sweeps) {
-    const AlignedBox3d tool = s.tool->tool().bounds();
+    if (s.tool != last) last = s.tool, tool = s.tool->tool().bounds();
     AlignedBox3d box = tool.translated(s.from);
     box.extend(tool.translated(s.to));
     boxes.push_back(grown_for_rounding(box));
@@ -532,11 +535,16 @@ std::vector<CarvedPiece> carve_culled(const StockPolytope& stock, const std::vec
     total.ties += w.stages.ties;
     total.refined += w.stages.refined;
   }
-  std::size_t total_pieces = 0;
-  for (const std::vector<CarvedPiece>& slot : slots) total_pieces += slot.size();
-  out.reserve(total_pieces);  // growing it piece by piece copied and faulted in its pages again and again
-  for (std::vector<CarvedPiece>& slot : slots)
-    for (CarvedPiece& p : slot) out.push_back(std::move(p));
+  // The slots one after another, moved in parallel into storage faulted in in parallel (growing
+  // it piece by piece copied and faulted in its pages again and again; one thread moving them
+  // left the other idle).
+  std::vector<std::size_t> first_piece(slots.size() + 1, 0);
+  for (std::size_t k = 0; k < slots.size(); ++k) first_piece[k + 1] = first_piece[k] + slots[k].size();
+  resize_faulted_in(out, first_piece.back(), policy);
+  for_each_index(policy, 0, slots.size(), [&](std::size_t k) {
+    std::move(slots[k].begin(), slots[k].end(), out.begin() + static_cast<std::ptrdiff_t>(first_piece[k]));
+    std::vector<CarvedPiece>().swap(slots[k]);
+  });
   total.carve.pieces = static_cast<double>(out.size());
   if (stages) *stages = total;
   return out;

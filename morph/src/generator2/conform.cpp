@@ -17,18 +17,6 @@ Pair pair_of(std::uint64_t a, std::uint64_t b) {
   return a < b ? Pair{a, b} : Pair{b, a};
 }
 
-// Touches every page of `bytes` bytes of fresh storage at `data` (reserved, not yet constructed)
-// under `policy`. The kernel zeroes a page on its first touch, and a vector's resize() touches
-// them all from one thread: on bear.nc the vertices' 200 MB took half a second of the assembly
-// that way, serial.
-void fault_in(void* data, std::size_t bytes, ExecutionPolicy policy) {
-  constexpr std::size_t kPage = 4096, kBlock = 512 * kPage;
-  auto* first = static_cast<unsigned char*>(data);
-  for_each_index(policy, 0, (bytes + kBlock - 1) / kBlock, [&](std::size_t b) {
-    for (std::size_t at = b * kBlock; at < std::min(bytes, (b + 1) * kBlock); at += kPage) first[at] = 0;
-  });
-}
-
 // The slot of a vertex's line through planes s and e: the index (in the vertex's rank-sorted
 // planes) of its third plane.
 int slot_of(const std::array<ExactPlane, 3>& v, std::uint64_t s, std::uint64_t e) {
@@ -51,7 +39,8 @@ class Builder {
       Key key;
       std::size_t index;  // piece by piece, edge by edge
     };
-    std::vector<Corner> corners(first_corner.back());
+    std::vector<Corner> corners;
+    resize_faulted_in(corners, first_corner.back(), policy);
     for_each_index(policy, 0, pieces.size(), [&](std::size_t i) {
       const ConvexPiece& piece = pieces[i].piece;
       const std::size_t n = piece.edges.size();
@@ -70,10 +59,10 @@ class Builder {
       if (c == 0 || corners[c].key != corners[c - 1].key) runs.emplace_back(corners[c].index, c);
     sort_under(policy, runs.begin(), runs.end(),
                [](const auto& a, const auto& b) { return a.first < b.first; });
-    std::vector<std::uint32_t> vertex_of(corners.size());
-    surface_.vertices.reserve(runs.size());
-    fault_in(surface_.vertices.data(), runs.size() * sizeof(surface_.vertices[0]), policy);
-    surface_.vertices.resize(runs.size());
+    std::vector<std::uint32_t> vertex_of;
+    resize_faulted_in(vertex_of, corners.size(), policy);
+    // The vertices' 200 MB on bear.nc, faulted in by one thread, took half a second.
+    resize_faulted_in(surface_.vertices, runs.size(), policy);
     for_each_index(policy, 0, runs.size(), [&](std::size_t v) {
       const std::size_t first = runs[v].first;
       const std::size_t i = static_cast<std::size_t>(
@@ -93,7 +82,8 @@ class Builder {
   // r1 comes first iff r1 is inside r2's third plane c2 and c2 faces along the direction, or
   // outside it and c2 faces back.
   void order_lines(ExecutionPolicy policy) {
-    position_.assign(surface_.vertices.size(), {0, 0, 0});
+    position_.clear();
+    resize_faulted_in(position_, surface_.vertices.size(), policy);  // zeros
     for_each_index(policy, 0, line_count(), [&](std::size_t l) {
       std::uint32_t* line = line_vertices_.data() + line_start_[l];
       const std::size_t count = line_size(l);
@@ -184,7 +174,8 @@ class Builder {
       std::uint32_t vertex;
       int slot;
     };
-    std::vector<OnLine> entries(3 * surface_.vertices.size());
+    std::vector<OnLine> entries;
+    resize_faulted_in(entries, 3 * surface_.vertices.size(), policy);
     for_each_index(policy, 0, surface_.vertices.size(), [&](std::size_t v) {
       const std::array<ExactPlane, 3>& planes = surface_.vertices[v];
       for (int slot = 0; slot < 3; ++slot)
@@ -196,8 +187,8 @@ class Builder {
     });
     // The lines one after another in one array (a vector per line cost a million small
     // allocations, made one at a time).
-    vertex_lines_.resize(surface_.vertices.size());
-    line_vertices_.resize(entries.size());
+    resize_faulted_in(vertex_lines_, surface_.vertices.size(), policy);
+    resize_faulted_in(line_vertices_, entries.size(), policy);
     line_start_.clear();
     for (std::size_t e = 0; e < entries.size(); ++e) {
       if (e == 0 || entries[e].line != entries[e - 1].line) line_start_.push_back(e);
@@ -225,7 +216,7 @@ ConformedSurface conform(const std::vector<CarvedPiece>& pieces, ExecutionPolicy
   const std::vector<std::uint32_t> vertex_of = builder.number(pieces, first_corner, policy);
   builder.order_lines(policy);
   ConformedSurface& surface = builder.surface();
-  surface.polygons.resize(pieces.size());
+  resize_faulted_in(surface.polygons, pieces.size(), policy);
   std::vector<std::size_t> inserted(pieces.size(), 0);
   for_each_index(policy, 0, pieces.size(), [&](std::size_t i) {
     const ConvexPiece& piece = pieces[i].piece;

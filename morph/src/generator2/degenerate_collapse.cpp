@@ -100,7 +100,7 @@ class Limit {
       rep_[v] = apart_[v] ? v : root[v];
     }
     const std::size_t n = surface.polygons.size();
-    polygons_.resize(n);
+    resize_faulted_in(polygons_, n, policy);
     removed_.assign(n, 0);
     zipped_.assign(n, 0);
     flat_.assign(n, kUnknown);
@@ -141,36 +141,42 @@ class Limit {
   // this step's time.
   std::set<std::uint32_t> non_manifold(const std::vector<std::uint32_t>& root) const {
     std::set<std::uint32_t> bad;
-    // Every corner's vertex with its (next, previous), grouped by vertex in polygon order (a
-    // counting sort: each vertex's walk below starts at its first corner).
-    std::vector<std::uint32_t> first(root.size() + 1, 0);
-    std::vector<Edge> edges;  // directed, once per use
-    for (std::size_t i = 0; i < polygons_.size(); ++i) {
-      if (removed_[i]) continue;
+    // Every corner as (vertex, next, previous), sorted: grouped by vertex, each directed edge
+    // (vertex, next) once per use. Filled and sorted in parallel (one thread building these
+    // lists for bear.nc's 5 million corners left the other idle).
+    struct Corner {
+      std::uint32_t at, next, previous;
+      bool operator<(const Corner& o) const {
+        return at < o.at || (at == o.at && (next < o.next || (next == o.next && previous < o.previous)));
+      }
+    };
+    std::vector<std::size_t> first_corner(polygons_.size() + 1, 0);
+    for (std::size_t i = 0; i < polygons_.size(); ++i)
+      first_corner[i + 1] = first_corner[i] + (removed_[i] ? 0 : polygons_[i].loop.size());
+    std::vector<Corner> corners;
+    resize_faulted_in(corners, first_corner.back(), policy_);
+    for_each_index(policy_, 0, polygons_.size(), [&](std::size_t i) {
+      if (removed_[i]) return;
       const auto& loop = polygons_[i].loop;
-      for (std::size_t k = 0; k < loop.size(); ++k) {
-        edges.push_back({loop[k], loop[(k + 1) % loop.size()]});
-        ++first[loop[k] + 1];
-      }
-    }
-    for (std::size_t v = 0; v < root.size(); ++v) first[v + 1] += first[v];
-    std::vector<Edge> wedges(edges.size());  // per vertex: (next, previous) per corner
-    {
-      std::vector<std::uint32_t> fill(first.begin(), first.end() - 1);
-      for (std::size_t i = 0; i < polygons_.size(); ++i) {
-        if (removed_[i]) continue;
-        const auto& loop = polygons_[i].loop;
-        const std::size_t n = loop.size();
-        for (std::size_t k = 0; k < n; ++k)
-          wedges[fill[loop[k]]++] = {loop[(k + 1) % n], loop[(k + n - 1) % n]};
-      }
-    }
-    // Each directed edge used once, and its reverse once.
-    sort_under(policy_, edges.begin(), edges.end(), std::less<Edge>());
+      const std::size_t n = loop.size();
+      for (std::size_t k = 0; k < n; ++k)
+        corners[first_corner[i] + k] = {loop[k], loop[(k + 1) % n], loop[(k + n - 1) % n]};
+    });
+    sort_under(policy_, corners.begin(), corners.end(), std::less<Corner>());
+    // Vertex v's corners are corners[first[v]] to corners[first[v + 1]].
+    std::vector<std::size_t> first(root.size() + 1, 0);
+    for_each_index(policy_, 0, root.size() + 1, [&](std::size_t v) {
+      first[v] =
+          static_cast<std::size_t>(std::lower_bound(corners.begin(), corners.end(), v,
+                                                    [](const Corner& c, std::size_t x) { return c.at < x; }) -
+                                   corners.begin());
+    });
     std::vector<std::pair<Edge, std::size_t>> uses;
-    for (std::size_t k = 0, end; k < edges.size(); k = end) {
-      for (end = k + 1; end < edges.size() && edges[end] == edges[k];) ++end;
-      uses.emplace_back(edges[k], end - k);
+    for (std::size_t k = 0, end; k < corners.size(); k = end) {
+      for (end = k + 1;
+           end < corners.size() && corners[end].at == corners[k].at && corners[end].next == corners[k].next;)
+        ++end;
+      uses.emplace_back(Edge{corners[k].at, corners[k].next}, end - k);
     }
     // Both checks in parallel, each use and each vertex flagging itself; the classes are
     // gathered after (a set: the same whatever the order).
@@ -184,34 +190,30 @@ class Limit {
     });
     for (std::size_t k = 0; k < uses.size(); ++k)
       if (bad_use[k]) bad.insert(root[uses[k].first.first]), bad.insert(root[uses[k].first.second]);
-    struct FanScratch {
-      std::vector<std::pair<std::uint32_t, std::size_t>> order;
-      std::vector<Edge> next_of;
-    };
-    tbb::enumerable_thread_specific<FanScratch> scratch;
+    tbb::enumerable_thread_specific<std::vector<Edge>> scratch;
     std::vector<char> bad_fan(root.size(), 0);
     for_each_index(policy_, 0, root.size(), [&](std::size_t v) {
       if (first[v] == first[v + 1]) return;
-      const auto around = wedges.begin() + first[v];
+      const auto around = corners.begin() + static_cast<std::ptrdiff_t>(first[v]);
       const std::size_t m = first[v + 1] - first[v];
       // One fan: from a corner, the corner whose next is this one's previous, around to the start.
-      // next_of as a map from next to previous, a later corner's entry replacing an earlier one's.
-      auto& [order, next_of] = scratch.local();
-      order.clear();
-      for (std::size_t c = 0; c < m; ++c) order.emplace_back(around[c].first, c);
-      std::sort(order.begin(), order.end());
+      // next_of maps next to previous (the corners come sorted by next); a next used twice leaves
+      // it shorter than m, so the vertex is flagged whichever entry is kept. Otherwise, where no
+      // use is flagged above, the previous vertices are the next ones again, once each: the walk
+      // goes round one cycle of that permutation, and finds m steps from any start iff one fan.
+      auto& next_of = scratch.local();
       next_of.clear();
       for (std::size_t c = 0; c < m; ++c)
-        if (c + 1 == m || order[c + 1].first != order[c].first)
-          next_of.push_back({order[c].first, around[order[c].second].second});
+        if (c + 1 == m || around[c + 1].next != around[c].next)
+          next_of.push_back({around[c].next, around[c].previous});
       std::size_t steps = 0;
-      std::uint32_t at = around[0].first;
+      std::uint32_t at = around[0].next;
       do {
         const auto it = std::lower_bound(next_of.begin(), next_of.end(), at,
                                          [](const Edge& w, std::uint32_t x) { return w.first < x; });
         if (it == next_of.end() || it->first != at) break;
         at = it->second, ++steps;
-      } while (at != around[0].first && steps <= m);
+      } while (at != around[0].next && steps <= m);
       bad_fan[v] = steps != m || next_of.size() != m;
     });
     for (std::size_t v = 0; v < root.size(); ++v)
