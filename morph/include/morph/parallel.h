@@ -34,13 +34,18 @@ inline void fault_in_pages(void* data, std::size_t bytes, ExecutionPolicy policy
   });
 }
 
+/// `v` with room for `size` elements, the pages of its new room faulted in under `policy`.
+template <class Vector>
+void reserve_faulted_in(Vector& v, std::size_t size, ExecutionPolicy policy) {
+  if (size <= v.capacity()) return;
+  v.reserve(size);
+  fault_in_pages(v.data() + v.size(), (size - v.size()) * sizeof(v[0]), policy);
+}
+
 /// `v` resized to `size` default elements, its new pages faulted in under `policy` first.
 template <class Vector>
 void resize_faulted_in(Vector& v, std::size_t size, ExecutionPolicy policy) {
-  if (size > v.capacity()) {
-    v.reserve(size);
-    fault_in_pages(v.data() + v.size(), (size - v.size()) * sizeof(v[0]), policy);
-  }
+  reserve_faulted_in(v, size, policy);
   v.resize(size);
 }
 

@@ -172,6 +172,7 @@ class Limit {
                                    corners.begin());
     });
     std::vector<std::pair<Edge, std::size_t>> uses;
+    reserve_faulted_in(uses, corners.size(), policy_);
     for (std::size_t k = 0, end; k < corners.size(); k = end) {
       for (end = k + 1;
            end < corners.size() && corners[end].at == corners[k].at && corners[end].next == corners[k].next;)
@@ -412,7 +413,8 @@ LimitSurface collapse_degenerates(ConformedSurface surface, ExecutionPolicy poli
   if (surface.vertices.size() > std::numeric_limits<PlaneRef>::max() / 3)
     throw LimitError("limit step: more than " + std::to_string(std::numeric_limits<PlaneRef>::max() / 3) +
                      " vertices");
-  std::vector<PlanarLoop> planar(surface.polygons.size());
+  std::vector<PlanarLoop> planar;
+  resize_faulted_in(planar, surface.polygons.size(), policy);
   for_each_index(policy, 0, planar.size(),
                  [&](std::size_t i) { planar[i] = planar_loop(surface, surface.polygons[i]); });
   std::vector<Eigen::Vector3d> points;

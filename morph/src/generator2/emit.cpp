@@ -38,14 +38,15 @@ TriangleMesh emit(const LimitSurface& surface, const std::vector<std::int32_t>& 
       centre_of[i] = vertex_count++;
     first_triangle[i + 1] = first_triangle[i] + triangles;
   }
-  mesh.vertices.resize(vertex_count);
+  resize_faulted_in(mesh.vertices, vertex_count, policy);
   for_each_index(policy, 0, used.size(), [&](std::size_t k) {
     const auto& t = surface.vertices[used[k]];
     mesh.vertices[k] = surface.points.empty() ? vertex_point(t[0], t[1], t[2]) : surface.points[used[k]];
   });
-  mesh.triangles.resize(first_triangle.back());
-  mesh.tags.resize(first_triangle.back());
-  std::vector<Eigen::Vector3d> facing(first_triangle.back());  // per triangle: the way its polygon faces out
+  resize_faulted_in(mesh.triangles, first_triangle.back(), policy);
+  resize_faulted_in(mesh.tags, first_triangle.back(), policy);
+  std::vector<Eigen::Vector3d> facing;  // per triangle: the way its polygon faces out
+  resize_faulted_in(facing, first_triangle.back(), policy);
   for_each_index(policy, 0, polygons, [&](std::size_t i) {
     const LimitPolygon& polygon = surface.polygons[i];
     const FaceTag tag = polygon.move < 0 ? FaceTag{PatchKind::StockFace, polygon.face, 0}

@@ -21,7 +21,8 @@ std::vector<std::uint32_t> limit_classes(const std::vector<std::array<ExactPlane
                                          ExecutionPolicy policy, std::vector<Eigen::Vector3d>* points) {
   constexpr double kCell = 1e-6;
   using Cell = std::array<std::int64_t, 3>;
-  std::vector<std::pair<Cell, std::uint32_t>> cells(vertices.size());
+  std::vector<std::pair<Cell, std::uint32_t>> cells;
+  resize_faulted_in(cells, vertices.size(), policy);
   // Per vertex: its rounded point lies near a face of its cell. vertex_point() is within 1e-12 of
   // its size of the exact point, so two vertices of one exact point in different cells are both
   // within a millionth of that of the face between: only cells holding such a vertex look at
@@ -29,7 +30,7 @@ std::vector<std::uint32_t> limit_classes(const std::vector<std::array<ExactPlane
   std::vector<char> near_face(vertices.size(), 0);
   std::vector<Eigen::Vector3d> own_points;
   std::vector<Eigen::Vector3d>& point = points ? *points : own_points;
-  point.resize(vertices.size());
+  resize_faulted_in(point, vertices.size(), policy);
   for_each_index(policy, 0, vertices.size(), [&](std::size_t v) {
     const Eigen::Vector3d x = vertex_point(vertices[v][0], vertices[v][1], vertices[v][2]);
     point[v] = x;
