@@ -23,6 +23,11 @@ using exact::ExactRows;
 using exact::Row;  // normal, offset
 
 constexpr double kUnit = DBL_EPSILON / 2;  // unit roundoff
+// vertex_point()'s Cramer rule is within the margin of the float looks (RoughCorners) only with
+// a long double of 64 bits of mantissa or more (x87's 80 bits on amd64): with 53, its error on
+// corners of small determinants is thousands of times larger, and the looks would decide wrongly.
+// (Valgrind computes long double as double: under it a whole job such as bear.nc fails.)
+static_assert(LDBL_MANT_DIG >= 64, "vertex_point() needs a long double of at least 64 bits of mantissa");
 // Error bounds of the evaluation orders below: a 3×3 determinant by cofactors is within
 // 5u(1+u)^5 of its permanent (the same sum with absolute values; two products and two sums
 // deep); the 4×4, the offsets times those cofactors, adds each cofactor's bound times its offset
