@@ -145,18 +145,19 @@ TEST(DegenerateCollapse, TurnAt179Point99Degrees) {
   EXPECT_GT(near.topology.volume, single.topology.volume - 25 * 3 * 0.003);
 }
 
+// The axis-aligned box [lo, hi] as a cutter's halfspaces.
+std::vector<morph::Halfspace> cube_cutter(const Vector3d& lo, const Vector3d& hi) {
+  return {{Vector3d(-1, 0, 0), -lo.x()}, {Vector3d(1, 0, 0), hi.x()},   {Vector3d(0, -1, 0), -lo.y()},
+          {Vector3d(0, 1, 0), hi.y()},   {Vector3d(0, 0, -1), -lo.z()}, {Vector3d(0, 0, 1), hi.z()}};
+}
+
 TEST(DegenerateCollapse, CuttersTouchingAlongAnEdgeStayApart) {
   // Two cube cutters inside the stock sharing one edge only: the limit solid is not a manifold
   // there (four faces on one edge). The output keeps the two sheets apart and stays a
   // 2-manifold; removed: both cubes.
   const Eigen::AlignedBox3d box(Vector3d(0, 0, 0), Vector3d(10, 10, 10));
-  const auto cube = [](const Vector3d& lo, const Vector3d& hi) {
-    return std::vector<morph::Halfspace>{{Vector3d(-1, 0, 0), -lo.x()}, {Vector3d(1, 0, 0), hi.x()},
-                                         {Vector3d(0, -1, 0), -lo.y()}, {Vector3d(0, 1, 0), hi.y()},
-                                         {Vector3d(0, 0, -1), -lo.z()}, {Vector3d(0, 0, 1), hi.z()}};
-  };
-  const Stages s =
-      run(box, {cube(Vector3d(2, 2, 2), Vector3d(5, 5, 8)), cube(Vector3d(5, 5, 2), Vector3d(8, 8, 8))});
+  const Stages s = run(box, {cube_cutter(Vector3d(2, 2, 2), Vector3d(5, 5, 8)),
+                             cube_cutter(Vector3d(5, 5, 2), Vector3d(8, 8, 8))});
   EXPECT_TRUE(s.topology.closed_manifold());
   EXPECT_GT(s.limit.counts.kept_apart, 0u);
   EXPECT_EQ(s.emitted.misoriented_left, 0u);
@@ -168,16 +169,12 @@ TEST(DegenerateCollapse, CuttersTouchingAtACornerStayApart) {
   // shared corner has two fans of faces. Only the fan walk sees it; the output keeps the two
   // cavities apart there.
   const Eigen::AlignedBox3d box(Vector3d(0, 0, 0), Vector3d(10, 10, 10));
-  const auto cube = [](const Vector3d& lo, const Vector3d& hi) {
-    return std::vector<morph::Halfspace>{{Vector3d(-1, 0, 0), -lo.x()}, {Vector3d(1, 0, 0), hi.x()},
-                                         {Vector3d(0, -1, 0), -lo.y()}, {Vector3d(0, 1, 0), hi.y()},
-                                         {Vector3d(0, 0, -1), -lo.z()}, {Vector3d(0, 0, 1), hi.z()}};
-  };
   for (const morph::ExecutionPolicy policy :
        {morph::ExecutionPolicy::Sequential, morph::ExecutionPolicy::Parallel}) {
-    const Stages s =
-        run(box, {cube(Vector3d(2, 2, 2), Vector3d(5, 5, 5)), cube(Vector3d(5, 5, 5), Vector3d(8, 8, 8))},
-            policy);
+    const Stages s = run(box,
+                         {cube_cutter(Vector3d(2, 2, 2), Vector3d(5, 5, 5)),
+                          cube_cutter(Vector3d(5, 5, 5), Vector3d(8, 8, 8))},
+                         policy);
     EXPECT_TRUE(s.topology.closed_manifold());
     EXPECT_EQ(s.topology.non_manifold_vertices, 0u);
     EXPECT_GT(s.limit.counts.kept_apart, 0u);
