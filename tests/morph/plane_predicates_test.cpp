@@ -447,4 +447,44 @@ TEST(PlanePredicates, SideAtAGridVertexIsSideAtVertex) {
   EXPECT_FALSE(morph::grid_vertex_near(off, ys, zs, Vector3d(0.5 * std::ldexp(1.0, grid), 0, 0)));
 }
 
+// A vertex of three grid planes that is no grid point: side_at_vertex_near() finds no grid point,
+// keeps that in its VertexGrid, and decides every plane, ties too, as side_at_vertex() does.
+TEST(PlanePredicates, SideAtAVertexOffTheGridIsSideAtVertex) {
+  std::mt19937_64 rng(29);
+  std::uniform_int_distribution<int> component(-40, 40), shift(-1, 1);
+  std::uniform_int_distribution<std::int64_t> coordinate(-(std::int64_t{1} << 30), std::int64_t{1} << 30);
+  const int grid = -20;
+  auto exact_plane = [&](const morph::GridPoint& through, std::uint64_t rank, int direction) {
+    return random_plane_through(rng, component, through, grid, rank, direction);
+  };
+  int off_grid = 0, ties = 0;
+  for (int trial = 0; trial < 1000; ++trial) {
+    const morph::GridPoint x{coordinate(rng), coordinate(rng), coordinate(rng)};
+    const ExactPlane a = exact_plane(x, 7, 1), b = exact_plane(x, 2, -1);
+    // The third moved off x by one unit of its integer offset: the vertex leaves the grid point.
+    ExactPlane c = exact_plane(x, 9, 1);
+    c.exact.offset += 1;
+    c.offset = std::ldexp(static_cast<double>(c.exact.offset), grid);
+    if (!morph::vertex_exists(a, b, c) || morph::grid_vertex(a, b, c)) continue;
+    ++off_grid;
+    const Vector3d near = morph::vertex_point(a, b, c);
+    morph::VertexGrid vertex_grid;
+    for (int k = 0; k < 4; ++k) {
+      const morph::GridPoint y{x[0] + shift(rng), x[1] + shift(rng), x[2] + shift(rng)};
+      ExactPlane d = exact_plane(y, static_cast<std::uint64_t>(20 + k), k % 2 ? 1 : -1);
+      if (k == 3) {  // c's plane under another rank: through the vertex, a tie
+        d = c;
+        d.rank = 30;
+        ++ties;
+      }
+      EXPECT_EQ(morph::side_at_vertex_near(a, b, c, near, vertex_grid, d), morph::side_at_vertex(a, b, c, d))
+          << trial << " " << k;
+      EXPECT_TRUE(vertex_grid.looked_for);
+      EXPECT_FALSE(vertex_grid.point);
+    }
+  }
+  EXPECT_GT(off_grid, 800);
+  EXPECT_GT(ties, 800);
+}
+
 }  // namespace

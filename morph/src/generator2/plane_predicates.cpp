@@ -151,7 +151,8 @@ class FourPlanes {
     }
   }
   // Sign of det[normals | offsets].
-  int determinant_sign() {
+  // `vertex_off_grid`: the caller found the vertex of the first three is no grid point.
+  int determinant_sign(bool vertex_off_grid = false) {
     double value = 0, bound = 0;
     for (int i = 0; i < 4; ++i) {
       value += rows_[i][3] * cofactor_[i].value;
@@ -166,7 +167,8 @@ class FourPlanes {
     // where the double-word filter would only fail.
     if (integer_[0]) {
       ++predicate_counts().exact;
-      if (const std::optional<int> s = grid_vertex_sign()) return *s;
+      if (!vertex_off_grid)
+        if (const std::optional<int> s = grid_vertex_sign()) return *s;
       return exact::integer_det4_sign(integer_);
     }
     // The double-word filter reads one double per offset: rows with a low part go to the integers.
@@ -321,7 +323,11 @@ int normals_orientation(const ExactPlane& a, const ExactPlane& b, const ExactPla
   return orientation_of(a, b, c, ra, rb, rc, det3(ra, rb, rc));
 }
 
-int side_at_vertex(const ExactPlane& a, const ExactPlane& b, const ExactPlane& c, const ExactPlane& d) {
+namespace {
+
+// side_at_vertex(); `vertex_off_grid` as FourPlanes::determinant_sign() takes it.
+int side_at_vertex(const ExactPlane& a, const ExactPlane& b, const ExactPlane& c, const ExactPlane& d,
+                   bool vertex_off_grid) {
   ++predicate_counts().calls;
   FourPlanes four({&a, &b, &c, &d});  // its rows also give the orientation of a, b, c
   const int orientation = four.orientation();
@@ -329,7 +335,7 @@ int side_at_vertex(const ExactPlane& a, const ExactPlane& b, const ExactPlane& c
     throw std::invalid_argument("side_at_vertex: the three planes have no single common point");
   if (d.rank == a.rank || d.rank == b.rank || d.rank == c.rank) return 0;
   // det[n|o] = -det3(a,b,c)·(d.normal·x - d.offset), x the vertex (Schur complement).
-  int det = four.determinant_sign();
+  int det = four.determinant_sign(vertex_off_grid);
   if (det == 0) {
     // Offsets o_i + direction_i·ε_rank_i: det[n|o+δ] = Σ δ_i·cofactor_i, decided by the
     // dominant (smallest) rank with a non-zero cofactor; d's own cofactor is ±det3(a,b,c) ≠ 0.
@@ -344,6 +350,12 @@ int side_at_vertex(const ExactPlane& a, const ExactPlane& b, const ExactPlane& c
       }
   }
   return -det * orientation;
+}
+
+}  // namespace
+
+int side_at_vertex(const ExactPlane& a, const ExactPlane& b, const ExactPlane& c, const ExactPlane& d) {
+  return side_at_vertex(a, b, c, d, false);
 }
 
 std::optional<GridPoint> grid_vertex(const ExactPlane& a, const ExactPlane& b, const ExactPlane& c) {
@@ -400,8 +412,10 @@ int side_at_vertex_near(const ExactPlane& a, const ExactPlane& b, const ExactPla
       grid.looked_for = true;
     }
     if (grid.point) return side_at_grid_vertex(a, b, c, *grid.point, d);
+    // Not a grid point: the integers decide without looking for one again.
+    return side_at_vertex(a, b, c, d, true);
   }
-  return side_at_vertex(a, b, c, d);
+  return side_at_vertex(a, b, c, d, false);
 }
 
 int side_at_grid_vertex(const ExactPlane& a, const ExactPlane& b, const ExactPlane& c, const GridPoint& x,
