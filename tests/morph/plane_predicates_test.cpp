@@ -391,18 +391,31 @@ TEST(PlanePredicates, PlanesThroughAGridPointAreDecidedThere) {
 // The grid vertex of three exact planes, and d's side there from it, ties included: the same as
 // side_at_vertex() for every d, through the vertex or a neighbouring grid point, of any rank and
 // direction; and no grid vertex where the planes meet between grid points.
-TEST(PlanePredicates, SideAtAGridVertexIsSideAtVertex) {
-  std::mt19937_64 rng(23);
-  std::uniform_int_distribution<int> component(-40, 40), shift(-1, 1);
-  std::uniform_int_distribution<std::int64_t> coordinate(-(std::int64_t{1} << 30), std::int64_t{1} << 30);
+// Random grid points within 2^30 steps of the origin, and random planes exact on the grid (step
+// 2^-20) through given grid points.
+struct RandomGridPlanes {
+  explicit RandomGridPlanes(std::uint64_t seed) : rng(seed) {}
+  morph::GridPoint point() { return {coordinate(rng), coordinate(rng), coordinate(rng)}; }
+  morph::GridPoint near(const morph::GridPoint& x) {
+    return {x[0] + shift(rng), x[1] + shift(rng), x[2] + shift(rng)};
+  }
+  ExactPlane through(const morph::GridPoint& x, std::uint64_t rank, int direction) {
+    return random_plane_through(rng, component, x, grid, rank, direction);
+  }
+  std::mt19937_64 rng;
   const int grid = -20;
-  auto exact_plane = [&](const morph::GridPoint& through, std::uint64_t rank, int direction) {
-    return random_plane_through(rng, component, through, grid, rank, direction);
-  };
+  std::uniform_int_distribution<int> component{-40, 40}, shift{-1, 1};
+  std::uniform_int_distribution<std::int64_t> coordinate{-(std::int64_t{1} << 30), std::int64_t{1} << 30};
+};
+
+TEST(PlanePredicates, SideAtAGridVertexIsSideAtVertex) {
+  RandomGridPlanes on_grid(23);
+  const int grid = on_grid.grid;
   int ties = 0, found = 0;
   for (int trial = 0; trial < 2000; ++trial) {
-    const morph::GridPoint x{coordinate(rng), coordinate(rng), coordinate(rng)};
-    const ExactPlane a = exact_plane(x, 7, 1), b = exact_plane(x, 2, -1), c = exact_plane(x, 9, 1);
+    const morph::GridPoint x = on_grid.point();
+    const ExactPlane a = on_grid.through(x, 7, 1), b = on_grid.through(x, 2, -1),
+                     c = on_grid.through(x, 9, 1);
     // A point a third of a grid step off the vertex finds it too.
     const double step = std::ldexp(1.0, grid);
     const Vector3d near(static_cast<double>(x[0]) * step + step / 3,
@@ -419,15 +432,14 @@ TEST(PlanePredicates, SideAtAGridVertexIsSideAtVertex) {
     // Two steps off, the nearest grid point is not the vertex: nothing.
     EXPECT_FALSE(morph::grid_vertex_near(a, b, c, near + Vector3d(2 * step, 0, 0)));
     ++found;
-    const morph::GridPoint y =
-        trial % 3 == 0 ? x : morph::GridPoint{x[0] + shift(rng), x[1] + shift(rng), x[2] + shift(rng)};
-    const ExactPlane d = exact_plane(y, static_cast<std::uint64_t>(trial % 12), trial % 2 ? 1 : -1);
+    const morph::GridPoint y = trial % 3 == 0 ? x : on_grid.near(x);
+    const ExactPlane d = on_grid.through(y, static_cast<std::uint64_t>(trial % 12), trial % 2 ? 1 : -1);
     ties += d.exact.value_at(x) == 0 && d.rank != 2 && d.rank != 7 && d.rank != 9;
     EXPECT_EQ(morph::side_at_grid_vertex(a, b, c, x, d), morph::side_at_vertex(a, b, c, d)) << trial;
     EXPECT_EQ(morph::limit_side_at_grid_vertex(a, b, c, x, d), morph::limit_side_at_vertex(a, b, c, d))
         << trial;
     // The same point named by other planes through it, or not: decided alike with a point near it.
-    const std::array<ExactPlane, 3> u{a, b, c}, v{d, exact_plane(x, 20, 1), exact_plane(x, 21, -1)};
+    const std::array<ExactPlane, 3> u{a, b, c}, v{d, on_grid.through(x, 20, 1), on_grid.through(x, 21, -1)};
     EXPECT_EQ(morph::same_limit_point(u, v, near), morph::same_limit_point(u, v)) << trial;
     // A plane of the same rank as one of the three is on the vertex.
     EXPECT_EQ(morph::side_at_grid_vertex(a, b, c, x, b), 0);
@@ -450,19 +462,14 @@ TEST(PlanePredicates, SideAtAGridVertexIsSideAtVertex) {
 // A vertex of three grid planes that is no grid point: side_at_vertex_near() finds no grid point,
 // keeps that in its VertexGrid, and decides every plane, ties too, as side_at_vertex() does.
 TEST(PlanePredicates, SideAtAVertexOffTheGridIsSideAtVertex) {
-  std::mt19937_64 rng(29);
-  std::uniform_int_distribution<int> component(-40, 40), shift(-1, 1);
-  std::uniform_int_distribution<std::int64_t> coordinate(-(std::int64_t{1} << 30), std::int64_t{1} << 30);
-  const int grid = -20;
-  auto exact_plane = [&](const morph::GridPoint& through, std::uint64_t rank, int direction) {
-    return random_plane_through(rng, component, through, grid, rank, direction);
-  };
+  RandomGridPlanes on_grid(29);
+  const int grid = on_grid.grid;
   int off_grid = 0, ties = 0;
   for (int trial = 0; trial < 1000; ++trial) {
-    const morph::GridPoint x{coordinate(rng), coordinate(rng), coordinate(rng)};
-    const ExactPlane a = exact_plane(x, 7, 1), b = exact_plane(x, 2, -1);
+    const morph::GridPoint x = on_grid.point();
+    const ExactPlane a = on_grid.through(x, 7, 1), b = on_grid.through(x, 2, -1);
     // The third moved off x by one unit of its integer offset: the vertex leaves the grid point.
-    ExactPlane c = exact_plane(x, 9, 1);
+    ExactPlane c = on_grid.through(x, 9, 1);
     c.exact.offset += 1;
     c.offset = std::ldexp(static_cast<double>(c.exact.offset), grid);
     if (!morph::vertex_exists(a, b, c) || morph::grid_vertex(a, b, c)) continue;
@@ -470,8 +477,8 @@ TEST(PlanePredicates, SideAtAVertexOffTheGridIsSideAtVertex) {
     const Vector3d near = morph::vertex_point(a, b, c);
     morph::VertexGrid vertex_grid;
     for (int k = 0; k < 4; ++k) {
-      const morph::GridPoint y{x[0] + shift(rng), x[1] + shift(rng), x[2] + shift(rng)};
-      ExactPlane d = exact_plane(y, static_cast<std::uint64_t>(20 + k), k % 2 ? 1 : -1);
+      const morph::GridPoint y = on_grid.near(x);
+      ExactPlane d = on_grid.through(y, static_cast<std::uint64_t>(20 + k), k % 2 ? 1 : -1);
       if (k == 3) {  // c's plane under another rank: through the vertex, a tie
         d = c;
         d.rank = 30;
