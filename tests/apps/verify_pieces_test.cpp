@@ -7,6 +7,7 @@
 #include <morph/sweep_distance.h>
 #include <morph/tool.h>
 
+#include <algorithm>
 #include <cmath>
 #include <vector>
 
@@ -243,6 +244,46 @@ TEST(VerifyPieces, ANeckThinnerThanTheStepIsBridgedWithinTwiceTheTolerance) {
   EXPECT_FALSE(morphmill::material_reaches_out(
       field, Eigen::AlignedBox3d(in_groove.array() - 0.2, in_groove.array() + 0.2), 0.1, tolerance,
       2 * tolerance));
+}
+
+// Stress seed 187, case 1316: a star {7/2} once round under a sphere whose centre runs 1.088
+// below the top, at tolerance 0.05. Where grooves cross near the top, seven slivers of about
+// 0.15 mm^3 are parted from the rest by a slit along which the exact field stays below 0.004: the
+// generator's polytopes leave a neck through it and make one piece, within the tolerance of the
+// field both ways; the reference's 0.453 mm voxels see three of the slivers. Counting the points
+// where the field is below the tolerance as material joins them; a chip parted by a deeper void
+// stays freed (ASmallPieceOutsideTheExactSolidIsAPhantom, at tolerance 0.02).
+morph::Job star_with_slit_parted_slivers() {
+  return morphmill_test::box_polyline_job(
+      Eigen::AlignedBox3d(Vector3d(-17, -17, 0), Vector3d(16, 16, 6.631)), morph::sphere_tool(1.813),
+      star_round(7, 2, 12.531, 5.543, -12.520460745784176, 0.5138323785803717, 1), 0.05);
+}
+
+TEST(VerifyPieces, AVoidWhereTheFieldStaysBelowTheToleranceMayJoinWhatItParts) {
+  const morph::Job job = star_with_slit_parted_slivers();
+  const morph::ErosionField field(job);  // holds the job by reference
+  const double voxel = 0.45325, tolerance = 0.05;
+  // The slit: on its axis, between a sliver above and the rest below, the field is positive but
+  // far below the tolerance.
+  double highest = -1.0;
+  for (double z = 5.46; z <= 5.62; z += 0.02)
+    highest = std::max(highest, field.value(Vector3d(-9.62, 0.394, z)));
+  EXPECT_GT(highest, 0.0);
+  EXPECT_LT(highest, 0.1 * tolerance);
+  // The reference's piece there (one voxel), grown by a voxel as match_pieces() grows it: the
+  // exact solid frees the sliver, and no bridge of twice the tolerance joins it, since the slit
+  // is 0.2 mm long; the field below the tolerance does.
+  Eigen::AlignedBox3d sliver(Vector3d(-9.51825, 0.45325, 6.3455), Vector3d(-9.51825, 0.45325, 6.3455));
+  sliver.min().array() -= voxel;
+  sliver.max().array() += voxel;
+  EXPECT_FALSE(morphmill::material_reaches_out(field, sliver, 2 * voxel, tolerance, 2 * tolerance));
+  EXPECT_TRUE(morphmill::material_reaches_out(field, sliver, 2 * voxel, tolerance, 2 * tolerance, tolerance));
+  const morphmill::VerifyOutcome o = generator2_outcome(job, voxel);
+  ASSERT_EQ(o.morph_pieces.size(), 1u);
+  ASSERT_EQ(o.reference_pieces.size(), 4u);
+  EXPECT_TRUE(o.generator_within_tolerance);
+  EXPECT_TRUE(o.pieces_match);
+  EXPECT_EQ(o.pieces_below_resolution, 3u);
 }
 
 }  // namespace

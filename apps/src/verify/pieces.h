@@ -31,8 +31,8 @@ std::vector<PieceRecord> mesh_pieces(const morph::TriangleMesh& mesh);
 /// (holds_exact_material: a chip; else a phantom); each small one of the reference's must lie within a voxel
 /// of one of those, or be material that the exact solid joins to more of itself two voxels around
 /// (material_reaches_out over its bounds grown by a voxel at the tolerance's step, bridging gaps
-/// up to twice the tolerance, a ReferencePiece's bounds being its voxels' centres: a neck
-/// narrower than the voxels, which the level set cut).
+/// up to twice the tolerance and voids where the field stays below it, a ReferencePiece's bounds being its
+/// voxels' centres: a neck narrower than the voxels, which the level set cut).
 /// *below_resolution: the small pieces judged so, of both sides, when that decided.
 bool match_pieces(const std::vector<PieceRecord>& morph_pieces,
                   const std::vector<PieceRecord>& reference_pieces, double voxel_size, double tolerance,
@@ -44,12 +44,13 @@ bool match_pieces(const std::vector<PieceRecord>& morph_pieces,
 bool holds_exact_material(const morph::ErosionField& field, const PieceRecord& piece);
 
 /// Whether the exact solid's material in `box` reaches out of it: the points of a grid of `step`
-/// over the box grown by `margin` where the field is negative, joined when 6-connected or no
+/// over the box grown by `margin` where the field is below `within` (0: the exact solid; the
+/// tolerance: the solid with its voids no deeper than the tolerance), joined when 6-connected or no
 /// farther apart than `bridge`, include some in the box (or within half a step of it: a flat box
 /// holds points too) and join those to the grown box's border. False when none is material (a
 /// phantom) or when the material in the box is a piece of its own there, apart from the rest by
 /// more than `bridge`. A gap narrower than `step` may be bridged.
 bool material_reaches_out(const morph::ErosionField& field, const Eigen::AlignedBox3d& box, double margin,
-                          double step, double bridge = 0.0);
+                          double step, double bridge = 0.0, double within = 0.0);
 
 }  // namespace morphmill
