@@ -290,7 +290,14 @@ ConvexPiece own_facet(OwnPlanes& own, int f, const std::vector<Vector3d>& points
   // planes through a tool vertex where many facets meet (a fan about the ball's pole) do not pile
   // up tiny edges there, each costing an exact tie at every later plane through it.
   std::reverse(near.begin(), near.end());
-  ConvexPiece piece = intersect(piece_in_stock(own.plane(static_cast<std::size_t>(f)), stock), near);
+  // A polytope stock that is not a box (a cylinder's prism of hundreds of sides) cuts the facet's
+  // plane in a polygon of as many corners, which every clip by the facet's own planes would visit:
+  // those planes first, then the stock's, which mostly find the few corners left inside. The same
+  // set in another order (a box's six planes go first, as before).
+  const ExactPlane& support = own.plane(static_cast<std::size_t>(f));
+  ConvexPiece piece = stock.box || stock.mesh
+                          ? intersect(piece_in_stock(support, stock), near)
+                          : intersect(intersect(piece_in_bounds(support, stock.bounds), near), stock.planes);
   if (own.exact) {
     for (std::size_t k : scratch.applied_index) applied[k] = 0;
     return piece;
