@@ -91,3 +91,29 @@ TEST(AabbTree, ALargeTreeBuiltInParallelAnswersAsBruteForceAndAlwaysAlike) {
 }
 
 }  // namespace
+
+// for_each_overlapping_while() meets the items in for_each_overlapping()'s order and stops at the
+// first visit that returns false: every prefix of the full walk, and the full walk when none does.
+TEST(AabbTree, AWalkThatStopsMeetsAPrefixOfTheFullWalk) {
+  const std::vector<Eigen::AlignedBox3d> boxes = random_boxes(3000, 23);
+  const morph::AabbTree tree(boxes);
+  const Eigen::AlignedBox3d query(Eigen::Vector3d(3, 3, 3), Eigen::Vector3d(6, 6, 6));
+  std::vector<std::uint32_t> full;
+  tree.for_each_overlapping(query, [&](std::uint32_t i) { full.push_back(i); });
+  ASSERT_GT(full.size(), 20u);
+  std::vector<std::uint32_t> all;
+  EXPECT_TRUE(tree.for_each_overlapping_while(query, [&](std::uint32_t i) {
+    all.push_back(i);
+    return true;
+  }));
+  EXPECT_EQ(all, full);
+  for (std::size_t stop : {std::size_t{0}, std::size_t{1}, full.size() / 2, full.size() - 1}) {
+    std::vector<std::uint32_t> met;
+    EXPECT_FALSE(tree.for_each_overlapping_while(query, [&](std::uint32_t i) {
+      met.push_back(i);
+      return met.size() <= stop;
+    }));
+    EXPECT_EQ(met,
+              std::vector<std::uint32_t>(full.begin(), full.begin() + static_cast<std::ptrdiff_t>(stop + 1)));
+  }
+}

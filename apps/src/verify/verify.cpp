@@ -141,27 +141,26 @@ std::vector<bool> resolvable_samples(const std::vector<raytest::SurfaceSample>& 
     const Eigen::Vector3d& p = samples[i].position;
     const Eigen::AlignedBox3d query(p - Eigen::Vector3d::Constant(radius),
                                     p + Eigen::Vector3d::Constant(radius));
-    std::vector<std::uint32_t> near;
-    triangles.for_each_overlapping(query, [&](std::uint32_t t) {
+    // The distinct directions of the faces within `radius`, each the first met of its kind in the
+    // walk's order (a handful near an edge or corner); a sliver triangle has no normal to speak of.
+    // A face whose direction is already listed adds nothing, wherever it lies; a new one facing
+    // more than ~96 degrees from one listed decides the sample, and the walk stops there.
+    thread_local std::vector<Eigen::Vector3d> directions;
+    directions.clear();
+    const bool facing_against = !triangles.for_each_overlapping_while(query, [&](std::uint32_t t) {
+      const Eigen::Vector3d& n = normals[t];
+      if (!n.allFinite() || n.squaredNorm() < 0.5) return true;
+      for (const Eigen::Vector3d& d : directions)
+        if (d.dot(n) > 0.995) return true;
       const auto& tri = surface.triangles[t];
       const Eigen::Vector3d q = morph::closest_point_on_triangle(
           p, surface.vertices[tri[0]], surface.vertices[tri[1]], surface.vertices[tri[2]]);
-      if ((q - p).norm() <= radius) near.push_back(t);
+      if (!((q - p).norm() <= radius)) return true;
+      for (const Eigen::Vector3d& d : directions)
+        if (d.dot(n) < -0.1) return false;
+      directions.push_back(n);
+      return true;
     });
-    // Any two nearby faces facing more than ~96 degrees apart, over the distinct directions
-    // (a handful near an edge or corner); a sliver triangle has no normal to speak of.
-    std::vector<Eigen::Vector3d> directions;
-    for (std::uint32_t t : near) {
-      const Eigen::Vector3d& n = normals[t];
-      if (!n.allFinite() || n.squaredNorm() < 0.5) continue;
-      bool seen = false;
-      for (const Eigen::Vector3d& d : directions) seen = seen || d.dot(n) > 0.995;
-      if (!seen) directions.push_back(n);
-    }
-    bool facing_against = false;
-    for (std::size_t a = 0; a < directions.size() && !facing_against; ++a)
-      for (std::size_t b = a + 1; b < directions.size() && !facing_against; ++b)
-        facing_against = directions[a].dot(directions[b]) < -0.1;
     flags[i] = facing_against ? 0 : 1;
   });
   for (std::size_t i = 0; i < samples.size(); ++i) resolvable[i] = flags[i] != 0;

@@ -50,6 +50,30 @@ class AabbTree {
     }
   }
 
+  /// As for_each_overlapping(), in the same order, until visit(item) returns false (a query
+  /// decided by what it met first). Returns whether the walk ran to its end.
+  template <class Visit>
+  bool for_each_overlapping_while(const Eigen::AlignedBox3d& query, Visit&& visit) const {
+    if (nodes_.empty()) return true;
+    std::uint32_t stack[64];
+    int top = 0;
+    stack[top++] = 0;
+    while (top > 0) {
+      const Node& node = nodes_[stack[--top]];
+      if (!boxes_meet(node.box, query)) continue;
+      if (node.count > 0) {
+        for (std::uint32_t i = 0; i < node.count; ++i) {
+          const std::uint32_t item = order_[node.first + i];
+          if (boxes_meet(boxes_[item], query) && !visit(item)) return false;
+        }
+      } else {
+        stack[top++] = node.first;
+        stack[top++] = node.first + 1;
+      }
+    }
+    return true;
+  }
+
   /// A node pair whose subtrees' overlapping item pairs for_each_overlapping_pair() walks.
   using PairWalk = std::array<std::uint32_t, 2>;
 
