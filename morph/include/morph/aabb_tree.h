@@ -31,23 +31,10 @@ class AabbTree {
   /// Calls visit(item) for every item whose box intersects `query` (closed boxes).
   template <class Visit>
   void for_each_overlapping(const Eigen::AlignedBox3d& query, Visit&& visit) const {
-    if (nodes_.empty()) return;
-    std::uint32_t stack[64];
-    int top = 0;
-    stack[top++] = 0;
-    while (top > 0) {
-      const Node& node = nodes_[stack[--top]];
-      if (!boxes_meet(node.box, query)) continue;
-      if (node.count > 0) {
-        for (std::uint32_t i = 0; i < node.count; ++i) {
-          const std::uint32_t item = order_[node.first + i];
-          if (boxes_meet(boxes_[item], query)) visit(item);
-        }
-      } else {
-        stack[top++] = node.first;
-        stack[top++] = node.first + 1;
-      }
-    }
+    for_each_overlapping_while(query, [&](std::uint32_t item) {
+      visit(item);
+      return true;
+    });
   }
 
   /// As for_each_overlapping(), in the same order, until visit(item) returns false (a query
