@@ -45,11 +45,11 @@ bool holds_exact_material(const morph::ErosionField& field, const PieceRecord& p
 
 /// Whether the exact solid's material in `box` reaches out of it: the points of a grid of `step`
 /// over the box grown by `margin` where the field is below `within` (0: the exact solid; the
-/// tolerance: the solid with its voids no deeper than the tolerance), joined when 6-connected or no
-/// farther apart than `bridge`, include some in the box (or within half a step of it: a flat box
-/// holds points too) and join those to the grown box's border. False when none is material (a
-/// phantom) or when the material in the box is a piece of its own there, apart from the rest by
-/// more than `bridge`. A gap narrower than `step` may be bridged.
+/// tolerance: the solid with the voids where the field stays below the tolerance), joined when 6-connected or
+/// no farther apart than `bridge`, include some in the box (or within half a step of it: a flat box holds
+/// points too) and join those to the grown box's border. False when none is material (a phantom) or when the
+/// material in the box is a piece of its own there, apart from the rest by more than `bridge`. A gap narrower
+/// than `step` may be bridged.
 bool material_reaches_out(const morph::ErosionField& field, const Eigen::AlignedBox3d& box, double margin,
                           double step, double bridge = 0.0, double within = 0.0);
 
