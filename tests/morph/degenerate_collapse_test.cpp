@@ -239,7 +239,7 @@ TEST(DegenerateCollapse, TheSameSurfaceUnderEitherPolicy) {
   ASSERT_EQ(limit_one.polygons.size(), limit_many.polygons.size());
   for (std::size_t i = 0; i < limit_one.polygons.size(); ++i) {
     EXPECT_EQ(limit_one.polygons[i].loop, limit_many.polygons[i].loop);
-    EXPECT_EQ(limit_one.polygons[i].strictly_convex, limit_many.polygons[i].strictly_convex);
+    EXPECT_EQ(limit_one.polygons[i].straight_corners, limit_many.polygons[i].straight_corners);
   }
   // Emitted alike: the same points bit for bit, triangles and provenance, centroids included.
   std::vector<std::int32_t> move_index, move_line;
@@ -252,7 +252,7 @@ TEST(DegenerateCollapse, TheSameSurfaceUnderEitherPolicy) {
   const morph::TriangleMesh mesh_many =
       morph::emit(limit_one, move_index, move_line, nullptr, morph::ExecutionPolicy::Parallel);
   EXPECT_TRUE(std::any_of(limit_one.polygons.begin(), limit_one.polygons.end(),
-                          [](const morph::LimitPolygon& p) { return !p.strictly_convex; }));
+                          [](const morph::LimitPolygon& p) { return !p.strictly_convex(); }));
   EXPECT_EQ(mesh_one.vertices, mesh_many.vertices);
   EXPECT_EQ(mesh_one.triangles, mesh_many.triangles);
   EXPECT_TRUE(mesh_one.tags == mesh_many.tags);

@@ -5,6 +5,7 @@
 #include <morph/erode2.h>
 #include <morph/error_budget.h>
 #include <morph/exceptions.h>
+#include <morph/gcode.h>
 #include <morph/sweep_polytope.h>
 #include <morph/tool.h>
 #include <morph/tool_polytope.h>
@@ -15,6 +16,7 @@
 
 #include <cmath>
 #include <map>
+#include <sstream>
 #include <string>
 
 #include "common/test_jobs.h"
@@ -256,6 +258,39 @@ TEST(Erode2, BallPassesAtOneDepthCrossingNeedNoFallback) {
   expect_closed(o, "spiral at one depth");
   EXPECT_EQ(o.topology.components, 1u);
   EXPECT_EQ(morph::fallbacks_fired(o.result.stats), 0u);
+}
+
+// A flat end mill's helix down through the stock's top, then half its last circle back at the
+// bottom (stress seed 191, cases 2178 and 4506). Near-parallel planes cross a side facet's edge
+// 4e-9 mm apart, and that facet's polygon is 1.5e-7 mm wide: fanned from its centroid it gave a
+// needle flat in doubles, which the rounding had to flip. Emit fans such a polygon from a
+// corner whose triangles are not flat, so the fallback has nothing to do.
+TEST(Erode2, AFlatHelixAndItsReversedHalfCircleNeedNoFallback) {
+  std::istringstream program(
+      "G21 G90 G17\n"
+      "G0 X22.179 Y13.923 Z10.25\n"
+      "G3 X22.179 Y13.923 Z5.949 I-8.256 J0 P3\n"
+      "G2 X5.667 Y13.923 I-8.256 J0\n"
+      "G0 Z10.25\n");
+  morph::Path path = morph::parse_gcode(program, "helix.nc").path;
+  for (morph::Move& m : path.moves) m.tool = 1;
+  morph::Job job =
+      morphmill_test::box_polyline_job(Eigen::AlignedBox3d(Vector3d(0, 0, 0), Vector3d(27.846, 27.846, 9.25)),
+                                       morph::flat_tool(2.667, 13.838), {}, 0.01);
+  job.paths = {path};
+  const Outcome o = run(job);
+  expect_closed(o, "flat helix and reversed half circle");
+  EXPECT_EQ(o.topology.components, 1u);
+  EXPECT_EQ(morph::fallbacks_fired(o.result.stats), 0u);
+  // Three turns from z 10.25 to 5.949 and half a turn at the bottom: the stock loses a ring of
+  // outer radius 8.256 + 2.667 and inner 8.256 - 2.667 down to 5.949 (the helix's last turn
+  // sweeps its bottom at a slope, the half turn levels half of it).
+  const double outer = 8.256 + 2.667, inner = 8.256 - 2.667;
+  const double ring = M_PI * (outer * outer - inner * inner);
+  const double box = 27.846 * 27.846 * 9.25;
+  const double removed = box - o.topology.volume;
+  EXPECT_GT(removed, ring * (9.25 - 5.949 - 1.4337));
+  EXPECT_LT(removed, ring * (9.25 - 5.949));
 }
 
 TEST(Erode2, RefusesWhatItDoesNotSupport) {

@@ -50,8 +50,11 @@ struct LimitPolygon {
   /// The outside is on the side the support's normal points to (a stock face) or on the other
   /// (a sweep facet), the support turned back where `support_turned` (outward_normal()).
   bool faces_out = true;
-  /// No point lies on a neighbouring edge's line: a fan from any corner has no flat triangle.
-  bool strictly_convex = true;
+  /// The positions in `loop` of the straight corners: those whose point lies on the line of the
+  /// edge before it (a neighbour's corner on this polygon's edge). A fan from a corner with no
+  /// straight neighbour has no flat triangle, exactly.
+  std::vector<std::uint32_t> straight_corners;
+  bool strictly_convex() const { return straight_corners.empty(); }
   std::int32_t move = -1;  ///< as ConformedPolygon
   std::int32_t face = 0;
 };

@@ -1,11 +1,12 @@
 // SPDX-License-Identifier: Apache-2.0
 #pragma once
 /// \file emit.h
-/// Generator 2's output: the limit polygons (degenerate_collapse.h) as a triangle mesh. A
-/// strictly convex polygon is fanned from its first corner, one with points on its edges' lines
-/// from its centroid (a vertex of its own), so no triangle is flat in exact arithmetic. Vertices
-/// are rounded to doubles, and what the rounding flattened or turned over is settled on the
-/// doubles taken as exact (rounding.h: collapses, flips, re-rounding; design §5).
+/// Generator 2's output: the limit polygons (degenerate_collapse.h) as a triangle mesh. Vertices
+/// are rounded to doubles; each polygon is fanned from its first corner that has no straight
+/// neighbour (so no triangle is flat in exact arithmetic) and makes no triangle flat in doubles
+/// either; a polygon without one from its centroid (a vertex of its own), or from its first
+/// corner when it is strictly convex. What the rounding still flattened or turned over is
+/// settled on the doubles taken as exact (rounding.h: collapses, flips, re-rounding; design §5).
 /// Provenance per triangle: the stock face, or the move (its global index and G-code line).
 #include <morph/degenerate_collapse.h>
 #include <morph/mesh.h>

@@ -227,20 +227,18 @@ class Limit {
   LimitSurface result(LimitCounts counts, std::vector<Triple>&& vertices,
                       std::vector<Eigen::Vector3d>&& points) {
     LimitSurface out;
-    std::vector<char> convex(polygons_.size(), 0), still_flat(polygons_.size(), 0);
+    std::vector<char> still_flat(polygons_.size(), 0);
     for_each_index(policy_, 0, polygons_.size(), [&](std::size_t i) {
       if (removed_[i]) return;
-      convex[i] = strictly_convex(polygons_[i]);
+      polygons_[i].straight_corners = straight_corners(polygons_[i]);
       // A zip only puts points on a polygon's edges: its flatness changes with it alone.
       still_flat[i] = flat_[i] == kUnknown ? flat(polygons_[i]) : flat_[i];
     });
     out.polygons.reserve(static_cast<std::size_t>(std::count(removed_.begin(), removed_.end(), 0)));
     for (std::size_t i = 0; i < polygons_.size(); ++i)
       if (!removed_[i]) {
-        LimitPolygon p = std::move(polygons_[i]);
-        p.strictly_convex = convex[i] != 0;
         counts.flat_polygons_left += still_flat[i];
-        out.polygons.push_back(std::move(p));
+        out.polygons.push_back(std::move(polygons_[i]));
       } else if (zipped_[i]) {
         ++counts.zipped_slivers;
       } else {
@@ -310,11 +308,13 @@ class Limit {
     return std::all_of(p.loop.begin() + 2, p.loop.end(),
                        [&](std::uint32_t v) { return on(v, plane(p.edge_planes[0])); });
   }
-  bool strictly_convex(const LimitPolygon& p) const {
+  std::vector<std::uint32_t> straight_corners(const LimitPolygon& p) const {
+    std::vector<std::uint32_t> out;
     const std::size_t n = p.loop.size();
     for (std::size_t k = 0; k < n; ++k)
-      if (on(p.loop[(k + 1) % n], plane(p.edge_planes[(k + n - 1) % n]))) return false;
-    return true;
+      if (on(p.loop[(k + 1) % n], plane(p.edge_planes[(k + n - 1) % n])))
+        out.push_back(static_cast<std::uint32_t>(k));
+    return out;
   }
 
   // Step 3 for polygon i (flat): its loop runs from one end of the segment to the other and back,

@@ -4,17 +4,48 @@
 
 #include "generator2/rounding.h"
 
+#include <algorithm>
 #include <limits>
 #include <utility>
 
 namespace morph {
+namespace {
+
+constexpr std::uint32_t kCentroid = std::numeric_limits<std::uint32_t>::max();
+
+// The corner to fan polygon's triangles from, or kCentroid. A fan from a corner neither of
+// whose neighbours is straight has no flat triangle in exact arithmetic; of those, the first
+// whose triangles are not flat once rounded to doubles either (exact corners closer than a
+// double resolves, where near-parallel planes cross an edge, can round to a needle). Where no
+// corner qualifies, a strictly convex polygon is fanned from its first corner and the rounding
+// settles it (rounding.h); another from its centroid, a point of its own inside it.
+std::uint32_t fan_apex(const LimitPolygon& polygon, const std::vector<std::uint32_t>& index,
+                       const std::vector<Eigen::Vector3d>& points) {
+  const std::size_t n = polygon.loop.size();
+  if (n < 3) return 0;
+  const auto straight = [&](std::size_t k) {
+    const auto& corners = polygon.straight_corners;
+    return std::binary_search(corners.begin(), corners.end(), static_cast<std::uint32_t>(k % n));
+  };
+  const auto at = [&](std::size_t k) -> const Eigen::Vector3d& { return points[index[polygon.loop[k % n]]]; };
+  for (std::size_t apex = 0; apex < n; ++apex) {
+    if (straight(apex + 1) || straight(apex + n - 1)) continue;
+    bool unflat = true;
+    for (std::size_t k = 1; unflat && k + 1 < n; ++k)
+      unflat = !rounds_flat(at(apex), at(apex + k), at(apex + k + 1));
+    if (unflat) return static_cast<std::uint32_t>(apex);
+  }
+  return polygon.strictly_convex() ? 0 : kCentroid;
+}
+
+}  // namespace
 
 TriangleMesh emit(const LimitSurface& surface, const std::vector<std::int32_t>& move_index,
                   const std::vector<std::int32_t>& move_line, EmitCounts* counts, ExecutionPolicy policy) {
   TriangleMesh mesh;
   // Only the referenced vertices, in the order of their plane triples' indices, then a centroid
-  // for each polygon that is not strictly convex, in polygon order; the points and triangles are
-  // made in parallel, each in its slot.
+  // for each polygon fanned from one, in polygon order; the points, fans and triangles are made
+  // in parallel, each in its slot.
   constexpr std::uint32_t kUnused = std::numeric_limits<std::uint32_t>::max();
   std::vector<std::uint32_t> index(surface.vertices.size(), kUnused);
   for (const LimitPolygon& polygon : surface.polygons)
@@ -25,24 +56,27 @@ TriangleMesh emit(const LimitSurface& surface, const std::vector<std::int32_t>& 
       index[v] = static_cast<std::uint32_t>(used.size());
       used.push_back(v);
     }
+  resize_faulted_in(mesh.vertices, used.size(), policy);
+  for_each_index(policy, 0, used.size(), [&](std::size_t k) {
+    const auto& t = surface.vertices[used[k]];
+    mesh.vertices[k] = surface.points.empty() ? vertex_point(t[0], t[1], t[2]) : surface.points[used[k]];
+  });
   const std::size_t polygons = surface.polygons.size();
+  std::vector<std::uint32_t> apex(polygons);
+  for_each_index(policy, 0, polygons,
+                 [&](std::size_t i) { apex[i] = fan_apex(surface.polygons[i], index, mesh.vertices); });
   std::vector<std::size_t> first_triangle(polygons + 1, 0), centre_of(polygons, 0);
   std::size_t vertex_count = used.size();
   for (std::size_t i = 0; i < polygons; ++i) {
-    const LimitPolygon& polygon = surface.polygons[i];
-    const std::size_t n = polygon.loop.size();
+    const std::size_t n = surface.polygons[i].loop.size();
     std::size_t triangles = n;
-    if (polygon.strictly_convex)
+    if (apex[i] != kCentroid)
       triangles = n >= 2 ? n - 2 : 0;
     else
       centre_of[i] = vertex_count++;
     first_triangle[i + 1] = first_triangle[i] + triangles;
   }
-  resize_faulted_in(mesh.vertices, vertex_count, policy);
-  for_each_index(policy, 0, used.size(), [&](std::size_t k) {
-    const auto& t = surface.vertices[used[k]];
-    mesh.vertices[k] = surface.points.empty() ? vertex_point(t[0], t[1], t[2]) : surface.points[used[k]];
-  });
+  mesh.vertices.resize(vertex_count);
   resize_faulted_in(mesh.triangles, first_triangle.back(), policy);
   resize_faulted_in(mesh.tags, first_triangle.back(), policy);
   std::vector<Eigen::Vector3d> facing;  // per triangle: the way its polygon faces out
@@ -60,9 +94,9 @@ TriangleMesh emit(const LimitSurface& surface, const std::vector<std::int32_t>& 
       facing[next++] = out;
     };
     const std::size_t n = polygon.loop.size();
-    if (polygon.strictly_convex) {
-      for (std::size_t k = 1; k + 1 < n; ++k)
-        add(index[polygon.loop[0]], index[polygon.loop[k]], index[polygon.loop[k + 1]]);
+    if (apex[i] != kCentroid) {
+      const auto corner = [&](std::size_t k) { return index[polygon.loop[(apex[i] + k) % n]]; };
+      for (std::size_t k = 1; k + 1 < n; ++k) add(corner(0), corner(k), corner(k + 1));
       return;
     }
     Eigen::Vector3d centroid = Eigen::Vector3d::Zero();

@@ -12,6 +12,13 @@
 #include <limits>
 
 namespace morph {
+
+bool rounds_flat(const Eigen::Vector3d& a, const Eigen::Vector3d& b, const Eigen::Vector3d& c) {
+  constexpr double kFlat = 1e-14;
+  const double longest = std::max({(b - a).squaredNorm(), (c - b).squaredNorm(), (a - c).squaredNorm()});
+  return (b - a).cross(c - a).norm() <= kFlat * longest;
+}
+
 namespace {
 
 using Exact = boost::multiprecision::cpp_int;
@@ -56,7 +63,6 @@ int exact_oriented_area_sign(const Eigen::Vector3d& n, const Eigen::Vector3d& a,
   return value.sign();
 }
 
-constexpr double kFlat = 1e-14;
 // A flat triangle's shortest edge is collapsed only when it is this much shorter than the
 // triangle's longest: a needle far below what doubles can shape at that size. It only picks the
 // candidates (moving a vertex by less than 1e-12 of the triangle's size); whether the collapse
@@ -67,12 +73,6 @@ constexpr double kNeedle = 1e-12;
 // a pole split one point into several ~1e-12 apart): their edge is a candidate too.
 constexpr double kCluster = 1e-13;
 constexpr std::uint32_t kGone = std::numeric_limits<std::uint32_t>::max();
-
-// Flat as topology_report counts it: twice the area within 1e-14 of the longest edge squared.
-bool flat(const Eigen::Vector3d& a, const Eigen::Vector3d& b, const Eigen::Vector3d& c) {
-  const double longest = std::max({(b - a).squaredNorm(), (c - b).squaredNorm(), (a - c).squaredNorm()});
-  return (b - a).cross(c - a).norm() <= kFlat * longest;
-}
 
 // Closer than kCluster of the coordinates' size: a cluster of exact points far below any
 // feature the tool polytope has (its pole's near-concurrent planes).
@@ -91,7 +91,7 @@ bool settled_already(const TriangleMesh& mesh, const std::vector<Eigen::Vector3d
     if (unsettled.load(std::memory_order_relaxed)) return;
     const Triangle& tri = mesh.triangles[t];
     const Eigen::Vector3d &a = mesh.vertices[tri[0]], &b = mesh.vertices[tri[1]], &c = mesh.vertices[tri[2]];
-    if (flat(a, b, c) || oriented_area_sign(facing[t], a, b, c) <= 0 || a == b || b == c || c == a ||
+    if (rounds_flat(a, b, c) || oriented_area_sign(facing[t], a, b, c) <= 0 || a == b || b == c || c == a ||
         clustered(a, b) || clustered(b, c) || clustered(c, a))
       unsettled.store(true, std::memory_order_relaxed);
   });
@@ -169,7 +169,7 @@ class Settler {
 
   bool flat(std::uint32_t t) const {
     const Triangle& tri = mesh_.triangles[t];
-    return morph::flat(at(tri[0]), at(tri[1]), at(tri[2]));
+    return rounds_flat(at(tri[0]), at(tri[1]), at(tri[2]));
   }
 
   // Step 1: an edge whose ends rounded alike, and the shortest edge of a flat needle (kNeedle),
@@ -276,7 +276,7 @@ class Settler {
     if (oriented_area_sign(facing, at(p), at(d), at(m)) <= 0 ||
         oriented_area_sign(facing, at(d), at(q), at(m)) <= 0)
       return false;
-    if (morph::flat(at(p), at(d), at(m)) || morph::flat(at(d), at(q), at(m))) return false;
+    if (rounds_flat(at(p), at(d), at(m)) || rounds_flat(at(d), at(q), at(m))) return false;
     const FaceTag tag = mesh_.tags.empty() ? FaceTag{} : mesh_.tags[s];
     drop(t);
     drop(s);
