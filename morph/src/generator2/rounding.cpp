@@ -173,9 +173,8 @@ class Settler {
   }
 
   // Step 1: an edge whose ends rounded alike, and the shortest edge of a flat needle (kNeedle),
-  // collapsed
-  // when the link condition holds and every other triangle about the moved end keeps turning
-  // the right way (exact).
+  // collapsed when the link condition holds and every other triangle about the moved end keeps
+  // turning the right way (exact).
   void collapse_short_edges(RoundingCounts& counts) {
     for (std::uint32_t t = 0; t < mesh_.triangles.size(); ++t) {
       if (!alive_[t]) continue;
