@@ -115,6 +115,42 @@ TEST(SweepDistance, ArcAndHelixMatchDenseSampling) {
   }
 }
 
+// A nearest-sweep search passes the nearest value so far: below it the arc's distance is the
+// same value as without it, at or above it some value no less than it.
+TEST(SweepDistance, AnArcWithACutoffIsTheSameBelowItAndNoLessAbove) {
+  std::mt19937_64 rng(29);
+  std::uniform_real_distribution<double> u(-14.0, 14.0);
+  const double inf = std::numeric_limits<double>::infinity();
+  std::size_t below = 0, above = 0;
+  for (const Tool& tool : {sphere(1.0), ballend(2.0, 8.0), morph::flat_tool(2.667, 13.8)}) {
+    for (const Move& m : {arc(M_PI / 2, 0.0), arc(-1.5 * M_PI, 3.0), arc(6 * M_PI, -4.3)}) {
+      for (int k = 0; k < 30; ++k) {
+        const Vector3d p(u(rng), u(rng), 0.5 * u(rng));
+        const double d = morph::swept_signed_distance(tool, m, p);
+        EXPECT_EQ(morph::swept_signed_distance(tool, m, p, inf), d);
+        for (double cutoff : {d - 0.5, d - 1e-9, d, d + 1e-9, d + 0.5}) {
+          const double r = morph::swept_signed_distance(tool, m, p, cutoff);
+          if (d < cutoff) {
+            EXPECT_EQ(r, d) << "cutoff " << cutoff;
+            ++below;
+          } else {
+            EXPECT_GE(r, cutoff);
+            ++above;
+          }
+        }
+        // And the value itself is the minimum along the arc (dense sampling bounds it).
+        if (k % 10 == 0) {
+          const double sampled = brute_force(tool, m, p, 50000);
+          EXPECT_LE(d, sampled + 1e-9);
+          EXPECT_GE(d, sampled - morph::length(m) / 50000 - 1e-9);
+        }
+      }
+    }
+  }
+  EXPECT_GT(below, 0u);
+  EXPECT_GT(above, 0u);
+}
+
 TEST(SweepDistance, SweptBoundsContainTheSweep) {
   const Tool tool = ballend(2.0, 8.0);
   const Move m = arc(-1.5 * M_PI, 3.0);

@@ -8,6 +8,7 @@
 #include <array>
 #include <cstdint>
 #include <limits>
+#include <type_traits>
 #include <vector>
 
 namespace morph {
@@ -89,7 +90,9 @@ class AabbTree {
   /// Best-first search for the item minimising `distance(item)`. The search prunes with a lower
   /// bound: the box's exterior distance when p is outside the box, and -max_depth inside it, so
   /// `distance` may be signed as long as it never goes below -max_depth (e.g. the tool radius
-  /// for swept-volume distances; 0 for unsigned ones). Returns -1 if empty.
+  /// for swept-volume distances; 0 for unsigned ones). `distance` may take the nearest value so
+  /// far as a second argument, and then needs to be exact only below it (a value no less than it
+  /// otherwise). Returns -1 if empty.
   template <class Distance>
   std::int64_t nearest(const Eigen::Vector3d& p, Distance&& distance, double* best_out,
                        double max_depth = 0.0) const {
@@ -117,7 +120,11 @@ class AabbTree {
           for (std::uint32_t i = 0; i < node.count; ++i) {
             const std::uint32_t item = order_[node.first + i];
             if (lower_bound(boxes_[item]) >= best) continue;
-            const double d = distance(item);
+            double d = 0.0;
+            if constexpr (std::is_invocable_v<Distance&, std::size_t, double>)
+              d = distance(static_cast<std::size_t>(item), best);
+            else
+              d = distance(item);
             if (d < best) {
               best = d;
               best_item = item;

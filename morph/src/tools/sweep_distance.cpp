@@ -56,8 +56,11 @@ std::pair<double, double> segment_sweep(const Tool& tool, const Eigen::Vector3d&
 }
 
 // Branch and bound along an arc: the tool distance is 1-Lipschitz in the tool point, so a piece
-// of path length L around a sample with value f cannot go below f - L/2.
-std::pair<double, double> arc_sweep(const Tool& tool, const Move& move, const Eigen::Vector3d& p) {
+// of path length L around a sample with value f cannot go below f - L/2. Pieces that cannot go
+// below the best value found or below `cutoff` are left out: every value they could give is no
+// less, so the minimum is the same value (bit for bit) wherever it is below the cutoff.
+std::pair<double, double> arc_sweep(const Tool& tool, const Move& move, const Eigen::Vector3d& p,
+                                    double cutoff = std::numeric_limits<double>::infinity()) {
   const double total = length(move);
   const MovePoints point_at_t(move);
   auto f = [&](double t) { return tool_signed_distance(tool, point_at_t(t), p); };
@@ -78,7 +81,7 @@ std::pair<double, double> arc_sweep(const Tool& tool, const Move& move, const Ei
   while (!pieces.empty()) {
     const Piece piece = pieces.back();
     pieces.pop_back();
-    if (piece.bound >= best.second) continue;
+    if (piece.bound >= std::min(best.second, cutoff)) continue;
     if ((piece.t1 - piece.t0) * total <= stop_length) {
       leaves.push_back(piece);
       continue;
@@ -90,9 +93,18 @@ std::pair<double, double> arc_sweep(const Tool& tool, const Move& move, const Ei
       pieces.push_back({a, b, v, v - 0.5 * (b - a) * total});
     }
   }
+  // Lowest bound first, and a leaf's search stopped once its bracket cannot beat the best: every
+  // value left out is no less than one found, so the minimum is the same value.
+  std::sort(leaves.begin(), leaves.end(), [](const Piece& a, const Piece& b) {
+    return a.bound < b.bound || (a.bound == b.bound && a.t0 < b.t0);
+  });
   for (const Piece& leaf : leaves) {
-    if (leaf.bound >= best.second) continue;
-    const auto local = golden_minimum(f, leaf.t0, leaf.t1);
+    if (leaf.bound >= std::min(best.second, cutoff)) break;
+    const auto cannot_beat = [&](const detail::GoldenBracket& g, double* value) {
+      *value = std::max(g.f1, g.f2) - (g.hi - g.lo) * total;
+      return *value >= std::min(best.second, cutoff);
+    };
+    const auto local = golden_minimum(f, leaf.t0, leaf.t1, cannot_beat);
     if (local.second < best.second) best = local;
   }
   return best;
@@ -108,6 +120,11 @@ double swept_signed_distance(const Tool& tool, const Eigen::Vector3d& a, const E
 double swept_signed_distance(const Tool& tool, const Move& move, const Eigen::Vector3d& p) {
   if (!move.is_arc()) return segment_sweep(tool, move.start, move.end, p).second;
   return arc_sweep(tool, move, p).second;
+}
+
+double swept_signed_distance(const Tool& tool, const Move& move, const Eigen::Vector3d& p, double cutoff) {
+  if (!move.is_arc()) return segment_sweep(tool, move.start, move.end, p).second;
+  return arc_sweep(tool, move, p, cutoff).second;
 }
 
 double closest_sweep_parameter(const Tool& tool, const Eigen::Vector3d& a, const Eigen::Vector3d& b,
@@ -228,7 +245,10 @@ double ErosionField::stock_distance(const Eigen::Vector3d& p) const {
 double ErosionField::sweep_distance(const Eigen::Vector3d& p, int* nearest_move) const {
   double best = std::numeric_limits<double>::infinity();
   const std::int64_t item = impl_->tree.nearest(
-      p, [&](std::size_t i) { return swept_signed_distance(*impl_->runs[i].tool, impl_->runs[i].move, p); },
+      p,
+      [&](std::size_t i, double nearest_so_far) {
+        return swept_signed_distance(*impl_->runs[i].tool, impl_->runs[i].move, p, nearest_so_far);
+      },
       &best, impl_->max_depth);
   if (nearest_move)
     *nearest_move = item < 0 ? -1 : static_cast<int>(impl_->move_nearest(impl_->runs[item], p));
