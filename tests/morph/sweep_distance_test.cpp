@@ -115,15 +115,18 @@ TEST(SweepDistance, ArcAndHelixMatchDenseSampling) {
   }
 }
 
-// A nearest-sweep search passes the nearest value so far: below it the arc's distance is the
+// A nearest-sweep search passes the nearest value so far: below it a move's distance is the
 // same value as without it, at or above it some value no less than it.
-TEST(SweepDistance, AnArcWithACutoffIsTheSameBelowItAndNoLessAbove) {
+TEST(SweepDistance, AMoveWithACutoffIsTheSameBelowItAndNoLessAbove) {
   std::mt19937_64 rng(29);
   std::uniform_real_distribution<double> u(-14.0, 14.0);
   const double inf = std::numeric_limits<double>::infinity();
   std::size_t below = 0, above = 0;
-  for (const Tool& tool : {sphere(1.0), ballend(2.0, 8.0), morph::flat_tool(2.667, 13.8)}) {
-    for (const Move& m : {arc(M_PI / 2, 0.0), arc(-1.5 * M_PI, 3.0), arc(6 * M_PI, -4.3)}) {
+  for (const Tool& tool : {sphere(1.0), ballend(2.0, 8.0), morph::flat_tool(2.667, 13.8),
+                           morph::conical_tool(3.0, 60.0, 10.0), morph::bullnose_tool(2.0, 0.5, 9.0)}) {
+    for (const Move& m :
+         {arc(M_PI / 2, 0.0), arc(-1.5 * M_PI, 3.0), arc(6 * M_PI, -4.3),
+          line(Vector3d(-5, -3, 1), Vector3d(6, 4, -2)), line(Vector3d(1, 2, 4), Vector3d(1, 2, -3))}) {
       for (int k = 0; k < 30; ++k) {
         const Vector3d p(u(rng), u(rng), 0.5 * u(rng));
         const double d = morph::swept_signed_distance(tool, m, p);

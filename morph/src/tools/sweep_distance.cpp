@@ -25,9 +25,23 @@ double segment_parameter(const Eigen::Vector3d& a, const Eigen::Vector3d& b, con
   return dd > 0.0 ? std::clamp((p - a).dot(d) / dd, 0.0, 1.0) : 0.0;
 }
 
-// (parameter, distance) of the nearest tool position along a straight segment.
+// Stops a golden-section search along a path of length `length` once its bracket cannot go
+// below `cutoff`: the tool distance is 1-Lipschitz in the tool point, so no value in [lo, hi] is
+// below either sample less the bracket's path length. Until then the search is the same, so its
+// value is the same wherever it is below the cutoff.
+auto stop_at(double length, double cutoff) {
+  return [length, cutoff](const detail::GoldenBracket& g, double* value) {
+    *value = std::max(g.f1, g.f2) - (g.hi - g.lo) * length;
+    return *value >= cutoff;
+  };
+}
+
+// (parameter, distance) of the nearest tool position along a straight segment; where the
+// distance is no less than `cutoff`, possibly only a value no less than it (parameter NaN).
 std::pair<double, double> segment_sweep(const Tool& tool, const Eigen::Vector3d& a, const Eigen::Vector3d& b,
-                                        const Eigen::Vector3d& p) {
+                                        const Eigen::Vector3d& p,
+                                        double cutoff = std::numeric_limits<double>::infinity()) {
+  const double length = (b - a).norm();
   switch (tool.type) {
     case ToolType::Sphere: {
       const double t = segment_parameter(a, b, p);
@@ -41,16 +55,18 @@ std::pair<double, double> segment_sweep(const Tool& tool, const Eigen::Vector3d&
       // Below every ball centre of the move, the body's nearest part is its bottom disc, which lies
       // inside the ball: the ball alone decides (the common case under a cutting path).
       if (p.z() <= std::min(a.z(), b.z()) + tool.radius) return {tb, ball};
+      // The body matters only where it could beat the ball and the cutoff.
+      const double beat = std::min(ball, cutoff);
       const auto body = golden_minimum(
           [&](double t) {
             return capped_cylinder_distance(p - (a + lift + t * (b - a)), tool.radius, 0.0, tool.length);
           },
-          0.0, 1.0);
+          0.0, 1.0, stop_at(length, beat));
       return ball <= body.second ? std::make_pair(tb, ball) : body;
     }
     default: {
       return golden_minimum([&](double t) { return tool_signed_distance(tool, a + t * (b - a), p); }, 0.0,
-                            1.0);
+                            1.0, stop_at(length, cutoff));
     }
   }
 }
@@ -99,12 +115,9 @@ std::pair<double, double> arc_sweep(const Tool& tool, const Move& move, const Ei
     return a.bound < b.bound || (a.bound == b.bound && a.t0 < b.t0);
   });
   for (const Piece& leaf : leaves) {
-    if (leaf.bound >= std::min(best.second, cutoff)) break;
-    const auto cannot_beat = [&](const detail::GoldenBracket& g, double* value) {
-      *value = std::max(g.f1, g.f2) - (g.hi - g.lo) * total;
-      return *value >= std::min(best.second, cutoff);
-    };
-    const auto local = golden_minimum(f, leaf.t0, leaf.t1, cannot_beat);
+    const double beat = std::min(best.second, cutoff);
+    if (leaf.bound >= beat) break;
+    const auto local = golden_minimum(f, leaf.t0, leaf.t1, stop_at(total, beat));
     if (local.second < best.second) best = local;
   }
   return best;
@@ -123,7 +136,7 @@ double swept_signed_distance(const Tool& tool, const Move& move, const Eigen::Ve
 }
 
 double swept_signed_distance(const Tool& tool, const Move& move, const Eigen::Vector3d& p, double cutoff) {
-  if (!move.is_arc()) return segment_sweep(tool, move.start, move.end, p).second;
+  if (!move.is_arc()) return segment_sweep(tool, move.start, move.end, p, cutoff).second;
   return arc_sweep(tool, move, p, cutoff).second;
 }
 
