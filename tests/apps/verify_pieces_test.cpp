@@ -311,3 +311,40 @@ TEST(VerifyPieces, APieceOneVoxelThickIsJudgedOverItsVoxels) {
   EXPECT_TRUE(morphmill::match_pieces({body}, {reference, flat}, voxel, 0.01, field, &below));
   EXPECT_EQ(below, 1u);
 }
+
+// Stress seed 193, case 772 (a round spiral crossing itself under a sphere at tolerance 0.02): two
+// of its moves cover the box's top edge at y = 0 by 0.0026 mm at least where they meet, and the
+// generator's polytopes, which straddle the sphere within their share of the tolerance, leave a
+// tetrahedron of stock 0.018 mm tall there. Outside the exact solid, but where the field stays
+// below the tolerance: the generator's own chip within the tolerance, as the deviation checks
+// hold it, and counted as material as the reference's flood counts it.
+TEST(VerifyPieces, AChipWithinTheToleranceOfTheExactSolidIsNotAPhantom) {
+  const std::vector<Vector3d> first{{16.875313176598212, 2.753197605732643, 7.963},
+                                    {3.187686823401788, 11.755802394267358, 7.963}};
+  morph::Job job = morphmill_test::box_polyline_job(
+      Eigen::AlignedBox3d(Vector3d(0, 0, 0), Vector3d(20.063, 14.509, 8.049)), morph::sphere_tool(2.834),
+      first, 0.02);
+  morph::Path second = job.paths.front();
+  second.moves.front().start = Vector3d(15.856021852424009, 3.423604345304378, 7.963);
+  second.moves.front().end = Vector3d(13.527410790407247, 1.425284035059061, 7.963);
+  job.paths.push_back(second);
+  const morphmill::VerifyOutcome o = generator2_outcome(job, 0.7085);
+  ASSERT_EQ(o.morph_pieces.size(), 2u);
+  EXPECT_EQ(o.reference_pieces.size(), 1u);
+  EXPECT_TRUE(o.generator_within_tolerance);
+  const morph::ErosionField field(job);
+  const morphmill::PieceRecord& chip = o.morph_pieces.back();
+  EXPECT_LT(chip.bounds.sizes().maxCoeff(), job.tolerance);
+  // Outside the exact solid, below the tolerance; the same chip further out is a phantom.
+  EXPECT_GT(field.value(chip.centroid), 0.0);
+  EXPECT_LT(field.value(chip.centroid), 0.25 * job.tolerance);
+  EXPECT_FALSE(morphmill::holds_exact_material(field, chip));
+  EXPECT_TRUE(morphmill::holds_exact_material(field, chip, job.tolerance));
+  morphmill::PieceRecord further = chip;  // 0.1 mm off the box's face
+  const Vector3d shift(0.0, -0.1, 0.0);
+  further.centroid += shift;
+  further.bounds.translate(shift);
+  EXPECT_FALSE(morphmill::holds_exact_material(field, further, job.tolerance));
+  EXPECT_TRUE(o.pieces_match);
+  EXPECT_EQ(o.pieces_below_resolution, 1u);
+}

@@ -27,21 +27,23 @@ std::vector<PieceRecord> mesh_pieces(const morph::TriangleMesh& mesh);
 /// Whether the generator's pieces are the reference's: as many, each (by volume, largest first)
 /// within half a voxel times its area of the reference's. Failing that, pieces under (2 voxels)^3,
 /// which the voxels miss, swell or cut off, are judged by the exact field: the larger ones must
-/// match so; each small one of the generator's must hold material of the exact solid
-/// (holds_exact_material: a chip; else a phantom); each small one of the reference's must lie within a voxel
-/// of one of those, or be material that the exact solid joins to more of itself two voxels around
-/// (material_reaches_out over its bounds grown by a voxel at the tolerance's step, bridging gaps
-/// up to twice the tolerance and voids where the field stays below it, a ReferencePiece's bounds being its
-/// voxels' centres: a neck narrower than the voxels, which the level set cut).
-/// *below_resolution: the small pieces judged so, of both sides, when that decided.
+/// match so; each small one of the generator's must hold material of the exact solid, the field
+/// below the tolerance (holds_exact_material: a chip; else a phantom); each small one of the reference's must
+/// lie within a voxel of one of those, or be material that the exact solid joins to more of itself two voxels
+/// around (material_reaches_out over its bounds grown by a voxel at the tolerance's step, bridging gaps up to
+/// twice the tolerance and voids where the field stays below it, a ReferencePiece's bounds being its voxels'
+/// centres: a neck narrower than the voxels, which the level set cut). *below_resolution: the small pieces
+/// judged so, of both sides, when that decided.
 bool match_pieces(const std::vector<PieceRecord>& morph_pieces,
                   const std::vector<PieceRecord>& reference_pieces, double voxel_size, double tolerance,
                   const morph::ErosionField& field, std::size_t* below_resolution = nullptr);
 
-/// Whether a generator's piece is material of the exact solid: its centroid inside it, or failing
-/// that (a chip about the tolerance's size, its centroid shifted by its flat facets) a point of a
-/// 12^3 grid of cell centres over its bounds inside it.
-bool holds_exact_material(const morph::ErosionField& field, const PieceRecord& piece);
+/// Whether a generator's piece is material of the exact solid: the field below `within` at its
+/// centroid, or failing that (a chip about the tolerance's size, its centroid shifted by its flat
+/// facets) at a point of a 12^3 grid of cell centres over its bounds. `within` 0: inside the
+/// exact solid; the tolerance (match_pieces): inside it or where the field stays below the
+/// tolerance, as the deviation checks hold the generator.
+bool holds_exact_material(const morph::ErosionField& field, const PieceRecord& piece, double within = 0.0);
 
 /// Whether the exact solid's material in `box` reaches out of it: the points of a grid of `step`
 /// over the box grown by `margin` where the field is below `within` (0: the exact solid; the
