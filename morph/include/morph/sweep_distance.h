@@ -21,9 +21,11 @@ double swept_signed_distance(const Tool& tool, const Eigen::Vector3d& a, const E
 /// curve (the distance is 1-Lipschitz along it) refined by golden section, to 1e-9.
 double swept_signed_distance(const Tool& tool, const Move& move, const Eigen::Vector3d& p);
 
-/// Same where it is below `cutoff` (bit for bit); elsewhere some value no less than `cutoff`. A
-/// nearest-sweep search passes the nearest so far: an arc's pieces that cannot beat it are not
-/// refined (arcs and helices cost the most, a sine and cosine per tool position).
+/// Same where it is below `cutoff` by more than the rounding of a tool distance (the same value,
+/// bit for bit; within that rounding of it, the same or a value at most that rounding above it);
+/// elsewhere some value no less than `cutoff`. A nearest-sweep search passes the nearest value so
+/// far: the searches along a move stop once the 1-Lipschitz bound shows they cannot beat it (arcs
+/// and helices cost the most, a sine and cosine per tool position).
 double swept_signed_distance(const Tool& tool, const Move& move, const Eigen::Vector3d& p, double cutoff);
 
 /// Parameter t in [0,1] of the tool position nearest to p along a straight segment (for

@@ -74,7 +74,8 @@ std::pair<double, double> segment_sweep(const Tool& tool, const Eigen::Vector3d&
 // Branch and bound along an arc: the tool distance is 1-Lipschitz in the tool point, so a piece
 // of path length L around a sample with value f cannot go below f - L/2. Pieces that cannot go
 // below the best value found or below `cutoff` are left out: every value they could give is no
-// less, so the minimum is the same value (bit for bit) wherever it is below the cutoff.
+// less (but for the rounding of the values the bound is taken from), so the minimum is the same
+// value wherever it is below the cutoff by more than that rounding.
 std::pair<double, double> arc_sweep(const Tool& tool, const Move& move, const Eigen::Vector3d& p,
                                     double cutoff = std::numeric_limits<double>::infinity()) {
   const double total = length(move);
