@@ -42,7 +42,7 @@ double StraightSweep::distance_within(const Eigen::Vector3d& p, double floor, do
     // The sweep of the tool's bounding ball contains the tool's sweep: its distance is a lower bound.
     const double bound = (pc - t * d_).norm() - bounding_radius_;
     if (bound >= ceiling) return bound;
-    return morph::swept_signed_distance(*general_, a_, b_, p);
+    return morph::swept_signed_distance(*general_, a_, b_, p, ceiling);
   }
   const double ball = (pc - t * d_).norm() - radius_;
   if (!ball_end_) return ball;

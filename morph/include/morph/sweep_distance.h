@@ -27,6 +27,9 @@ double swept_signed_distance(const Tool& tool, const Move& move, const Eigen::Ve
 /// far: the searches along a move stop once the 1-Lipschitz bound shows they cannot beat it (arcs
 /// and helices cost the most, a sine and cosine per tool position).
 double swept_signed_distance(const Tool& tool, const Move& move, const Eigen::Vector3d& p, double cutoff);
+/// The same for the segment a->b.
+double swept_signed_distance(const Tool& tool, const Eigen::Vector3d& a, const Eigen::Vector3d& b,
+                             const Eigen::Vector3d& p, double cutoff);
 
 /// Parameter t in [0,1] of the tool position nearest to p along a straight segment (for
 /// provenance and for the closest tool position).

@@ -136,6 +136,11 @@ double swept_signed_distance(const Tool& tool, const Move& move, const Eigen::Ve
   return arc_sweep(tool, move, p).second;
 }
 
+double swept_signed_distance(const Tool& tool, const Eigen::Vector3d& a, const Eigen::Vector3d& b,
+                             const Eigen::Vector3d& p, double cutoff) {
+  return segment_sweep(tool, a, b, p, cutoff).second;
+}
+
 double swept_signed_distance(const Tool& tool, const Move& move, const Eigen::Vector3d& p, double cutoff) {
   if (!move.is_arc()) return segment_sweep(tool, move.start, move.end, p, cutoff).second;
   return arc_sweep(tool, move, p, cutoff).second;
