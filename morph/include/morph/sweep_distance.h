@@ -7,6 +7,7 @@
 #include <morph/job.h>
 
 #include <Eigen/Geometry>
+#include <limits>
 #include <memory>
 
 namespace morph {
@@ -14,22 +15,19 @@ namespace morph {
 /// Signed distance (job units, negative inside) from `p` to the volume swept by `tool` as its
 /// tool point moves along the segment a->b. Sphere: the capsule, in closed form. Other convex
 /// tools: min over t of the tool's signed distance, a convex 1-D minimisation solved to 1e-12.
+/// With a `cutoff`: the same where the distance is below it by more than the rounding of a tool
+/// distance (the same value, bit for bit; within that rounding of it, the same or a value at most
+/// that rounding above it); elsewhere some value no less than `cutoff`. A nearest-sweep search
+/// passes the nearest value so far: the searches along a move stop once the 1-Lipschitz bound
+/// shows they cannot beat it (arcs and helices cost the most, a sine and cosine per tool position).
 double swept_signed_distance(const Tool& tool, const Eigen::Vector3d& a, const Eigen::Vector3d& b,
-                             const Eigen::Vector3d& p);
+                             const Eigen::Vector3d& p,
+                             double cutoff = std::numeric_limits<double>::infinity());
 
 /// Same for a move of any kind. Arcs and helices: branch and bound over pieces of the exact
 /// curve (the distance is 1-Lipschitz along it) refined by golden section, to 1e-9.
-double swept_signed_distance(const Tool& tool, const Move& move, const Eigen::Vector3d& p);
-
-/// Same where it is below `cutoff` by more than the rounding of a tool distance (the same value,
-/// bit for bit; within that rounding of it, the same or a value at most that rounding above it);
-/// elsewhere some value no less than `cutoff`. A nearest-sweep search passes the nearest value so
-/// far: the searches along a move stop once the 1-Lipschitz bound shows they cannot beat it (arcs
-/// and helices cost the most, a sine and cosine per tool position).
-double swept_signed_distance(const Tool& tool, const Move& move, const Eigen::Vector3d& p, double cutoff);
-/// The same for the segment a->b.
-double swept_signed_distance(const Tool& tool, const Eigen::Vector3d& a, const Eigen::Vector3d& b,
-                             const Eigen::Vector3d& p, double cutoff);
+double swept_signed_distance(const Tool& tool, const Move& move, const Eigen::Vector3d& p,
+                             double cutoff = std::numeric_limits<double>::infinity());
 
 /// Parameter t in [0,1] of the tool position nearest to p along a straight segment (for
 /// provenance and for the closest tool position).

@@ -39,8 +39,7 @@ auto stop_at(double length, double cutoff) {
 // (parameter, distance) of the nearest tool position along a straight segment; where the
 // distance is no less than `cutoff`, possibly only a value no less than it (parameter NaN).
 std::pair<double, double> segment_sweep(const Tool& tool, const Eigen::Vector3d& a, const Eigen::Vector3d& b,
-                                        const Eigen::Vector3d& p,
-                                        double cutoff = std::numeric_limits<double>::infinity()) {
+                                        const Eigen::Vector3d& p, double cutoff) {
   const double length = (b - a).norm();
   switch (tool.type) {
     case ToolType::Sphere: {
@@ -77,7 +76,7 @@ std::pair<double, double> segment_sweep(const Tool& tool, const Eigen::Vector3d&
 // less (but for the rounding of the values the bound is taken from), so the minimum is the same
 // value wherever it is below the cutoff by more than that rounding.
 std::pair<double, double> arc_sweep(const Tool& tool, const Move& move, const Eigen::Vector3d& p,
-                                    double cutoff = std::numeric_limits<double>::infinity()) {
+                                    double cutoff) {
   const double total = length(move);
   const MovePoints point_at_t(move);
   auto f = [&](double t) { return tool_signed_distance(tool, point_at_t(t), p); };
@@ -127,16 +126,6 @@ std::pair<double, double> arc_sweep(const Tool& tool, const Move& move, const Ei
 }  // namespace
 
 double swept_signed_distance(const Tool& tool, const Eigen::Vector3d& a, const Eigen::Vector3d& b,
-                             const Eigen::Vector3d& p) {
-  return segment_sweep(tool, a, b, p).second;
-}
-
-double swept_signed_distance(const Tool& tool, const Move& move, const Eigen::Vector3d& p) {
-  if (!move.is_arc()) return segment_sweep(tool, move.start, move.end, p).second;
-  return arc_sweep(tool, move, p).second;
-}
-
-double swept_signed_distance(const Tool& tool, const Eigen::Vector3d& a, const Eigen::Vector3d& b,
                              const Eigen::Vector3d& p, double cutoff) {
   return segment_sweep(tool, a, b, p, cutoff).second;
 }
@@ -148,7 +137,7 @@ double swept_signed_distance(const Tool& tool, const Move& move, const Eigen::Ve
 
 double closest_sweep_parameter(const Tool& tool, const Eigen::Vector3d& a, const Eigen::Vector3d& b,
                                const Eigen::Vector3d& p) {
-  return segment_sweep(tool, a, b, p).first;
+  return segment_sweep(tool, a, b, p, std::numeric_limits<double>::infinity()).first;
 }
 
 Eigen::AlignedBox3d swept_bounds(const Tool& tool, const Move& move) {
