@@ -32,7 +32,7 @@ std::uint32_t fan_apex(const LimitPolygon& polygon, const std::vector<std::uint3
     if (straight(apex + 1) || straight(apex + n - 1)) continue;
     bool unflat = true;
     for (std::size_t k = 1; unflat && k + 1 < n; ++k)
-      unflat = !rounds_flat(at(apex), at(apex + k), at(apex + k + 1));
+      unflat = !zero_area(at(apex), at(apex + k), at(apex + k + 1));
     if (unflat) return static_cast<std::uint32_t>(apex);
   }
   return polygon.strictly_convex() ? 0 : kCentroid;

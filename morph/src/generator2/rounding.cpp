@@ -13,12 +13,6 @@
 
 namespace morph {
 
-bool rounds_flat(const Eigen::Vector3d& a, const Eigen::Vector3d& b, const Eigen::Vector3d& c) {
-  constexpr double kFlat = 1e-14;
-  const double longest = std::max({(b - a).squaredNorm(), (c - b).squaredNorm(), (a - c).squaredNorm()});
-  return (b - a).cross(c - a).norm() <= kFlat * longest;
-}
-
 namespace {
 
 using Exact = boost::multiprecision::cpp_int;
@@ -91,7 +85,7 @@ bool settled_already(const TriangleMesh& mesh, const std::vector<Eigen::Vector3d
     if (unsettled.load(std::memory_order_relaxed)) return;
     const Triangle& tri = mesh.triangles[t];
     const Eigen::Vector3d &a = mesh.vertices[tri[0]], &b = mesh.vertices[tri[1]], &c = mesh.vertices[tri[2]];
-    if (rounds_flat(a, b, c) || oriented_area_sign(facing[t], a, b, c) <= 0 || a == b || b == c || c == a ||
+    if (zero_area(a, b, c) || oriented_area_sign(facing[t], a, b, c) <= 0 || a == b || b == c || c == a ||
         clustered(a, b) || clustered(b, c) || clustered(c, a))
       unsettled.store(true, std::memory_order_relaxed);
   });
@@ -169,7 +163,7 @@ class Settler {
 
   bool flat(std::uint32_t t) const {
     const Triangle& tri = mesh_.triangles[t];
-    return rounds_flat(at(tri[0]), at(tri[1]), at(tri[2]));
+    return zero_area(at(tri[0]), at(tri[1]), at(tri[2]));
   }
 
   // Step 1: an edge whose ends rounded alike, and the shortest edge of a flat needle (kNeedle),
@@ -275,7 +269,7 @@ class Settler {
     if (oriented_area_sign(facing, at(p), at(d), at(m)) <= 0 ||
         oriented_area_sign(facing, at(d), at(q), at(m)) <= 0)
       return false;
-    if (rounds_flat(at(p), at(d), at(m)) || rounds_flat(at(d), at(q), at(m))) return false;
+    if (zero_area(at(p), at(d), at(m)) || zero_area(at(d), at(q), at(m))) return false;
     const FaceTag tag = mesh_.tags.empty() ? FaceTag{} : mesh_.tags[s];
     drop(t);
     drop(s);

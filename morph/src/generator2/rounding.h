@@ -28,9 +28,6 @@ struct RoundingCounts {
   std::size_t misoriented_left = 0;    ///< triangles still flat or turned the wrong way
 };
 
-/// Flat as topology_report counts it: twice the area within 1e-14 of the longest edge squared.
-bool rounds_flat(const Eigen::Vector3d& a, const Eigen::Vector3d& b, const Eigen::Vector3d& c);
-
 /// Sign of normal · ((b - a) × (c - a)), the doubles taken as exact (filter, then integers).
 int oriented_area_sign(const Eigen::Vector3d& normal, const Eigen::Vector3d& a, const Eigen::Vector3d& b,
                        const Eigen::Vector3d& c);

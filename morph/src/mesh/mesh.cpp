@@ -2,6 +2,8 @@
 #include <morph/exceptions.h>
 #include <morph/mesh.h>
 
+#include <algorithm>
+
 namespace morph {
 
 const char* to_string(PatchKind kind) {
@@ -100,6 +102,13 @@ double enclosed_volume(const TriangleMesh& mesh) {
     six_volume += a.dot(b.cross(c));
   }
   return six_volume / 6.0;
+}
+
+bool zero_area(const Eigen::Vector3d& a, const Eigen::Vector3d& b, const Eigen::Vector3d& c) {
+  constexpr double kRelativeEpsilon = 1e-14;
+  const double longest_squared =
+      std::max({(b - a).squaredNorm(), (c - b).squaredNorm(), (a - c).squaredNorm()});
+  return (b - a).cross(c - a).norm() <= kRelativeEpsilon * longest_squared;
 }
 
 Eigen::Vector3d face_normal(const TriangleMesh& mesh, std::size_t t) {

@@ -31,16 +31,8 @@ bool collapsed(const Triangle& t) {
   return t[0] == t[1] || t[1] == t[2] || t[0] == t[2];
 }
 
-// Zero area relative to the triangle's size: |cross| <= eps * longest edge^2, so that a sliver
-// whose third vertex lies on the opposite edge up to rounding counts as degenerate.
 bool zero_area(const TriangleMesh& mesh, const Triangle& t) {
-  const Eigen::Vector3d& a = mesh.vertices[t[0]];
-  const Eigen::Vector3d& b = mesh.vertices[t[1]];
-  const Eigen::Vector3d& c = mesh.vertices[t[2]];
-  const double longest_squared =
-      std::max({(b - a).squaredNorm(), (c - b).squaredNorm(), (a - c).squaredNorm()});
-  constexpr double kRelativeEpsilon = 1e-14;
-  return (b - a).cross(c - a).norm() <= kRelativeEpsilon * longest_squared;
+  return morph::zero_area(mesh.vertices[t[0]], mesh.vertices[t[1]], mesh.vertices[t[2]]);
 }
 
 using detail::EdgeUse;
