@@ -153,6 +153,7 @@ class SweepCulling {
   Placed silhouette_face(std::size_t e, int index, const Eigen::Vector3d& a, const Eigen::Vector3d& b) const;
   const Faces& faces(std::uint32_t j, Scratch& scratch, CullingCounts& counts) const;
   enum class Against { Apart, Inside, Cuts };
+  class HalfspaceTest;  ///< against()'s steps (sweep_culling_halfspaces.cpp)
   enum class Culled { Open, Bound, Shared, Planes };
   struct Ends {
     Eigen::Vector3d a, b;  ///< ordered (both the start for a degenerate move)
