@@ -125,6 +125,7 @@ class SweepCulling {
     std::vector<int> planes_;             ///< against()'s crossing planes
     std::vector<char> marks_;             ///< against()'s flags per tool facet, clear
     std::vector<const Candidate*> open_;  ///< decide()'s candidates left for the halfspaces
+    std::vector<double> open_core_;       ///< their distances from the facet's centre (core_distance())
     KeptFacet keep_;                      ///< the facet cull() decides, copied out when it is kept
     std::vector<std::vector<Eigen::Vector3d>> points_of_;  ///< cull()'s facet points, by facet
     std::vector<Eigen::AlignedBox3d> candidate_boxes_;     ///< cull()'s candidates' boxes

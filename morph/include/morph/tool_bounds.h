@@ -55,14 +55,16 @@ bool any_point_inside_sweep(const ToolBounds& bounds, const Eigen::Vector3d& a, 
 
 /// True when the ball (centre, radius) is proven apart from tool ⊕ [a, b]: outside the swept
 /// outer ball (a capsule) and outside the swept outer cylinder.
+/// `core`, when given, receives the centre's core_distance() (a caller may order by it).
 bool ball_misses_sweep(const ToolBounds& bounds, const Eigen::Vector3d& a, const Eigen::Vector3d& b,
-                       const Eigen::Vector3d& centre, double radius);
+                       const Eigen::Vector3d& centre, double radius, double* core = nullptr);
 
 /// Both proofs above at once, sharing their distance from the swept centre: Inside when
-/// ball_inside_sweep() holds, else Misses when ball_misses_sweep() does, else Unknown.
+/// ball_inside_sweep() holds, else Misses when ball_misses_sweep() does, else Unknown. `core`,
+/// when given, receives the centre's core_distance().
 enum class BallVerdict { Inside, Misses, Unknown };
 BallVerdict ball_against_sweep(const ToolBounds& bounds, const Eigen::Vector3d& a, const Eigen::Vector3d& b,
-                               const Eigen::Vector3d& centre, double radius);
+                               const Eigen::Vector3d& centre, double radius, double* core = nullptr);
 
 /// True when the capsule (segment [from, to] grown by `radius`) is proven apart from
 /// tool ⊕ [a, b]: farther than the outer ball's radius from its swept centre (segment to

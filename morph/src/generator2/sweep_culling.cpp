@@ -273,7 +273,9 @@ SweepCulling::Culled SweepCulling::decide(const Placed& p, std::size_t i, const 
       return Culled::Bound;
   }
   std::vector<const Candidate*>& open = scratch.open_;
+  std::vector<double>& open_core = scratch.open_core_;  // each one's core_distance() of the centre
   open.clear();
+  open_core.clear();
   AlignedBox3d box = p.box;
   box.min().array() -= rounding_;
   box.max().array() += rounding_;
@@ -310,10 +312,11 @@ SweepCulling::Culled SweepCulling::decide(const Placed& p, std::size_t i, const 
     }
     ++counts.bound_tests;
     BallVerdict ball = BallVerdict::Unknown;
+    double core = 0.0;
     if (c == prover) {  // asked above whether it holds the facet
-      if (ball_misses_sweep(bounds_, c->a, c->b, p.centre, p.radius)) ball = BallVerdict::Misses;
+      if (ball_misses_sweep(bounds_, c->a, c->b, p.centre, p.radius, &core)) ball = BallVerdict::Misses;
     } else {
-      ball = ball_against_sweep(bounds_, c->a, c->b, p.centre, p.radius);
+      ball = ball_against_sweep(bounds_, c->a, c->b, p.centre, p.radius, &core);
       if (ball == BallVerdict::Inside || points_inside_sweep(bounds_, c->a, c->b, vertices)) {
         prover = c;
         return Culled::Bound;
@@ -323,6 +326,7 @@ SweepCulling::Culled SweepCulling::decide(const Placed& p, std::size_t i, const 
         (p.placement == 0 && capsule_misses_sweep(bounds_, c->a, c->b, p.from, p.to, p.thickness)))
       continue;
     open.push_back(c);
+    open_core.push_back(core);
   }
   // The nearest core first: the candidate that holds the whole facet, when one does, is mostly
   // the one whose tool passes closest to it, and the cutters found before it are work thrown
@@ -331,10 +335,8 @@ SweepCulling::Culled SweepCulling::decide(const Placed& p, std::size_t i, const 
   if (open.size() > 1) {
     std::size_t nearest = 0;
     double least = std::numeric_limits<double>::infinity();
-    for (std::size_t k = 0; k < open.size(); ++k) {
-      const double d = core_distance(bounds_, open[k]->a, open[k]->b, p.centre);
-      if (d < least) least = d, nearest = k;
-    }
+    for (std::size_t k = 0; k < open.size(); ++k)
+      if (open_core[k] < least) least = open_core[k], nearest = k;
     std::rotate(open.begin(), open.begin() + static_cast<std::ptrdiff_t>(nearest),
                 open.begin() + static_cast<std::ptrdiff_t>(nearest) + 1);
   }

@@ -172,8 +172,9 @@ bool misses(const ToolBounds& bounds, const Vector3d& a, const Vector3d& b, cons
 }  // namespace
 
 BallVerdict ball_against_sweep(const ToolBounds& bounds, const Vector3d& a, const Vector3d& b,
-                               const Vector3d& centre, double radius) {
+                               const Vector3d& centre, double radius, double* core_out) {
   const double core = core_distance(bounds, a, b, centre);
+  if (core_out) *core_out = core;
   if (in_capsule(bounds, core, radius) || in_swept_cylinder(bounds, a, b, centre, radius))
     return BallVerdict::Inside;
   return misses(bounds, a, b, centre, radius, core) ? BallVerdict::Misses : BallVerdict::Unknown;
@@ -260,8 +261,10 @@ bool any_point_inside_sweep(const ToolBounds& bounds, const Vector3d& a, const V
 }
 
 bool ball_misses_sweep(const ToolBounds& bounds, const Vector3d& a, const Vector3d& b, const Vector3d& centre,
-                       double radius) {
-  return misses(bounds, a, b, centre, radius, core_distance(bounds, a, b, centre));
+                       double radius, double* core_out) {
+  const double core = core_distance(bounds, a, b, centre);
+  if (core_out) *core_out = core;
+  return misses(bounds, a, b, centre, radius, core);
 }
 
 }  // namespace morph
