@@ -19,9 +19,9 @@ namespace {
 using Eigen::Vector3d;
 using Key = std::array<std::uint64_t, 3>;
 
-const morph::ExactPlane& third(const std::array<morph::ExactPlane, 3>& v, std::uint64_t s, std::uint64_t e) {
-  for (const morph::ExactPlane& p : v)
-    if (p.rank != s && p.rank != e) return p;
+const morph::ExactPlane& third(const morph::PlaneTriple& v, std::uint64_t s, std::uint64_t e) {
+  for (const morph::ExactPlane* p : v.planes)
+    if (p->rank != s && p->rank != e) return *p;
   return v[0];
 }
 
@@ -46,9 +46,9 @@ std::vector<std::uint32_t> expected_loop(const morph::ConformedSurface& surface,
     const morph::ExactPlane& b = third(surface.vertices[to], s.rank, e.rank);
     std::vector<std::uint32_t> inside;
     for (std::uint32_t r = 0; r < surface.vertices.size(); ++r) {
-      const auto& v = surface.vertices[r];
-      const bool on_line = std::count_if(v.begin(), v.end(), [&](const morph::ExactPlane& x) {
-                             return x.rank == s.rank || x.rank == e.rank;
+      const morph::PlaneTriple v = surface.vertices[r];
+      const bool on_line = std::count_if(v.planes.begin(), v.planes.end(), [&](const morph::ExactPlane* x) {
+                             return x->rank == s.rank || x->rank == e.rank;
                            }) == 2;
       if (!on_line || r == from || r == to) continue;
       const morph::ExactPlane& c = third(v, s.rank, e.rank);

@@ -203,8 +203,8 @@ TEST(DegenerateCollapse, TheSameSurfaceUnderEitherPolicy) {
   ASSERT_GT(one.vertices.size(), 1000u);
   auto ranks = [](const morph::ConformedSurface& s) {
     std::vector<std::uint64_t> out;
-    for (const auto& v : s.vertices)
-      for (const morph::ExactPlane& p : v) out.push_back(p.rank);
+    for (std::size_t v = 0; v < s.vertices.size(); ++v)
+      for (const morph::ExactPlane* p : s.vertices[v].planes) out.push_back(p->rank);
     return out;
   };
   EXPECT_EQ(ranks(one), ranks(many));

@@ -18,8 +18,10 @@ TEST(LimitClasses, TriplesThroughOnePointAreOneClass) {
                           z0 = plane({0, 0, 1}, 0, 3), diagonal = plane({1, 1, 1}, 0, 4),
                           x1 = plane({1, 0, 0}, 1, 5), near = plane({1, 1, 1}, 1e-12, 6);
   // The origin three times; (1, 0, 0), (1, 0, -1) and a point 1e-12 above the origin each alone.
-  const std::vector<std::array<morph::ExactPlane, 3>> vertices{
-      {x1, y0, z0}, {x0, y0, z0}, {x0, y0, diagonal}, {x1, y0, diagonal}, {y0, z0, diagonal}, {x0, y0, near}};
+  // The table of planes and each vertex's triple in it.
+  morph::VertexPlanes vertices;
+  vertices.planes = {x0, y0, z0, diagonal, x1, near};
+  vertices.triples = {{1, 2, 4}, {0, 1, 2}, {0, 1, 3}, {1, 3, 4}, {1, 2, 3}, {0, 1, 5}};
   for (morph::ExecutionPolicy policy :
        {morph::ExecutionPolicy::Sequential, morph::ExecutionPolicy::Parallel}) {
     const std::vector<std::uint32_t> root = morph::limit_classes(vertices, policy);

@@ -440,7 +440,9 @@ TEST(PlanePredicates, SideAtAGridVertexIsSideAtVertex) {
         << trial;
     // The same point named by other planes through it, or not: decided alike with a point near it.
     const std::array<ExactPlane, 3> u{a, b, c}, v{d, on_grid.through(x, 20, 1), on_grid.through(x, 21, -1)};
-    EXPECT_EQ(morph::same_limit_point(u, v, near), morph::same_limit_point(u, v)) << trial;
+    EXPECT_EQ(morph::same_limit_point(morph::triple_of(u), morph::triple_of(v), near),
+              morph::same_limit_point(morph::triple_of(u), morph::triple_of(v)))
+        << trial;
     // A plane of the same rank as one of the three is on the vertex.
     EXPECT_EQ(morph::side_at_grid_vertex(a, b, c, x, b), 0);
   }

@@ -22,9 +22,25 @@ struct ConformedPolygon {
   std::int32_t face = 0;            ///< the stock face or the sweep's facet
 };
 
+/// A surface's vertices as triples of planes in one table of its distinct planes: a plane is
+/// named by many vertices, and a triple of copies (288 bytes a vertex) was a gigabyte on cameo.nc.
+struct VertexPlanes {
+  std::vector<ExactPlane> planes;                     ///< one per rank, in increasing rank
+  std::vector<std::array<std::uint32_t, 3>> triples;  ///< each vertex's, indices in `planes`
+  std::size_t size() const { return triples.size(); }
+  /// Vertex v's planes, sorted by rank (its key).
+  PlaneTriple operator[](std::size_t v) const {
+    const std::array<std::uint32_t, 3>& t = triples[v];
+    return {{&planes[t[0]], &planes[t[1]], &planes[t[2]]}};
+  }
+  /// The index in `planes` of one of its planes.
+  std::uint32_t index_of(const ExactPlane& plane) const {
+    return static_cast<std::uint32_t>(&plane - planes.data());
+  }
+};
+
 struct ConformedSurface {
-  /// Each vertex's planes, sorted by rank (its key).
-  std::vector<std::array<ExactPlane, 3>> vertices;
+  VertexPlanes vertices;
   std::vector<ConformedPolygon> polygons;
   std::size_t inserted = 0;  ///< vertices inserted into other pieces' edges
 };

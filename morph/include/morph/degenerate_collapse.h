@@ -28,15 +28,15 @@
 
 namespace morph {
 
-/// One plane of a vertex's triple, named by where it is held: slot `ref % 3` of vertex
-/// `ref / 3` of the conformed surface. A polygon names its planes so rather than copying them:
-/// bear.nc at 0.01 has 5 million corners, and a 112-byte copy of each edge's plane (twice, for
-/// the loops and the limit polygons) was a gigabyte of memory and a tenth of the run in page faults.
+/// One plane of the surface's vertices, named by its index in their table of planes
+/// (VertexPlanes::planes). A polygon names its planes so rather than copying them: bear.nc at
+/// 0.01 has 5 million corners, and a 112-byte copy of each edge's plane (twice, for the loops and
+/// the limit polygons) was a gigabyte of memory and a tenth of the run in page faults.
 using PlaneRef = std::uint32_t;
 
 /// The plane `ref` names in `vertices`.
-inline const ExactPlane& plane_at(const std::vector<std::array<ExactPlane, 3>>& vertices, PlaneRef ref) {
-  return vertices[ref / 3][ref % 3];
+inline const ExactPlane& plane_at(const VertexPlanes& vertices, PlaneRef ref) {
+  return vertices.planes[ref];
 }
 
 /// A convex polygon of the limit surface: distinct points, counter-clockwise seen from outside.
@@ -71,7 +71,7 @@ struct LimitCounts {
 struct LimitSurface {
   /// Each vertex's planes (conform's; vertices merged away are no longer in a loop, but their
   /// planes may still be named by a PlaneRef).
-  std::vector<std::array<ExactPlane, 3>> vertices;
+  VertexPlanes vertices;
   /// vertex_point() of each vertex, as the limit step found them; emit() finds them itself when
   /// this is empty.
   std::vector<Eigen::Vector3d> points;

@@ -108,13 +108,22 @@ int limit_side_at_vertex(const ExactPlane& a, const ExactPlane& b, const ExactPl
 int limit_side_at_grid_vertex(const ExactPlane& a, const ExactPlane& b, const ExactPlane& c,
                               const GridPoint& x, const ExactPlane& d);
 
+/// Three planes held elsewhere, read as a triple without copying them: a vertex's, in a
+/// surface's table of planes (conform.h).
+struct PlaneTriple {
+  std::array<const ExactPlane*, 3> planes{};
+  const ExactPlane& operator[](std::size_t i) const { return *planes[i]; }
+};
+inline PlaneTriple triple_of(const std::array<ExactPlane, 3>& planes) {
+  return {{&planes[0], &planes[1], &planes[2]}};
+}
+
 /// True iff the vertices u and v (plane triples) are the same exact point in the limit: every
 /// plane of v passes exactly through u's point (three independent planes meet in one point).
-bool same_limit_point(const std::array<ExactPlane, 3>& u, const std::array<ExactPlane, 3>& v);
+bool same_limit_point(const PlaneTriple& u, const PlaneTriple& v);
 /// The same, given a point near u's vertex (its vertex_point()): where that vertex is a grid
 /// point (grid_vertex_near()), v's planes' integer values there decide.
-bool same_limit_point(const std::array<ExactPlane, 3>& u, const std::array<ExactPlane, 3>& v,
-                      const Eigen::Vector3d& near_u);
+bool same_limit_point(const PlaneTriple& u, const PlaneTriple& v, const Eigen::Vector3d& near_u);
 
 /// The vertex of three planes rounded to doubles: Cramer's rule in long double where its error
 /// bound is within 1e-12 of the coordinates' size, otherwise (normals nearly dependent, as a tool

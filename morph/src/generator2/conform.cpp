@@ -19,7 +19,7 @@ Pair pair_of(std::uint64_t a, std::uint64_t b) {
 
 // The slot of a vertex's line through planes s and e: the index (in the vertex's rank-sorted
 // planes) of its third plane.
-int slot_of(const std::array<ExactPlane, 3>& v, std::uint64_t s, std::uint64_t e) {
+int slot_of(const PlaneTriple& v, std::uint64_t s, std::uint64_t e) {
   for (int i = 0; i < 3; ++i)
     if (v[i].rank != s && v[i].rank != e) return i;
   return 0;
@@ -61,19 +61,23 @@ class Builder {
                [](const auto& a, const auto& b) { return a.first < b.first; });
     std::vector<std::uint32_t> vertex_of;
     resize_faulted_in(vertex_of, corners.size(), policy);
-    // The vertices' 200 MB on bear.nc, faulted in by one thread, took half a second.
-    resize_faulted_in(surface_.vertices, runs.size(), policy);
+    // Each vertex's planes where its first corner's piece holds them, sorted by rank.
+    std::vector<std::array<const ExactPlane*, 3>> source;
+    resize_faulted_in(source, runs.size(), policy);
     for_each_index(policy, 0, runs.size(), [&](std::size_t v) {
       const std::size_t first = runs[v].first;
       const std::size_t i = static_cast<std::size_t>(
           std::upper_bound(first_corner.begin(), first_corner.end(), first) - first_corner.begin() - 1);
       const ConvexPiece& piece = pieces[i].piece;
       const std::size_t n = piece.edges.size(), k = first - first_corner[i];
-      surface_.vertices[v] = sorted(piece.support, piece.edges[(k + n - 1) % n], piece.edges[k]);
+      source[v] = {&piece.support, &piece.edges[(k + n - 1) % n], &piece.edges[k]};
+      std::sort(source[v].begin(), source[v].end(),
+                [](const ExactPlane* x, const ExactPlane* y) { return x->rank < y->rank; });
       for (std::size_t c = runs[v].second;
            c < corners.size() && corners[c].key == corners[runs[v].second].key; ++c)
         vertex_of[corners[c].index] = static_cast<std::uint32_t>(v);
     });
+    make_plane_table(source, policy);
     make_lines(policy);
     return vertex_of;
   }
@@ -88,7 +92,7 @@ class Builder {
       std::uint32_t* line = line_vertices_.data() + line_start_[l];
       const std::size_t count = line_size(l);
       if (count > 1) {
-        const std::array<ExactPlane, 3>& first = surface_.vertices[line[0]];
+        const PlaneTriple first = surface_.vertices[line[0]];
         const int third = slot_of_line(line[0], static_cast<std::uint32_t>(l));
         const ExactPlane& lo = first[third == 0 ? 1 : 0];
         const ExactPlane& hi = first[third == 2 ? 1 : 2];
@@ -159,11 +163,30 @@ class Builder {
     return surface_.vertices[r][slot_of_line(r, l)];
   }
 
-  static std::array<ExactPlane, 3> sorted(const ExactPlane& a, const ExactPlane& b, const ExactPlane& c) {
-    std::array<ExactPlane, 3> planes{a, b, c};
-    std::sort(planes.begin(), planes.end(),
-              [](const ExactPlane& x, const ExactPlane& y) { return x.rank < y.rank; });
-    return planes;
+  // The vertices' planes, each rank once (the first vertex slot naming it gives the copy: a
+  // plane and its flipped() name one point alike), and each vertex's triple of indices.
+  void make_plane_table(const std::vector<std::array<const ExactPlane*, 3>>& source, ExecutionPolicy policy) {
+    struct Named {
+      std::uint64_t rank;
+      std::uint32_t slot;  // 3 · vertex + its index in the vertex's triple
+    };
+    std::vector<Named> named;
+    resize_faulted_in(named, 3 * source.size(), policy);
+    for_each_index(policy, 0, source.size(), [&](std::size_t v) {
+      for (std::uint32_t k = 0; k < 3; ++k)
+        named[3 * v + k] = {source[v][k]->rank, static_cast<std::uint32_t>(3 * v + k)};
+    });
+    sort_under(policy, named.begin(), named.end(), [](const Named& a, const Named& b) {
+      return a.rank < b.rank || (a.rank == b.rank && a.slot < b.slot);
+    });
+    VertexPlanes& vertices = surface_.vertices;
+    resize_faulted_in(vertices.triples, source.size(), policy);
+    for (std::size_t e = 0; e < named.size(); ++e) {
+      if (e == 0 || named[e].rank != named[e - 1].rank)
+        vertices.planes.push_back(*source[named[e].slot / 3][named[e].slot % 3]);
+      vertices.triples[named[e].slot / 3][named[e].slot % 3] =
+          static_cast<std::uint32_t>(vertices.planes.size() - 1);
+    }
   }
 
   // Each line of two of a vertex's planes with its vertices in increasing order (each vertex once:
@@ -177,7 +200,7 @@ class Builder {
     std::vector<OnLine> entries;
     resize_faulted_in(entries, 3 * surface_.vertices.size(), policy);
     for_each_index(policy, 0, surface_.vertices.size(), [&](std::size_t v) {
-      const std::array<ExactPlane, 3>& planes = surface_.vertices[v];
+      const PlaneTriple planes = surface_.vertices[v];
       for (int slot = 0; slot < 3; ++slot)
         entries[3 * v + slot] = {pair_of(planes[(slot + 1) % 3].rank, planes[(slot + 2) % 3].rank),
                                  static_cast<std::uint32_t>(v), slot};

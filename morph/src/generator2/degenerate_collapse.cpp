@@ -21,14 +21,14 @@
 namespace morph {
 namespace {
 
-using Triple = std::array<ExactPlane, 3>;
+using Triple = PlaneTriple;
 using Edge = std::pair<std::uint32_t, std::uint32_t>;
 
 // ---- step 0: each conformed polygon's support and the plane of each of its edges ----------------
 
 const ExactPlane* plane_of(const Triple& t, std::uint64_t rank) {
-  for (const ExactPlane& p : t)
-    if (p.rank == rank) return &p;
+  for (const ExactPlane* p : t.planes)
+    if (p->rank == rank) return p;
   return nullptr;
 }
 
@@ -42,8 +42,8 @@ struct SharedPlanes {
 };
 SharedPlanes shared(const Triple& u, const Triple& v) {
   SharedPlanes out;
-  for (const ExactPlane& p : u)
-    if (plane_of(v, p.rank)) out.planes[out.count++] = &p;
+  for (const ExactPlane* p : u.planes)
+    if (plane_of(v, p->rank)) out.planes[out.count++] = p;
   return out;
 }
 
@@ -54,10 +54,6 @@ struct PlanarLoop {
   bool support_turned = false;
   std::vector<PlaneRef> edge_planes;
 };
-
-PlaneRef ref_of(std::uint32_t vertex, const Triple& triple, const ExactPlane* plane) {
-  return 3 * vertex + static_cast<PlaneRef>(plane - triple.data());
-}
 
 PlanarLoop planar_loop(const ConformedSurface& surface, const ConformedPolygon& polygon) {
   const auto& loop = polygon.loop;
@@ -73,13 +69,13 @@ PlanarLoop planar_loop(const ConformedSurface& surface, const ConformedPolygon& 
   // A vertex may hold the support turned over (an edge of a piece outside it, flipped()): a
   // stock face's support contracts, a sweep facet's expands.
   const ExactPlane& support = *common.planes[0];
-  out.support = ref_of(loop[0], surface.vertices[loop[0]], &support);
+  out.support = surface.vertices.index_of(support);
   out.support_turned = support.direction != (polygon.move < 0 ? -1 : 1);
   out.edge_planes.reserve(n);
   for (std::size_t k = 0; k < n; ++k)
     for (const ExactPlane* p : shared(surface.vertices[loop[k]], surface.vertices[loop[(k + 1) % n]]))
       if (p->rank != support.rank) {
-        out.edge_planes.push_back(ref_of(loop[k], surface.vertices[loop[k]], p));
+        out.edge_planes.push_back(surface.vertices.index_of(*p));
         break;
       }
   return out;
@@ -224,8 +220,7 @@ class Limit {
 
   // The limit surface, its polygons moved out (the last use of this).
   // `vertices`: the conformed surface's (this reads them until it moves them out at the end).
-  LimitSurface result(LimitCounts counts, std::vector<Triple>&& vertices,
-                      std::vector<Eigen::Vector3d>&& points) {
+  LimitSurface result(LimitCounts counts, VertexPlanes&& vertices, std::vector<Eigen::Vector3d>&& points) {
     LimitSurface out;
     std::vector<char> still_flat(polygons_.size(), 0);
     for_each_index(policy_, 0, polygons_.size(), [&](std::size_t i) {
@@ -252,12 +247,12 @@ class Limit {
   }
 
  private:
-  const Triple& at(std::uint32_t v) const { return surface_.vertices[v]; }
+  Triple at(std::uint32_t v) const { return surface_.vertices[v]; }
   const ExactPlane& plane(PlaneRef ref) const { return plane_at(surface_.vertices, ref); }
   // limit_side_at_vertex() at vertex v, by the integers where v is a grid point (most vertices
   // the limit step looks at are ties, which the filter cannot decide).
   int limit_side(std::uint32_t v, const ExactPlane& e) const {
-    const Triple& t = at(v);
+    const Triple t = at(v);
     if (const std::optional<GridPoint> x = grid_vertex_near(t[0], t[1], t[2], points_[v]))
       return limit_side_at_grid_vertex(t[0], t[1], t[2], *x, e);
     return limit_side_at_vertex(t[0], t[1], t[2], e);
@@ -328,9 +323,9 @@ class Limit {
     const ExactPlane& line = plane(d.edge_planes[0]);
     std::map<std::uint32_t, std::pair<const ExactPlane*, int>> crossing;  // point -> plane, its orientation
     for (std::uint32_t v : d.loop)
-      for (const ExactPlane& c : at(v))
-        if (int o = normals_orientation(s, line, c)) {
-          crossing[v] = {&c, o};
+      for (const ExactPlane* c : at(v).planes)
+        if (int o = normals_orientation(s, line, *c)) {
+          crossing[v] = {c, o};
           break;
         }
     const auto after = [&](std::uint32_t q, std::uint32_t p) {
@@ -410,9 +405,9 @@ Eigen::Vector3d LimitSurface::outward_normal(const LimitPolygon& polygon) const 
 }
 
 LimitSurface collapse_degenerates(ConformedSurface surface, ExecutionPolicy policy) {
-  if (surface.vertices.size() > std::numeric_limits<PlaneRef>::max() / 3)
-    throw LimitError("limit step: more than " + std::to_string(std::numeric_limits<PlaneRef>::max() / 3) +
-                     " vertices");
+  if (surface.vertices.size() > std::numeric_limits<std::uint32_t>::max() / 3)
+    throw LimitError("limit step: more than " +
+                     std::to_string(std::numeric_limits<std::uint32_t>::max() / 3) + " vertices");
   std::vector<PlanarLoop> planar;
   resize_faulted_in(planar, surface.polygons.size(), policy);
   for_each_index(policy, 0, planar.size(),

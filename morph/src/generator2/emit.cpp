@@ -106,6 +106,10 @@ TriangleMesh emit(const LimitSurface& surface, const std::vector<std::int32_t>& 
     for (std::size_t k = 0; k < n; ++k) add(centre, index[polygon.loop[k]], index[polygon.loop[(k + 1) % n]]);
   });
   const RoundingCounts rounding = settle_rounding(mesh, std::move(facing));
+  // One zero: a coordinate that is zero is +0 whichever way its planes face (a vertex's planes
+  // are shared with other vertices, in the orientation one of them holds).
+  for_each_index(policy, 0, mesh.vertices.size(),
+                 [&](std::size_t v) { mesh.vertices[v] = mesh.vertices[v].array() + 0.0; });
   if (counts)
     *counts = {rounding.collapsed_edges, rounding.flipped_edges, rounding.rerounded_vertices,
                rounding.misoriented_left};

@@ -17,8 +17,8 @@ namespace morph {
 // found in parallel, and the cells sorted, so each occupied cell holding a vertex near its faces
 // looks up its 13 neighbours after it among the sorted runs (bear.nc at 0.01: 778k vertices, 27
 // hash look-ups each took a second; 13 each still took most of this step's 1 s).
-std::vector<std::uint32_t> limit_classes(const std::vector<std::array<ExactPlane, 3>>& vertices,
-                                         ExecutionPolicy policy, std::vector<Eigen::Vector3d>* points) {
+std::vector<std::uint32_t> limit_classes(const VertexPlanes& vertices, ExecutionPolicy policy,
+                                         std::vector<Eigen::Vector3d>* points) {
   constexpr double kCell = 1e-6;
   using Cell = std::array<std::int64_t, 3>;
   std::vector<std::pair<Cell, std::uint32_t>> cells;

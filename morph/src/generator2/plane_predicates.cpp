@@ -474,18 +474,17 @@ int limit_side_at_grid_vertex(const ExactPlane& a, const ExactPlane& b, const Ex
   return value == 0 ? 0 : (value > 0 ? 1 : -1);
 }
 
-bool same_limit_point(const std::array<ExactPlane, 3>& u, const std::array<ExactPlane, 3>& v) {
-  for (const ExactPlane& d : v)
-    if (limit_side_at_vertex(u[0], u[1], u[2], d) != 0) return false;
+bool same_limit_point(const PlaneTriple& u, const PlaneTriple& v) {
+  for (std::size_t k = 0; k < 3; ++k)
+    if (limit_side_at_vertex(u[0], u[1], u[2], v[k]) != 0) return false;
   return true;
 }
 
-bool same_limit_point(const std::array<ExactPlane, 3>& u, const std::array<ExactPlane, 3>& v,
-                      const Eigen::Vector3d& near_u) {
+bool same_limit_point(const PlaneTriple& u, const PlaneTriple& v, const Eigen::Vector3d& near_u) {
   const std::optional<GridPoint> x = grid_vertex_near(u[0], u[1], u[2], near_u);
   if (!x) return same_limit_point(u, v);
-  for (const ExactPlane& d : v)
-    if (limit_side_at_grid_vertex(u[0], u[1], u[2], *x, d) != 0) return false;
+  for (std::size_t k = 0; k < 3; ++k)
+    if (limit_side_at_grid_vertex(u[0], u[1], u[2], *x, v[k]) != 0) return false;
   return true;
 }
 
