@@ -11,11 +11,6 @@ namespace morph {
 namespace {
 
 using Key = std::array<std::uint64_t, 3>;
-using Pair = std::pair<std::uint64_t, std::uint64_t>;
-
-Pair pair_of(std::uint64_t a, std::uint64_t b) {
-  return a < b ? Pair{a, b} : Pair{b, a};
-}
 
 // The slot of a vertex's line through planes s and e: the index (in the vertex's rank-sorted
 // planes) of its third plane.
@@ -192,18 +187,22 @@ class Builder {
   // Each line of two of a vertex's planes with its vertices in increasing order (each vertex once:
   // its three lines are distinct), and each vertex's line by slot (the slot of the third plane).
   void make_lines(ExecutionPolicy policy) {
+    // A line is named by its two planes' indices in the table (in increasing rank, as the
+    // planes are), the lower in the high half.
     struct OnLine {
-      Pair line;
+      std::uint64_t line;
       std::uint32_t vertex;
-      int slot;
+      std::uint32_t slot;
     };
     std::vector<OnLine> entries;
     resize_faulted_in(entries, 3 * surface_.vertices.size(), policy);
     for_each_index(policy, 0, surface_.vertices.size(), [&](std::size_t v) {
-      const PlaneTriple planes = surface_.vertices[v];
-      for (int slot = 0; slot < 3; ++slot)
-        entries[3 * v + slot] = {pair_of(planes[(slot + 1) % 3].rank, planes[(slot + 2) % 3].rank),
+      const std::array<std::uint32_t, 3>& planes = surface_.vertices.triples[v];
+      for (std::uint32_t slot = 0; slot < 3; ++slot) {
+        const std::uint32_t a = planes[(slot + 1) % 3], b = planes[(slot + 2) % 3];
+        entries[3 * v + slot] = {std::uint64_t{std::min(a, b)} << 32 | std::max(a, b),
                                  static_cast<std::uint32_t>(v), slot};
+      }
     });
     sort_under(policy, entries.begin(), entries.end(), [](const OnLine& a, const OnLine& b) {
       return a.line < b.line || (a.line == b.line && a.vertex < b.vertex);
