@@ -67,7 +67,7 @@ void BM_Generator2(benchmark::State& state) {
       sweeps.push_back({&builder, s.from, s.to});
     const double tool_cpu = process_seconds() - cpu;
     morph::CarveStages stages;
-    std::vector<morph::CarvedPiece> pieces;
+    morph::CarvedPieces pieces;
     arena.execute([&] {
       pieces = morph::carve_culled(job.stock.box, sweeps, morph::ExecutionPolicy::Parallel, &stages);
     });

@@ -107,12 +107,12 @@ void expect_same(const Case& c, const std::string& what) {
                                          static_cast<std::uint32_t>(j)));
   morph::CarveStages stages;
   morph::CuttingOrders orders;
-  const std::vector<morph::CarvedPiece> serial =
-      morph::carve_culled(c.box, c.sweeps, morph::ExecutionPolicy::Sequential, &stages, nullptr, &orders);
+  const std::vector<morph::CarvedPiece> serial = morph::expanded(
+      morph::carve_culled(c.box, c.sweeps, morph::ExecutionPolicy::Sequential, &stages, nullptr, &orders));
   // Each kept facet cut in the culled carving's order, by every sweep whose box meets it.
   const std::vector<morph::CarvedPiece> reference =
       morph::carve_box(c.box, planes, morph::sweep_boxes(c.sweeps), nullptr, &orders);
-  const std::vector<morph::CarvedPiece> parallel = morph::carve_culled(c.box, c.sweeps);
+  const std::vector<morph::CarvedPiece> parallel = morph::expanded(morph::carve_culled(c.box, c.sweeps));
   ASSERT_FALSE(reference.empty()) << what;
   const std::vector<PieceKey> got = keys(serial), want = keys(reference);
   std::vector<PieceKey> extra, missing;
@@ -332,14 +332,14 @@ TEST(CarveCulled, ReportsProgressPerMoveAndStopsWhenAsked) {
   add_path(c, 0,
            {Vector3d(1, 1, 3), Vector3d(8, 2, 3), Vector3d(8, 6, 2), Vector3d(2, 6, 3), Vector3d(5, 4, 5)});
   CountingProgress progress;
-  const auto pieces =
-      morph::carve_culled(c.box, c.sweeps, morph::ExecutionPolicy::Parallel, nullptr, &progress);
+  const auto pieces = morph::expanded(
+      morph::carve_culled(c.box, c.sweeps, morph::ExecutionPolicy::Parallel, nullptr, &progress));
   EXPECT_EQ(progress.stage_, "erode2: carve");
   EXPECT_EQ(progress.total_, 6 + c.sweeps.size());
   EXPECT_EQ(progress.done_.load(), progress.total_);
   EXPECT_EQ(progress.begun_, 1);
   EXPECT_EQ(progress.ended_, 1);
-  EXPECT_EQ(keys(pieces), keys(morph::carve_culled(c.box, c.sweeps)));
+  EXPECT_EQ(keys(pieces), keys(morph::expanded(morph::carve_culled(c.box, c.sweeps))));
 
   CountingProgress stopping;
   stopping.stop_after_ = 2;

@@ -75,8 +75,8 @@ TEST(Conform, EdgesTakeTheVerticesBetweenTheirCornersInOrder) {
                                       Vector3d(22, 22, 3.5), Vector3d(22, 8, 3.5), Vector3d(8, 22, 4.5)};
   std::vector<morph::CarveSweep> sweeps;
   for (std::size_t k = 0; k + 1 < path.size(); ++k) sweeps.push_back({&tool, path[k], path[k + 1]});
-  const std::vector<morph::CarvedPiece> pieces =
-      morph::carve_culled(Eigen::AlignedBox3d(Vector3d(0, 0, 0), Vector3d(30, 30, 5)), sweeps);
+  const std::vector<morph::CarvedPiece> pieces = morph::expanded(
+      morph::carve_culled(Eigen::AlignedBox3d(Vector3d(0, 0, 0), Vector3d(30, 30, 5)), sweeps));
   for (morph::ExecutionPolicy policy :
        {morph::ExecutionPolicy::Sequential, morph::ExecutionPolicy::Parallel}) {
     const morph::ConformedSurface surface = morph::conform(pieces, policy);

@@ -12,6 +12,7 @@
 /// with all their planes.
 /// Facets are independent and carved in parallel; the pieces come out in a fixed order.
 #include <morph/carve.h>
+#include <morph/carved_pieces.h>
 #include <morph/parallel.h>
 #include <morph/progress.h>
 #include <morph/stock_polytope.h>
@@ -49,25 +50,24 @@ struct CarveStages {
 };
 
 /// The pieces of box \ ∪ sweeps, as carve_box() gives them for the same moves and cutting orders
-/// (up to the order of the pieces): stock faces first (box_planes() order), then each move's kept
-/// facets in facet order. A kept facet is cut by the sweeps that may reach it, those that may
+/// (up to the order of the pieces; expanded() gives them as values), with their planes in one
+/// table (carved_pieces.h): stock faces first (box_planes() order), then each move's kept facets
+/// in facet order. A kept facet is cut by the sweeps that may reach it, those that may
 /// hold the most of it first: the most of its points below all of their faces near it, then the
 /// fewest planes crossing it, then move order (a sweep that takes most of a facet first leaves
 /// few pieces for the others); that order is written to `orders` when given. `policy` chooses
 /// one thread or TBB; the output does not depend on it.
-std::vector<CarvedPiece> carve_culled(const Eigen::AlignedBox3d& box, const std::vector<CarveSweep>& sweeps,
-                                      ExecutionPolicy policy = ExecutionPolicy::Parallel,
-                                      CarveStages* stages = nullptr, Progress* progress = nullptr,
-                                      CuttingOrders* orders = nullptr);
+CarvedPieces carve_culled(const Eigen::AlignedBox3d& box, const std::vector<CarveSweep>& sweeps,
+                          ExecutionPolicy policy = ExecutionPolicy::Parallel, CarveStages* stages = nullptr,
+                          Progress* progress = nullptr, CuttingOrders* orders = nullptr);
 
 /// The same for a convex stock (stock_polytope.h): its faces take the place of the box's, in the
 /// order of its planes; for box_stock_polytope(box) the pieces are those of the box overload.
 /// `progress`, when given, sees the stage "erode2: carve" with one unit per stock face and per
 /// move, and may stop it: carve_culled() then throws Interrupted.
-std::vector<CarvedPiece> carve_culled(const StockPolytope& stock, const std::vector<CarveSweep>& sweeps,
-                                      ExecutionPolicy policy = ExecutionPolicy::Parallel,
-                                      CarveStages* stages = nullptr, Progress* progress = nullptr,
-                                      CuttingOrders* orders = nullptr);
+CarvedPieces carve_culled(const StockPolytope& stock, const std::vector<CarveSweep>& sweeps,
+                          ExecutionPolicy policy = ExecutionPolicy::Parallel, CarveStages* stages = nullptr,
+                          Progress* progress = nullptr, CuttingOrders* orders = nullptr);
 
 /// The sweeps' boxes: the tool polytope's box at both ends, grown by a rounding margin.
 std::vector<Eigen::AlignedBox3d> sweep_boxes(const std::vector<CarveSweep>& sweeps);

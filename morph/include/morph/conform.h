@@ -7,6 +7,7 @@
 /// lying on a piece's edge line strictly inside the edge is inserted into it (decided by the
 /// exact predicates), so no T-junctions remain.
 #include <morph/carve.h>
+#include <morph/carved_pieces.h>
 #include <morph/parallel.h>
 
 #include <array>
@@ -47,6 +48,8 @@ struct ConformedSurface {
 
 /// Each plane-pair line's vertices are sorted along it once; lines and pieces are independent and
 /// done in parallel under `policy` (the output does not depend on it).
+ConformedSurface conform(const CarvedPieces& pieces, ExecutionPolicy policy = ExecutionPolicy::Parallel);
+/// The same for pieces as values (carve_box()'s).
 ConformedSurface conform(const std::vector<CarvedPiece>& pieces,
                          ExecutionPolicy policy = ExecutionPolicy::Parallel);
 

@@ -472,15 +472,15 @@ std::vector<AlignedBox3d> sweep_boxes(const std::vector<CarveSweep>& sweeps) {
   return boxes;
 }
 
-std::vector<CarvedPiece> carve_culled(const AlignedBox3d& box, const std::vector<CarveSweep>& sweeps,
-                                      ExecutionPolicy policy, CarveStages* stages, Progress* progress,
-                                      CuttingOrders* orders) {
+CarvedPieces carve_culled(const AlignedBox3d& box, const std::vector<CarveSweep>& sweeps,
+                          ExecutionPolicy policy, CarveStages* stages, Progress* progress,
+                          CuttingOrders* orders) {
   return carve_culled(box_stock_polytope(box), sweeps, policy, stages, progress, orders);
 }
 
-std::vector<CarvedPiece> carve_culled(const StockPolytope& stock, const std::vector<CarveSweep>& sweeps,
-                                      ExecutionPolicy policy, CarveStages* stages, Progress* progress,
-                                      CuttingOrders* orders) {
+CarvedPieces carve_culled(const StockPolytope& stock, const std::vector<CarveSweep>& sweeps,
+                          ExecutionPolicy policy, CarveStages* stages, Progress* progress,
+                          CuttingOrders* orders) {
   Progress& report = progress ? *progress : null_progress();
   const double start = thread_seconds();
   const Carving carving(stock, sweeps);
@@ -492,14 +492,16 @@ std::vector<CarvedPiece> carve_culled(const StockPolytope& stock, const std::vec
   });
   // Items 0 to faces-1: the stock faces; then one per move. Each writes its own slot.
   const std::size_t faces = carving.stock_faces();
-  std::vector<std::vector<CarvedPiece>> slots(faces + sweeps.size());
+  // Each slot's pieces with their planes in its own table as soon as it is carved: the slots
+  // together were the largest memory of the run (carved_pieces.h).
+  std::vector<CarvedPieces> slots(faces + sweeps.size());
   std::vector<std::vector<std::pair<int, std::vector<std::uint32_t>>>> order_slots(orders ? sweeps.size()
                                                                                           : 0);
   report.begin("erode2: carve", slots.size());
   for_each_index(policy, 0, slots.size(), [&](std::size_t item) {
     if (report.interrupted()) return;
     Worker& w = workers.local();
-    std::vector<CarvedPiece>& out = slots[item];
+    std::vector<CarvedPiece> out;
     if (item < faces) {
       for (ConvexPiece& p : carving.stock_face(static_cast<int>(item), workers, policy))
         out.push_back(CarvedPiece{canonical(std::move(p)), -1, static_cast<std::int32_t>(item)});
@@ -509,6 +511,7 @@ std::vector<CarvedPiece> carve_culled(const StockPolytope& stock, const std::vec
         for (ConvexPiece& p : pieces)
           out.push_back(CarvedPiece{canonical(std::move(p)), static_cast<std::int32_t>(g), facet});
     }
+    slots[item] = compact(out);
     report.advance(1);
   });
   report.end();
@@ -517,7 +520,6 @@ std::vector<CarvedPiece> carve_culled(const StockPolytope& stock, const std::vec
     for (std::size_t g = 0; g < order_slots.size(); ++g)
       for (auto& [facet, order] : order_slots[g])
         (*orders)[{static_cast<std::int32_t>(g), facet}] = std::move(order);
-  std::vector<CarvedPiece> out;
   CarveStages total;
   total.seconds_setup = setup;
   for (const Worker& w : workers) {
@@ -535,16 +537,7 @@ std::vector<CarvedPiece> carve_culled(const StockPolytope& stock, const std::vec
     total.ties += w.stages.ties;
     total.refined += w.stages.refined;
   }
-  // The slots one after another, moved in parallel into storage faulted in in parallel (growing
-  // it piece by piece copied and faulted in its pages again and again; one thread moving them
-  // left the other idle).
-  std::vector<std::size_t> first_piece(slots.size() + 1, 0);
-  for (std::size_t k = 0; k < slots.size(); ++k) first_piece[k + 1] = first_piece[k] + slots[k].size();
-  resize_faulted_in(out, first_piece.back(), policy);
-  for_each_index(policy, 0, slots.size(), [&](std::size_t k) {
-    std::move(slots[k].begin(), slots[k].end(), out.begin() + static_cast<std::ptrdiff_t>(first_piece[k]));
-    std::vector<CarvedPiece>().swap(slots[k]);
-  });
+  CarvedPieces out = concatenated(slots, policy);
   total.carve.pieces = static_cast<double>(out.size());
   if (stages) *stages = total;
   return out;

@@ -28,8 +28,8 @@ class Builder {
   // the corners (piece by piece, edge by edge) first name it; then lists each plane-pair line's
   // vertices. Sorts instead of hash tables, so both run in parallel; the numbers are the same.
   // Returns each corner's vertex, the corners of piece i from first_corner[i].
-  std::vector<std::uint32_t> number(const std::vector<CarvedPiece>& pieces,
-                                    const std::vector<std::size_t>& first_corner, ExecutionPolicy policy) {
+  std::vector<std::uint32_t> number(const CarvedPieces& pieces, const std::vector<std::size_t>& first_corner,
+                                    ExecutionPolicy policy) {
     struct Corner {
       Key key;
       std::size_t index;  // piece by piece, edge by edge
@@ -37,10 +37,11 @@ class Builder {
     std::vector<Corner> corners;
     resize_faulted_in(corners, first_corner.back(), policy);
     for_each_index(policy, 0, pieces.size(), [&](std::size_t i) {
-      const ConvexPiece& piece = pieces[i].piece;
-      const std::size_t n = piece.edges.size();
+      const CarvedPieces::Piece& piece = pieces.pieces[i];
+      const std::size_t n = piece.edge_count;
       for (std::size_t k = 0; k < n; ++k) {
-        Key key{piece.support.rank, piece.edges[(k + n - 1) % n].rank, piece.edges[k].rank};
+        Key key{pieces.support(piece).rank, pieces.edge(piece, (k + n - 1) % n).rank,
+                pieces.edge(piece, k).rank};
         std::sort(key.begin(), key.end());
         corners[first_corner[i] + k] = {key, first_corner[i] + k};
       }
@@ -63,9 +64,9 @@ class Builder {
       const std::size_t first = runs[v].first;
       const std::size_t i = static_cast<std::size_t>(
           std::upper_bound(first_corner.begin(), first_corner.end(), first) - first_corner.begin() - 1);
-      const ConvexPiece& piece = pieces[i].piece;
-      const std::size_t n = piece.edges.size(), k = first - first_corner[i];
-      source[v] = {&piece.support, &piece.edges[(k + n - 1) % n], &piece.edges[k]};
+      const CarvedPieces::Piece& piece = pieces.pieces[i];
+      const std::size_t n = piece.edge_count, k = first - first_corner[i];
+      source[v] = {&pieces.support(piece), &pieces.edge(piece, (k + n - 1) % n), &pieces.edge(piece, k)};
       std::sort(source[v].begin(), source[v].end(),
                 [](const ExactPlane* x, const ExactPlane* y) { return x->rank < y->rank; });
       for (std::size_t c = runs[v].second;
@@ -231,30 +232,34 @@ class Builder {
 }  // namespace
 
 ConformedSurface conform(const std::vector<CarvedPiece>& pieces, ExecutionPolicy policy) {
+  return conform(compact(pieces), policy);
+}
+
+ConformedSurface conform(const CarvedPieces& pieces, ExecutionPolicy policy) {
   Builder builder;
   std::vector<std::size_t> first_corner(pieces.size() + 1, 0);
   for (std::size_t i = 0; i < pieces.size(); ++i)
-    first_corner[i + 1] = first_corner[i] + pieces[i].piece.edges.size();
+    first_corner[i + 1] = first_corner[i] + pieces.pieces[i].edge_count;
   const std::vector<std::uint32_t> vertex_of = builder.number(pieces, first_corner, policy);
   builder.order_lines(policy);
   ConformedSurface& surface = builder.surface();
   resize_faulted_in(surface.polygons, pieces.size(), policy);
   std::vector<std::size_t> inserted(pieces.size(), 0);
   for_each_index(policy, 0, pieces.size(), [&](std::size_t i) {
-    const ConvexPiece& piece = pieces[i].piece;
+    const CarvedPieces::Piece& piece = pieces.pieces[i];
     const std::uint32_t* ids = vertex_of.data() + first_corner[i];
-    const std::size_t n = piece.edges.size();
-    ConformedPolygon polygon{{}, n, pieces[i].move, pieces[i].face};
+    const std::size_t n = piece.edge_count;
+    ConformedPolygon polygon{{}, n, piece.move, piece.face};
     for (std::size_t k = 0; k < n; ++k) {  // edge k runs from corner k to corner k+1
       polygon.loop.push_back(ids[k]);
       const std::vector<std::uint32_t> inside =
-          builder.inside_edge(piece.support, piece.edges[k], ids[k], ids[(k + 1) % n]);
+          builder.inside_edge(pieces.support(piece), pieces.edge(piece, k), ids[k], ids[(k + 1) % n]);
       polygon.loop.insert(polygon.loop.end(), inside.begin(), inside.end());
       inserted[i] += inside.size();
     }
     // Corners run counter-clockwise about the support's normal: out of the solid for a stock
     // face, into it for a sweep's facet.
-    if (!pieces[i].faces_out()) std::reverse(polygon.loop.begin(), polygon.loop.end());
+    if (!piece.faces_out()) std::reverse(polygon.loop.begin(), polygon.loop.end());
     surface.polygons[i] = std::move(polygon);
   });
   for (std::size_t n : inserted) surface.inserted += n;

@@ -120,14 +120,14 @@ ErodeResult erode2(const Job& job, const ErodeOptions& options) {
 
   if (progress.interrupted()) throw Interrupted("erode2: interrupted");
   CarveStages stages;
-  std::vector<CarvedPiece> pieces = carve_culled(stock_polytope, sweeps, options.policy, &stages, &progress);
+  CarvedPieces pieces = carve_culled(stock_polytope, sweeps, options.policy, &stages, &progress);
   stats.patches = static_cast<std::size_t>(stages.culling.facets) + stock_face_count(stock_polytope);
   stats.patches_kept = pieces.size();
   stats.seconds_trim = seconds_since(start) - stats.seconds_setup;
 
   double cpu = process_cpu_seconds();
   ConformedSurface surface = conform(pieces, options.policy);
-  std::vector<CarvedPiece>().swap(pieces);  // the surface holds what the later steps need
+  pieces = CarvedPieces();  // the surface holds what the later steps need
   const double conform_cpu = process_cpu_seconds() - cpu;
   cpu = process_cpu_seconds();
   const LimitSurface limit = collapse_degenerates(std::move(surface));
