@@ -183,10 +183,14 @@ TEST(GeneratorChoice, AutoStopsGenerator1AtItsSearchLimit) {
   EXPECT_TRUE(sound.sound()) << sound.describe();
 
   // Generator 2 over the memory cap is not tried: the caller's search limit then stands.
-  options.memory_cap_bytes = std::size_t{88} << 20;  // generator 1 needs about 85 MiB, generator 2 91
-  ASSERT_LT(morph::estimate_erode2(slots, slots.tolerance).bytes, 2.0 * options.memory_cap_bytes);
-  ASSERT_GT(morph::estimate_erode2(slots, slots.tolerance).bytes, options.memory_cap_bytes);
-  EXPECT_THROW(morphmill::run_generator(slots, options, morphmill::kAutoGenerator), morph::SearchLimitError);
+  // (helix_pocket.json: generator 1 needs about 79 MiB, generator 2 147.)
+  const morph::Job helix = morphmill::load_job(std::string(MORPHMILL_TEST_DATA) + "/jobs/helix_pocket.json");
+  morph::ErodeOptions capped;
+  capped.search_limit = 100;
+  capped.memory_cap_bytes = std::size_t{96} << 20;
+  ASSERT_LT(morph::estimate_erode2(helix, helix.tolerance).bytes, 2.0 * capped.memory_cap_bytes);
+  ASSERT_GT(morph::estimate_erode2(helix, helix.tolerance).bytes, capped.memory_cap_bytes);
+  EXPECT_THROW(morphmill::run_generator(helix, capped, morphmill::kAutoGenerator), morph::SearchLimitError);
 
   morph::Erode2Estimate estimate;
   estimate.sweep_facets = 1e7;

@@ -24,10 +24,11 @@ namespace {
 // The process itself (libraries, the job, the output's writing); measured on single_slot.json.
 constexpr double kBytesFixed = 45.0 * (1 << 20);
 // Per facet of the sweep polytopes: its halfspace and box in the culling, and for the ones kept
-// their exact polygons, cutters, conformed loops and output triangles. Measured 210-480 bytes
-// over the bundled jobs (helix_pocket the least, slots the most; 2026-11-28, after the cutters'
-// planes went into a pool and the looks' corners to double Cramer).
-constexpr double kBytesPerSweepFacet = 420.0;
+// their exact polygons, cutters, conformed loops and output triangles. Measured 195-290 bytes
+// over the bundled jobs (crossing_rose and helix_pocket the least, slots the most; 2026-11-29,
+// after the pieces' and the vertices' planes went into tables), and far less where the joints
+// cull most facets: 38 on 3D_Chips, 58 on bear.nc, 108 on cameo.nc.
+constexpr double kBytesPerSweepFacet = 300.0;
 // A mesh stock's triangle is a facet carved like a sweep's, with the mesh and its index beside it
 // (generator 1 measured 1400 bytes for the same on a 1M-triangle sphere stock).
 constexpr double kBytesPerStockTriangle = 1000.0;
