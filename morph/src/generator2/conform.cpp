@@ -3,8 +3,12 @@
 #include <morph/facet_clipping.h>
 #include <morph/parallel.h>
 
+#include <morph/exceptions.h>
+
 #include <algorithm>
+#include <limits>
 #include <optional>
+#include <string>
 #include <utility>
 
 namespace morph {
@@ -166,6 +170,9 @@ class Builder {
       std::uint64_t rank;
       std::uint32_t slot;  // 3 · vertex + its index in the vertex's triple
     };
+    if (source.size() > std::numeric_limits<std::uint32_t>::max() / 3)
+      throw LimitError("conform: more than " + std::to_string(std::numeric_limits<std::uint32_t>::max() / 3) +
+                       " vertices");
     std::vector<Named> named;
     resize_faulted_in(named, 3 * source.size(), policy);
     for_each_index(policy, 0, source.size(), [&](std::size_t v) {
