@@ -1,6 +1,5 @@
 // SPDX-License-Identifier: Apache-2.0
 #include <morph/degenerate_collapse.h>
-#include <morph/exceptions.h>
 #include <morph/parallel.h>
 
 #include "generator2/limit_classes.h"
@@ -9,12 +8,10 @@
 
 #include <algorithm>
 #include <cmath>
-#include <limits>
 #include <map>
 #include <numeric>
 #include <optional>
 #include <set>
-#include <string>
 #include <unordered_map>
 #include <utility>
 
@@ -405,9 +402,6 @@ Eigen::Vector3d LimitSurface::outward_normal(const LimitPolygon& polygon) const 
 }
 
 LimitSurface collapse_degenerates(ConformedSurface surface, ExecutionPolicy policy) {
-  if (surface.vertices.size() > std::numeric_limits<std::uint32_t>::max() / 3)
-    throw LimitError("limit step: more than " +
-                     std::to_string(std::numeric_limits<std::uint32_t>::max() / 3) + " vertices");
   std::vector<PlanarLoop> planar;
   resize_faulted_in(planar, surface.polygons.size(), policy);
   for_each_index(policy, 0, planar.size(),
