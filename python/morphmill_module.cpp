@@ -55,7 +55,7 @@ py::array_t<std::int32_t> tags_array(const morph::TriangleMesh& mesh) {
   return array;
 }
 
-// `generator=`: "auto", 1 or 2 (also "1", "2"), as the command line's --generator.
+// `generator=`: 2 (the default), 1 or "auto" (also "1", "2"), as the command line's --generator.
 using GeneratorArg = std::variant<int, std::string>;
 
 int generator_number(const GeneratorArg& generator) {
@@ -191,10 +191,10 @@ PYBIND11_MODULE(morphmill, m) {
         settings.generator = generator_number(generator);
         return morphmill::erode(job, settings);
       },
-      py::arg("job"), py::arg("tolerance") = 0.0, py::arg("generator") = "auto",
+      py::arg("job"), py::arg("tolerance") = 0.0, py::arg("generator") = 2,
       py::call_guard<py::gil_scoped_release>(),
       "The generator's surface of what the tool leaves of the stock, and its checks (tolerance: job "
-      "units, 0 = the job's; generator: \"auto\", 1 or 2, as `morphmill erode --generator`).");
+      "units, 0 = the job's; generator: 2 (the default), 1 or \"auto\", as `morphmill erode --generator`).");
 
   m.def("default_voxel_size", &morphmill::default_voxel_size, py::arg("job"));
 
@@ -318,6 +318,6 @@ PYBIND11_MODULE(morphmill, m) {
       },
       py::arg("job"), py::arg("voxel_size") = 0.0, py::arg("tolerance") = 0.0,
       py::arg("face_samples") = 100000, py::arg("seed") = 1, py::arg("reference_only") = false,
-      py::arg("generator") = "auto", py::call_guard<py::gil_scoped_release>(),
+      py::arg("generator") = 2, py::call_guard<py::gil_scoped_release>(),
       "Generator, reference and deviation on one job, with the verdict of `morphmill verify`.");
 }

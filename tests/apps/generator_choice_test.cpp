@@ -103,10 +103,19 @@ TEST(GeneratorChoice, VerifyRunsTheGeneratorChosen) {
   EXPECT_EQ(one.exit_code, 1) << one.output;
   const auto skipped = nlohmann::json::parse(slurp(dir / "g1.json"));
   EXPECT_TRUE(skipped.at("pieces").at("generator").is_null()) << skipped.dump();
-  // The default, auto, hands it to generator 2 and says why.
+  // The default is generator 2, asked for by no option and chosen by no rule.
+  const auto plain =
+      morphmill_test::run_command(binary + " erode " + job.string() + " -o " + (dir / "default.ply").string() +
+                                  " --json " + (dir / "default.json").string());
+  EXPECT_EQ(plain.exit_code, 0) << plain.output;
+  const auto by_default = nlohmann::json::parse(slurp(dir / "default.json"));
+  EXPECT_EQ(by_default.at("generator_asked"), "2");
+  EXPECT_EQ(by_default.at("generator"), 2);
+  EXPECT_EQ(by_default.at("generator_choice"), "");
+  // Auto hands it to generator 2 and says why.
   const auto chosen =
       morphmill_test::run_command(binary + " erode " + job.string() + " -o " + (dir / "auto.ply").string() +
-                                  " --json " + (dir / "auto.json").string());
+                                  " --json " + (dir / "auto.json").string() + " --generator auto");
   EXPECT_EQ(chosen.exit_code, 0) << chosen.output;
   const auto summary = nlohmann::json::parse(slurp(dir / "auto.json"));
   EXPECT_EQ(summary.at("generator_asked"), "auto");

@@ -83,14 +83,15 @@ TEST(MorphmillApi, VerifyHoldsOnTheSingleSlot) {
   EXPECT_GT(report.generator_mesh.triangle_count(), 0u);
   EXPECT_GT(report.reference_mesh.triangle_count(), 0u);
   EXPECT_TRUE(report.summary.is_object());
-  // Auto keeps generator 1's surface, sound on a single slot, and says so; generator 2 when asked.
-  EXPECT_EQ(report.generator, 1);
-  EXPECT_EQ(report.generator_choice, "its surface is sound");
-  settings.generator = 2;
-  const morphmill::VerifyReport second = morphmill::verify(job, settings);
-  EXPECT_EQ(second.generator, 2);
-  EXPECT_TRUE(second.generator_choice.empty());
-  EXPECT_TRUE(second.verdict);
+  // Generator 2 by default, chosen by no rule; auto keeps generator 1's surface, sound on a single
+  // slot, and says so.
+  EXPECT_EQ(report.generator, 2);
+  EXPECT_TRUE(report.generator_choice.empty());
+  settings.generator = 0;
+  const morphmill::VerifyReport automatic = morphmill::verify(job, settings);
+  EXPECT_EQ(automatic.generator, 1);
+  EXPECT_EQ(automatic.generator_choice, "its surface is sound");
+  EXPECT_TRUE(automatic.verdict);
 }
 
 TEST(MorphmillApi, ErrorsAreExceptionsNamingTheProblem) {
@@ -116,7 +117,9 @@ TEST(MorphmillApi, ErodeUnderAutoBuildsAFlatEndMillsSlot) {
   const morph::Job job = morphmill_test::box_polyline_job(
       Eigen::AlignedBox3d(Eigen::Vector3d(0, 0, 0), Eigen::Vector3d(40, 20, 10)), morph::flat_tool(3.0, 20.0),
       {Eigen::Vector3d(-5, 10, 8), Eigen::Vector3d(45, 10, 8)}, 0.01);
-  const morphmill::ErodeReport part = morphmill::erode(job);
+  morphmill::ErodeSettings automatic;
+  automatic.generator = 0;
+  const morphmill::ErodeReport part = morphmill::erode(job, automatic);
   EXPECT_EQ(part.generator, 2);
   EXPECT_NE(part.generator_choice.find("generator 1 builds spheres and ball ends only"), std::string::npos)
       << part.generator_choice;

@@ -223,13 +223,13 @@ TEST(MotionCampaign, RecordsItsGeneratorAndFamiliesAndRefusesBadOnes) {
   const auto bad_generator = morphmill_test::run_command(
       std::string(MORPHMILL_BINARY) + " stress --generator 3 --cases 1 -o " + (out / "bad3").string());
   EXPECT_EQ(bad_generator.exit_code, 2) << bad_generator.output;
-  // One submicron case (a pass with a micron move inside): generator 1 builds it.
+  // One submicron case (a pass with a micron move inside): generator 2, the default, builds it.
   const auto ok = morphmill_test::run_command(std::string(MORPHMILL_BINARY) +
                                               " stress --families submicron --cases 1 --samples 200 -q -o " +
                                               (out / "one").string());
   const nlohmann::json campaign = nlohmann::json::parse(slurp(out / "one" / "campaign.json"));
   EXPECT_EQ(campaign.at("--families"), "submicron");
-  EXPECT_EQ(campaign.at("--generator"), "auto");  // the default, as erode's
+  EXPECT_EQ(campaign.at("--generator"), "2");  // the default, as erode's
   const nlohmann::json summary = nlohmann::json::parse(slurp(out / "one" / "summary.json"));
   EXPECT_EQ(summary.at("results").size(), 1u) << ok.output;
   EXPECT_EQ(summary["results"][0].at("family"), "submicron");

@@ -55,13 +55,17 @@ class MorphmillModule(unittest.TestCase):
         self.assertTrue(np.all(tags[tags[:, 0] == 3][:, 1] == 0))
 
     def test_erode_chooses_the_generator_as_the_command_line_does(self):
-        self.assertEqual(self.part.generator, 1)  # auto keeps generator 1's sound surface
-        self.assertEqual(self.part.generator_choice, "its surface is sound")
+        self.assertEqual(self.part.generator, 2)  # the default, as the command line's
+        self.assertEqual(self.part.generator_choice, "")
+        automatic = morphmill.erode(self.job, generator="auto")
+        self.assertEqual(automatic.generator, 1)  # auto keeps generator 1's sound surface
+        self.assertEqual(automatic.generator_choice, "its surface is sound")
         second = morphmill.erode(self.job, generator=2)
         self.assertEqual(second.generator, 2)
         self.assertTrue(second.valid)
         self.assertAlmostEqual(second.topology.volume, SLOT_VOLUME, delta=0.01 * math.pi * 2 * 40)
         self.assertEqual(morphmill.erode(self.job, generator="2").topology.volume, second.topology.volume)
+        self.assertEqual(self.part.topology.volume, second.topology.volume)
 
     def test_reference_volume(self):
         reference = morphmill.reference(self.job, voxel_size=0.5)

@@ -53,9 +53,10 @@ struct ErodeSettings {
   /// this, bytes; 0: no cap.
   std::size_t memory_cap_bytes = 0;
   morph::Progress* progress = nullptr;  ///< optional progress and interruption
-  /// Which generator builds the surface, as `--generator`: 0 auto (generator 1's surface when it is
-  /// sound, generator 2's otherwise and for tools generator 1 cannot build), 1 or 2.
-  int generator = 0;
+  /// Which generator builds the surface, as `--generator`: 2 (the default: every tool of
+  /// revolution, closed by construction), 1 (sphere and ball-end tools only) or 0 auto (generator
+  /// 1's surface when it is sound, generator 2's otherwise and for tools generator 1 cannot build).
+  int generator = 2;
 };
 
 /// The generator's surface and what `morphmill erode` checks about it.
@@ -115,7 +116,7 @@ struct VerifySettings {
   bool reference_only = false;
   std::size_t reference_memory_cap_bytes = std::size_t(8) << 30;
   morph::Progress* progress = nullptr;
-  int generator = 0;  ///< as ErodeSettings::generator: 0 auto, 1 or 2
+  int generator = 2;  ///< as ErodeSettings::generator: 2 (default), 1 or 0 auto
 };
 
 /// The outcome of verify: the verdict, its parts, and the surfaces and samples it was decided on.

@@ -26,7 +26,7 @@ struct StressOptions {
   std::size_t shard_index = 0;  ///< this run does the cases k with k % shard_count == shard_index
   std::size_t shard_count = 1;
   int threads = 0;                         ///< worker threads; 0 = all cores
-  int generator = kDefaultGenerator;       ///< the generator checked (--generator: auto, as erode's)
+  int generator = kDefaultGenerator;       ///< the generator checked (--generator: 2, as erode's)
   std::string families = "classic";        ///< --families: classic, motion, all or names (parse_families)
   std::size_t face_samples = 2000;         ///< area-uniform deviation samples per surface (plus every vertex)
   double reference_memory_cap_mib = 1024;  ///< per case: the reference refuses to need more

@@ -20,17 +20,20 @@ namespace {
 // The option's help, "(default)" on the command's own default.
 std::string generator_option_help(int default_generator) {
   auto marked = [&](int generator) { return generator == default_generator ? " (default)" : ""; };
-  return std::string("auto") + marked(kAutoGenerator) +
+  return std::string("2") + marked(2) +
+         ": generator 2, the union of exact sweep polytopes: closed by construction, every tool\n"
+         "  of revolution, every stock;\n"
+         "1" +
+         marked(1) +
+         ": generator 1, trimmed patches welded at their seams (sphere and ball-end tools only;\n"
+         "  its surface may be open or self-intersecting, and erode then exits 1);\n"
+         "auto" +
+         marked(kAutoGenerator) +
          ": generator 1's surface when it is sound (closed, oriented, no self-intersections),\n"
          "  otherwise generator 2's; generator 2's also for tools generator 1 cannot build, and when\n"
          "  generator 1 passes its search limit (about what generator 2 costs in all). Generator 2 is\n"
          "  not tried when it would sweep more than " +
-         std::to_string(static_cast<long long>(kAutoRetryFacets / 1e6)) +
-         " million facets: pass 2 to run it anyway;\n"
-         "1" +
-         marked(1) + ": today's generator (sphere and ball-end tools);\n" + "2" + marked(2) +
-         ": generator 2, the union of exact sweep polytopes (closed by construction; every tool of\n"
-         "  revolution, every stock; slower)";
+         std::to_string(static_cast<long long>(kAutoRetryFacets / 1e6)) + " million facets";
 }
 
 double seconds_since(std::chrono::steady_clock::time_point start) {
@@ -64,7 +67,7 @@ CLI::Option* add_generator_option(CLI::App& command, int& generator) {
       "", "generator name");
   return command.add_option("--generator", generator, generator_option_help(generator))
       ->transform(names)
-      ->type_name("auto|1|2")
+      ->type_name("2|1|auto")
       ->default_str(generator_name(generator));
 }
 
