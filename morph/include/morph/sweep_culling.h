@@ -42,6 +42,7 @@ namespace morph {
 
 class AabbTree;
 class ToolFacetGroups;
+class ToolFacetSectors;
 
 /// A move whose polytope may cut a kept facet, and the indices of its halfspaces (in
 /// SweepPolytopeBuilder::halfspaces() order) that cross the facet: the facet's part inside the
@@ -109,9 +110,13 @@ class SweepCulling {
   /// A candidate sweep's faces, in facet order: the side of each tool facet, and the silhouette
   /// faces. A tool facet's face is made from the tool and the side when read (against()): only
   /// the silhouette faces, which cost a plane each to make, are kept.
+  static constexpr std::size_t kSilhouetteChunk = 8;
   struct Faces {
     std::vector<Face> silhouette;       ///< the faces from index tool().facets.size() on
     std::vector<int> silhouette_edges;  ///< each silhouette face's edge (SweepPolytopeBuilder::edges())
+    /// The boxes of kSilhouetteChunk silhouette faces at a time, in their order (neighbouring
+    /// edges of the tool): a query skips the chunks its box misses.
+    std::vector<Eigen::AlignedBox3d> silhouette_chunks;
     std::vector<signed char> side;
     Eigen::Vector3d a, b;  ///< the ordered ends (both the start for a degenerate move)
   };
@@ -188,10 +193,11 @@ class SweepCulling {
   std::vector<std::uint32_t> neighbour_start_;
   std::vector<int> neighbour_facet_;
   std::vector<Eigen::Vector3d> neighbour_normal_;
-  double rounding_ = 0.0;                          ///< plane values within this of zero are undecided
-  std::unique_ptr<AabbTree> tree_;                 ///< the sweeps' boxes
-  std::unique_ptr<AabbTree> tool_facet_tree_;      ///< the tool facets' boxes (grown by the rounding)
-  std::unique_ptr<ToolFacetGroups> facet_groups_;  ///< which faces can reach a point (all-face loops)
+  double rounding_ = 0.0;                                 ///< plane values within this of zero are undecided
+  std::unique_ptr<AabbTree> tree_;                        ///< the sweeps' boxes
+  std::unique_ptr<AabbTree> tool_facet_tree_;             ///< the tool facets' boxes (grown by the rounding)
+  std::unique_ptr<ToolFacetSectors> tool_facet_sectors_;  ///< the same boxes by ring and sector
+  std::unique_ptr<ToolFacetGroups> facet_groups_;         ///< which faces can reach a point (all-face loops)
 };
 
 }  // namespace morph

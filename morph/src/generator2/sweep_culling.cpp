@@ -6,6 +6,7 @@
 
 #include "generator2/sweep_culling_facets.h"
 #include "generator2/tool_facet_groups.h"
+#include "generator2/tool_facet_sectors.h"
 
 #include <algorithm>
 #include <cmath>
@@ -87,6 +88,7 @@ SweepCulling::SweepCulling(const SweepPolytopeBuilder& sweeps, std::vector<Move>
   std::vector<AlignedBox3d> facet_boxes;
   for (const AlignedBox3d& box : tool_facet_boxes_)
     facet_boxes.emplace_back(box.min().array() - rounding_, box.max().array() + rounding_);
+  tool_facet_sectors_ = std::make_unique<ToolFacetSectors>(facet_boxes);
   tool_facet_tree_ = std::make_unique<AabbTree>(std::move(facet_boxes));
   facet_groups_ = std::make_unique<ToolFacetGroups>(tool);
   std::vector<std::vector<int>> neighbours(tool.facets.size());
@@ -233,6 +235,10 @@ const SweepCulling::Faces& SweepCulling::faces(std::uint32_t j, Scratch& scratch
           {p.plane, AlignedBox3d(p.box.min().array() - rounding_, p.box.max().array() + rounding_)});
       faces.silhouette_edges.push_back(static_cast<int>(e));
       ++index;
+    }
+    for (std::size_t k = 0; k < faces.silhouette.size(); ++k) {
+      if (k % kSilhouetteChunk == 0) faces.silhouette_chunks.emplace_back();
+      faces.silhouette_chunks.back().extend(faces.silhouette[k].box);
     }
   }
   // The candidates of the last few hundred moves: a raster's neighbouring rows (about 60 kB each).

@@ -6,6 +6,7 @@
 
 #include "generator2/sweep_culling_facets.h"
 #include "generator2/tool_facet_groups.h"
+#include "generator2/tool_facet_sectors.h"
 
 #include <algorithm>
 #include <array>
@@ -250,14 +251,21 @@ class SweepCulling::HalfspaceTest {
       for (std::size_t k = 0; k < c_.tool_facet_tree_->size(); ++k)
         if (boxes_meet(c_.tool_facet_tree_->box(k), swept)) near_face(k);
     } else {
-      c_.tool_facet_tree_->for_each_overlapping(swept, near_face);
+      // The tool's rings and sectors list the few facets near the box (tool_facet_sectors.h).
+      c_.tool_facet_sectors_->for_each_candidate(swept, [&](std::uint32_t k) {
+        if (boxes_meet(c_.tool_facet_tree_->box(k), swept)) near_face(k);
+      });
     }
-    // The silhouette faces, a few dozen, by their boxes: a walk of the edges' tree with the swept
-    // box met most of the tool's edges when the candidate is long, to find the few on its
-    // silhouette.
-    for (int h = first_silhouette_; h < face_count_; ++h)
-      if (boxes_meet(candidate_.silhouette[static_cast<std::size_t>(h - first_silhouette_)].box, box))
-        near_faces_.push_back(h);
+    // The silhouette faces, a few dozen, by their boxes, a chunk of neighbours at a time: a walk of
+    // the edges' tree with the swept box met most of the tool's edges when the candidate is long,
+    // to find the few on its silhouette.
+    const std::size_t chunk = SweepCulling::kSilhouetteChunk;
+    for (std::size_t c = 0; c < candidate_.silhouette_chunks.size(); ++c) {
+      if (!boxes_meet(candidate_.silhouette_chunks[c], box)) continue;
+      for (std::size_t k = c * chunk; k < std::min(candidate_.silhouette.size(), (c + 1) * chunk); ++k)
+        if (boxes_meet(candidate_.silhouette[k].box, box))
+          near_faces_.push_back(first_silhouette_ + static_cast<int>(k));
+    }
   }
 
   // 3. The near faces' planes: one above the facet shows it apart (so does the tie, for a later
