@@ -118,7 +118,8 @@ class SweepCulling {
     /// edges of the tool): a query skips the chunks its box misses.
     std::vector<Eigen::AlignedBox3d> silhouette_chunks;
     std::vector<signed char> side;
-    Eigen::Vector3d a, b;  ///< the ordered ends (both the start for a degenerate move)
+    std::vector<int> swept_facets;  ///< the tool facets of side 0 (swept along the move), a few
+    Eigen::Vector3d a, b;           ///< the ordered ends (both the start for a degenerate move)
   };
   /// Per-thread working memory: the faces of recent candidates, which the next moves share.
   class Scratch {

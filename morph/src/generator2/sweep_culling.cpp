@@ -223,6 +223,8 @@ const SweepCulling::Faces& SweepCulling::faces(std::uint32_t j, Scratch& scratch
   faces.side.assign(tool.facets.size(), -1);
   if (!degenerate) {
     motion_sides(tool, faces.b - faces.a, faces.side);
+    for (std::size_t k = 0; k < faces.side.size(); ++k)
+      if (faces.side[k] == 0) faces.swept_facets.push_back(static_cast<int>(k));
     int index = static_cast<int>(tool.facets.size());
     const std::vector<SweepPolytopeBuilder::Edge>& edges = sweeps_.edges();
     for (std::size_t e = 0; e < edges.size(); ++e) {

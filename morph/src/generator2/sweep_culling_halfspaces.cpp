@@ -236,25 +236,32 @@ class SweepCulling::HalfspaceTest {
     near_faces_.clear();
     const Vector3d& a = candidate_.a;
     const Vector3d& b = candidate_.b;
-    // One walk of the tree with the swept box, which holds the box moved by -a and by -b; each
-    // facet placed at an end is then tested against its own (the set of three walks).
+    // A tool facet placed at a meets the box only if it meets the box moved by -a (at b, by -b);
+    // one swept along [a, b] only if it meets the box swept along [-b, -a].
     const AlignedBox3d at_a(box.min() - a, box.max() - a), at_b(box.min() - b, box.max() - b);
     const AlignedBox3d swept(box.min() - a.cwiseMax(b), box.max() - a.cwiseMin(b));
     // Each kept only where its face, as placed, meets the facet's box.
-    auto near_face = [&](std::size_t k) {
-      const int side = candidate_.side[k];
-      if ((side == 0 || boxes_meet(c_.tool_facet_tree_->box(k), side < 0 ? at_a : at_b)) &&
-          boxes_meet(face_box(static_cast<int>(k)), box))
+    auto near_face = [&](std::size_t k, const AlignedBox3d& moved) {
+      if (boxes_meet(c_.tool_facet_tree_->box(k), moved) && boxes_meet(face_box(static_cast<int>(k)), box))
         near_faces_.push_back(static_cast<int>(k));
     };
     if (c_.tool_facet_tree_->size() <= kScannedToolFacets) {
-      for (std::size_t k = 0; k < c_.tool_facet_tree_->size(); ++k)
-        if (boxes_meet(c_.tool_facet_tree_->box(k), swept)) near_face(k);
+      for (std::size_t k = 0; k < c_.tool_facet_tree_->size(); ++k) {
+        const int side = candidate_.side[k];
+        near_face(k, side == 0 ? swept : side < 0 ? at_a : at_b);
+      }
     } else {
-      // The tool's rings and sectors list the few facets near the box (tool_facet_sectors.h).
-      c_.tool_facet_sectors_->for_each_candidate(swept, [&](std::uint32_t k) {
-        if (boxes_meet(c_.tool_facet_tree_->box(k), swept)) near_face(k);
+      // The tool's rings and sectors list the few facets near each end's box (tool_facet_sectors.h):
+      // each facet placed at a from the first list, at b from the second; the swept ones, a few,
+      // from the candidate's own list.
+      c_.tool_facet_sectors_->for_each_candidate(at_a, [&](std::uint32_t k) {
+        if (candidate_.side[k] < 0) near_face(k, at_a);
       });
+      if (a != b)
+        c_.tool_facet_sectors_->for_each_candidate(at_b, [&](std::uint32_t k) {
+          if (candidate_.side[k] > 0) near_face(k, at_b);
+        });
+      for (int k : candidate_.swept_facets) near_face(static_cast<std::size_t>(k), swept);
     }
     // The silhouette faces, a few dozen, by their boxes, a chunk of neighbours at a time: a walk of
     // the edges' tree with the swept box met most of the tool's edges when the candidate is long,
