@@ -96,6 +96,7 @@ TEST(GeneratorChoice, VerifyRunsTheGeneratorChosen) {
   EXPECT_EQ(report.at("provenance").at("options").at("generator"), "2");
   EXPECT_EQ(report.at("generator").at("used"), 2);
   EXPECT_LE(report.at("deviation").at("generator_to_exact").at("max_abs").get<double>(), 0.05);
+  EXPECT_EQ(report.at("tools").at(0).at("generator_builds"), true);  // generator 2 builds every shape
   // Generator 1 cannot build the flat end mill: the reference alone, and the verdict says so.
   const auto one =
       morphmill_test::run_command(binary + " verify " + job.string() + " -o " + (dir / "g1").string() +
@@ -103,10 +104,11 @@ TEST(GeneratorChoice, VerifyRunsTheGeneratorChosen) {
   EXPECT_EQ(one.exit_code, 1) << one.output;
   const auto skipped = nlohmann::json::parse(slurp(dir / "g1.json"));
   EXPECT_TRUE(skipped.at("pieces").at("generator").is_null()) << skipped.dump();
+  EXPECT_EQ(skipped.at("tools").at(0).at("generator_builds"), false);
   // The default is generator 2, asked for by no option and chosen by no rule.
-  const auto plain =
-      morphmill_test::run_command(binary + " erode " + job.string() + " -o " + (dir / "default.ply").string() +
-                                  " --json " + (dir / "default.json").string());
+  const auto plain = morphmill_test::run_command(binary + " erode " + job.string() + " -o " +
+                                                 (dir / "default.ply").string() + " --json " +
+                                                 (dir / "default.json").string());
   EXPECT_EQ(plain.exit_code, 0) << plain.output;
   const auto by_default = nlohmann::json::parse(slurp(dir / "default.json"));
   EXPECT_EQ(by_default.at("generator_asked"), "2");

@@ -275,8 +275,9 @@ std::vector<Table> tables(const VerifyOutcome& o) {
          yes_no(o.sides_agree), number(o.resolvable_hausdorff), number(o.agreement_bound)},
         {"same pieces, volumes within half a voxel times area", yes_no(o.pieces_match),
          o.pieces_below_resolution
-             ? fmt::format("{} vs {} ({} below the voxels' resolution, of both sides, judged by the exact field)",
-                           o.morph_pieces.size(), o.reference_pieces.size(), o.pieces_below_resolution)
+             ? fmt::format(
+                   "{} vs {} ({} below the voxels' resolution, of both sides, judged by the exact field)",
+                   o.morph_pieces.size(), o.reference_pieces.size(), o.pieces_below_resolution)
              : fmt::format("{} vs {}", o.morph_pieces.size(), o.reference_pieces.size()),
          "-"}}});
   if (!o.design_path.empty())
@@ -403,7 +404,8 @@ nlohmann::json outcome_to_json(const VerifyOutcome& o) {
                           {"shape", morph::describe(tool)},
                           {"diameter", 2.0 * tool.radius},
                           {"length_offset", tool.length_offset},
-                          {"generator_builds", tool.generator_builds()}});
+                          // generator 1 builds spheres and ball ends; generator 2 and auto, every shape
+                          {"generator_builds", o.generator_asked != 1 || tool.generator_builds()}});
   if (!o.generator_skipped.empty())
     j["reference_check"] = {{"generator_skipped", o.generator_skipped},
                             {"reference_only_requested", o.reference_only_requested},

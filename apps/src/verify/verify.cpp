@@ -360,6 +360,7 @@ Evaluation evaluate_job(const morph::Job& job, const EvaluateOptions& options) {
   vdb_ref::estimate_reference_memory(job, reference_options);  // bad input fails before long work
 
   out.reference_only_requested = options.reference_only;
+  out.generator_asked = options.generator;
   out.generator_skipped = options.reference_only ? std::string("--reference-only was given")
                                                  : why_generator_cannot_build(job, options.generator);
   if (!out.generator_skipped.empty())

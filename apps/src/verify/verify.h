@@ -107,6 +107,7 @@ struct VerifyOutcome {
   /// The generator whose surface was checked (1 or 2; 0 when none ran), and how `auto` chose it
   /// ("" when the generator was given).
   int generator_used = 0;
+  int generator_asked = 0;  ///< the --generator the run was given (kAutoGenerator, 1 or 2)
   std::string generator_choice;
   /// The generator's intersecting triangle pairs (exact predicates), when auto already counted them
   /// in choosing; unset otherwise (the caller counts them if it needs them).
