@@ -24,8 +24,9 @@ void register_verify_command(CLI::App& app) {
       "reported but left out), with the same pieces and volumes; when the job names a design, also that\n"
       "the machined result is within the design's band (see morphmill compare).\n"
       "Signed deviations: + excess (A outside B's solid), - gouge (A inside).\n"
-      "A job whose tools the generator cannot build yet (anything but sphere and ballend) gets the\n"
-      "reference checked against the exact surface; its verdict holds only with --reference-only.\n"
+      "Under --generator 1, a job whose tools generator 1 cannot build (anything but sphere and\n"
+      "ballend) gets the reference checked against the exact surface; its verdict holds only with\n"
+      "--reference-only (generator 2, the default, builds every tool of revolution).\n"
       "Jobs may be JSON job files or CAMotics projects (.camotics).\n"
       "Exit code 0 when the verdict holds, 1 when it does not, 2 for bad input.\n"
       "Example: morphmill verify data/jobs/through_slots.json --output out/slots");
@@ -54,8 +55,8 @@ void register_verify_command(CLI::App& app) {
   verify->add_flag(
       "--reference-only", options->reference_only,
       "Check only the reference against the exact surface (within sqrt(3) * voxel where resolvable);\n"
-      "the generator is not run. Jobs with tools the generator cannot build yet (flat, bullnose,\n"
-      "conical, tapered, ...) run this way anyway, but exit 1 unless this flag is given");
+      "the generator is not run. Under --generator 1, jobs with tools it cannot build (flat,\n"
+      "bullnose, conical, tapered, ...) run this way anyway, but exit 1 unless this flag is given");
   add_generator_option(*verify, options->generator);
   CLI::Option* json_option =
       add_json_option(*verify, *json_path, "the summary (deviation.json's content; also when exit 1)");
@@ -95,22 +96,22 @@ void register_verify_command(CLI::App& app) {
       if (!outcome.verdict()) throw VerdictFailed();
       return;
     }
-    std::cout << "verify " << outcome.job.name << ": verdict "
-              << (outcome.verdict() ? "HOLDS" : "DOES NOT HOLD")
-              << "\n  generator within tolerance: " << (outcome.generator_within_tolerance ? "yes" : "no")
-              << "\n  generator and reference agree: " << (outcome.sides_agree ? "yes" : "no")
-              << "\n  pieces: generator " << outcome.morph_pieces.size() << ", reference "
-              << outcome.reference_pieces.size() << (outcome.pieces_match ? " (match)" : " (MISMATCH)")
-              << (outcome.pieces_below_resolution
-                      ? ", " + std::to_string(outcome.pieces_below_resolution) +
-                            " piece(s) below the voxels' resolution (of both sides), judged by the exact field"
-                      : std::string())
-              << (outcome.design_path.empty()
-                      ? std::string()
-                      : "\n  design: " + std::to_string(outcome.design.gouge_regions) + " gouge, " +
-                            std::to_string(outcome.design.excess_regions) + " excess regions" +
-                            (outcome.design.within_band() ? " (within the band)" : " (OUT OF THE BAND)"))
-              << "\n  report: " << run.out_dir << "/report.html\n";
+    std::cout
+        << "verify " << outcome.job.name << ": verdict " << (outcome.verdict() ? "HOLDS" : "DOES NOT HOLD")
+        << "\n  generator within tolerance: " << (outcome.generator_within_tolerance ? "yes" : "no")
+        << "\n  generator and reference agree: " << (outcome.sides_agree ? "yes" : "no")
+        << "\n  pieces: generator " << outcome.morph_pieces.size() << ", reference "
+        << outcome.reference_pieces.size() << (outcome.pieces_match ? " (match)" : " (MISMATCH)")
+        << (outcome.pieces_below_resolution
+                ? ", " + std::to_string(outcome.pieces_below_resolution) +
+                      " piece(s) below the voxels' resolution (of both sides), judged by the exact field"
+                : std::string())
+        << (outcome.design_path.empty()
+                ? std::string()
+                : "\n  design: " + std::to_string(outcome.design.gouge_regions) + " gouge, " +
+                      std::to_string(outcome.design.excess_regions) + " excess regions" +
+                      (outcome.design.within_band() ? " (within the band)" : " (OUT OF THE BAND)"))
+        << "\n  report: " << run.out_dir << "/report.html\n";
     if (!outcome.verdict()) throw VerdictFailed();
   });
 }

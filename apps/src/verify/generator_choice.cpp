@@ -85,7 +85,7 @@ std::string why_generator_cannot_build(const morph::Job& job, int generator) {
   check_generator(generator);
   if (generator != 1) return "";
   const std::string move = first_move_beyond_generator_1(job);
-  return move.empty() ? "" : move + ", which the generator cannot build yet (--generator 2 can)";
+  return move.empty() ? "" : move + ", which generator 1 cannot build (generator 2, the default, can)";
 }
 
 std::string SurfaceSoundness::describe() const {

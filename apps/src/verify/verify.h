@@ -31,7 +31,8 @@ struct VerifyOptions {
   std::uint64_t seed = 1;
   int image_width = 1200, image_height = 900;  ///< pixels of each picture
   /// Check only the reference against the exact surface (the generator is not run). Without it,
-  /// a job with a tool the generator cannot build yet runs the same way but its verdict fails.
+  /// a job with a tool the generator asked for cannot build (generator 1: anything but spheres
+  /// and ball ends) runs the same way but its verdict fails.
   bool reference_only = false;
   /// The generator and the reference each refuse (LimitError, before computing) work estimated
   /// to need more than this many bytes; 0 keeps their defaults (no generator cap, 8 GiB).

@@ -2463,8 +2463,8 @@ void check_job(const Job& job, double tolerance) {
         throw InputError(job.file + ": the move at line " + std::to_string(move.line) +
                          (path.source.empty() ? std::string() : " of " + path.source) + " uses tool " +
                          std::to_string(move.tool) + " (" + describe(tool) +
-                         "), which the generator cannot build yet (sphere and ballend only); 'morphmill "
-                         "reference' and 'morphmill verify' handle every tool");
+                         "), which generator 1 cannot build (sphere and ballend only); generator 2, the "
+                         "default, builds every tool of revolution");
     }
   for (const auto& [number, tool] : job.tools) {
     if (!tool.generator_builds()) continue;
