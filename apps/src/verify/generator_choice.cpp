@@ -46,7 +46,7 @@ std::string first_move_beyond_generator_1(const morph::Job& job) {
   for (const morph::Path& path : job.paths)
     for (const morph::Move& move : path.moves) {
       const morph::Tool& tool = job.tool_of(move);
-      if (!tool.generator_builds())
+      if (!generator_builds(tool, 1))
         return "the move at line " + std::to_string(move.line) + " of " + path.source + " uses tool " +
                std::to_string(move.tool) + " (" + morph::describe(tool) + ")";
     }
@@ -79,6 +79,11 @@ void check_generator(int generator) {
 
 std::string generator_name(int generator) {
   return generator == kAutoGenerator ? "auto" : std::to_string(generator);
+}
+
+bool generator_builds(const morph::Tool& tool, int generator) {
+  check_generator(generator);
+  return generator != 1 || tool.generator_builds();
 }
 
 std::string why_generator_cannot_build(const morph::Job& job, int generator) {

@@ -3,7 +3,8 @@
 // Which surface generator a command runs (`--generator`): 2, the default (morph::erode2: the
 // union of exact sweep polytopes, closed by construction; every tool of revolution, every stock);
 // 1, the sweep-patch generator (morph::erode: sphere and ball-end tools, every stock); or auto,
-// which takes generator 1's surface when it is sound and generator 2's otherwise. One place decides what each can build, so erode, verify, compare, stress and study agree.
+// which takes generator 1's surface when it is sound and generator 2's otherwise. One place decides what each
+// can build, so erode, verify, compare, stress and study agree.
 #include <morph/erode.h>
 #include <morph/erode2.h>
 #include <morph/job.h>
@@ -57,6 +58,10 @@ void check_generator(int generator);
 
 /// "auto", "1" or "2".
 std::string generator_name(int generator);
+
+/// Whether `generator` (kAutoGenerator, 1 or 2) builds `tool`: generator 1 spheres and ball ends,
+/// generator 2 and auto every tool of revolution.
+bool generator_builds(const morph::Tool& tool, int generator);
 
 /// Why `generator` cannot build `job`, as a sentence naming the move and tool or the stock ("" if
 /// it can build it all; auto builds every job).

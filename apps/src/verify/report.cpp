@@ -404,8 +404,7 @@ nlohmann::json outcome_to_json(const VerifyOutcome& o) {
                           {"shape", morph::describe(tool)},
                           {"diameter", 2.0 * tool.radius},
                           {"length_offset", tool.length_offset},
-                          // generator 1 builds spheres and ball ends; generator 2 and auto, every shape
-                          {"generator_builds", o.generator_asked != 1 || tool.generator_builds()}});
+                          {"generator_builds", generator_builds(tool, o.generator_asked)}});
   if (!o.generator_skipped.empty())
     j["reference_check"] = {{"generator_skipped", o.generator_skipped},
                             {"reference_only_requested", o.reference_only_requested},
