@@ -11,7 +11,6 @@
 
 #include <cstring>
 #include <string>
-#include <variant>
 
 namespace py = pybind11;
 
@@ -53,17 +52,6 @@ py::array_t<std::int32_t> tags_array(const morph::TriangleMesh& mesh) {
     out(i, 2) = tag.line;
   }
   return array;
-}
-
-// `generator=`: 2 (the default), 1 or "auto" (also "1", "2"), as the command line's --generator.
-using GeneratorArg = std::variant<int, std::string>;
-
-int generator_number(const GeneratorArg& generator) {
-  if (const int* number = std::get_if<int>(&generator)) return *number;
-  const std::string& name = std::get<std::string>(generator);
-  if (name == "auto") return 0;
-  if (name == "1" || name == "2") return name[0] - '0';
-  throw morph::InputError("generator: must be \"auto\", 1 or 2, not '" + name + "'");
 }
 
 morph::TriangleMesh mesh_from_arrays(const Array3d& vertices, const Array3u& triangles) {
@@ -177,24 +165,20 @@ PYBIND11_MODULE(morphmill, m) {
       .def_readonly("mesh", &morphmill::ErodeReport::mesh)
       .def_readonly("topology", &morphmill::ErodeReport::topology)
       .def_readonly("self_intersections", &morphmill::ErodeReport::self_intersections)
-      .def_readonly("generator", &morphmill::ErodeReport::generator)
-      .def_readonly("generator_choice", &morphmill::ErodeReport::generator_choice)
       .def_property_readonly("valid", &morphmill::ErodeReport::valid)
       .def_property_readonly("seconds",
                              [](const morphmill::ErodeReport& r) { return r.stats.seconds_total; });
 
   m.def(
       "erode",
-      [](const morph::Job& job, double tolerance, const GeneratorArg& generator) {
+      [](const morph::Job& job, double tolerance) {
         morphmill::ErodeSettings settings;
         settings.tolerance = tolerance;
-        settings.generator = generator_number(generator);
         return morphmill::erode(job, settings);
       },
-      py::arg("job"), py::arg("tolerance") = 0.0, py::arg("generator") = 2,
-      py::call_guard<py::gil_scoped_release>(),
+      py::arg("job"), py::arg("tolerance") = 0.0, py::call_guard<py::gil_scoped_release>(),
       "The generator's surface of what the tool leaves of the stock, and its checks (tolerance: job "
-      "units, 0 = the job's; generator: 2 (the default), 1 or \"auto\", as `morphmill erode --generator`).");
+      "units, 0 = the job's).");
 
   m.def("default_voxel_size", &morphmill::default_voxel_size, py::arg("job"));
 
@@ -290,8 +274,6 @@ PYBIND11_MODULE(morphmill, m) {
       .def_readonly("sides_agree", &morphmill::VerifyReport::sides_agree)
       .def_readonly("pieces_match", &morphmill::VerifyReport::pieces_match)
       .def_readonly("generator_skipped", &morphmill::VerifyReport::generator_skipped)
-      .def_readonly("generator", &morphmill::VerifyReport::generator)
-      .def_readonly("generator_choice", &morphmill::VerifyReport::generator_choice)
       .def_readonly("tolerance", &morphmill::VerifyReport::tolerance)
       .def_readonly("voxel_size", &morphmill::VerifyReport::voxel_size)
       .def_readonly("agreement_bound", &morphmill::VerifyReport::agreement_bound)
@@ -306,9 +288,8 @@ PYBIND11_MODULE(morphmill, m) {
   m.def(
       "verify",
       [](const morph::Job& job, double voxel_size, double tolerance, std::size_t face_samples,
-         std::uint64_t seed, bool reference_only, const GeneratorArg& generator) {
+         std::uint64_t seed, bool reference_only) {
         morphmill::VerifySettings settings;
-        settings.generator = generator_number(generator);
         settings.voxel_size = voxel_size;
         settings.tolerance = tolerance;
         settings.face_samples = face_samples;
@@ -318,6 +299,6 @@ PYBIND11_MODULE(morphmill, m) {
       },
       py::arg("job"), py::arg("voxel_size") = 0.0, py::arg("tolerance") = 0.0,
       py::arg("face_samples") = 100000, py::arg("seed") = 1, py::arg("reference_only") = false,
-      py::arg("generator") = 2, py::call_guard<py::gil_scoped_release>(),
+      py::call_guard<py::gil_scoped_release>(),
       "Generator, reference and deviation on one job, with the verdict of `morphmill verify`.");
 }

@@ -3,7 +3,6 @@
 // the pieces it is built to leave, within its tolerance of the exact surface.
 #include <gtest/gtest.h>
 #include <morph/erode.h>
-#include <morph/erode2.h>
 #include <morph/sweep_distance.h>
 #include <morph/topology.h>
 #include <morphmill/job_io.h>
@@ -73,7 +72,7 @@ TEST(BundledComb, GeneratorTwoLeavesOnePieceOfTheStadiumPrismsVolume) {
   constexpr int slots = 11;
   ASSERT_EQ(job.stock.box.sizes(), Eigen::Vector3d(length, width, thickness));
   ASSERT_EQ(job.tools.at(1).radius, radius);
-  const morph::ErodeResult result = morph::erode2(job, morph::ErodeOptions{});
+  const morph::ErodeResult result = morph::erode(job, morph::ErodeOptions{});
   const morph::TopologyReport topology = morph::topology_report(result.mesh);
   EXPECT_TRUE(topology.closed_manifold())
       << topology.boundary_edges << " open, " << topology.non_manifold_edges << " non-manifold edges";

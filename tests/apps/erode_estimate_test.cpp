@@ -20,16 +20,14 @@ using morphmill_test::run_measured;
 
 const std::string kData = MORPHMILL_TEST_DATA;
 
-class ErodeEstimate : public ::testing::TestWithParam<const char*> {};
-
 void expect_estimate_within_two_of_the_peak(const std::string& job, const std::string& options) {
   if (!morphmill_test::kPeakMemoryIsTheProgramsOwn) GTEST_SKIP() << "peak memory under AddressSanitizer";
   const auto dir = morphmill_test::scratch_dir("erode_estimate", job + options);
   const Measured m = run_measured("erode '" + kData + "/jobs/" + job + ".json' -o '" +
                                       (dir / "out.ply").string() + "' --allow-open" + options,
                                   dir);
-  // 1 is today's generator leaving a surface that is not a sound solid (written with --allow-open):
-  // the run is whole either way, and so is its peak.
+  // 1 would be a surface that is not a sound solid (written with --allow-open): the run is whole
+  // either way, and so is its peak.
   ASSERT_TRUE(m.exit_code == 0 || m.exit_code == 1) << m.err;
   const double estimate = estimated_mib(m.out) * double(1 << 20);
   ASSERT_GT(estimate, 0.0) << m.out;
@@ -40,31 +38,23 @@ void expect_estimate_within_two_of_the_peak(const std::string& job, const std::s
   std::filesystem::remove_all(dir);
 }
 
+// The estimate (the sweeps' facets, generator/erode_limits.cpp), on the bundled jobs.
+class ErodeEstimate : public ::testing::TestWithParam<const char*> {};
+
 TEST_P(ErodeEstimate, IsWithinAFactorOfTwoOfTheMeasuredPeak) {
-  expect_estimate_within_two_of_the_peak(GetParam(), " --generator 1");
+  expect_estimate_within_two_of_the_peak(GetParam(), "");
 }
 
 INSTANTIATE_TEST_SUITE_P(BundledJobs, ErodeEstimate,
-                         ::testing::Values("single_slot", "mesh_stock", "helix_pocket", "leave_reenter",
-                                           "slots", "through_slots"));
-
-// Generator 2's estimate (the sweeps' facets, generator2/erode_limits.cpp), on the box-stock jobs.
-class Erode2Estimate : public ::testing::TestWithParam<const char*> {};
-
-TEST_P(Erode2Estimate, IsWithinAFactorOfTwoOfTheMeasuredPeak) {
-  expect_estimate_within_two_of_the_peak(GetParam(), " --generator 2");
-}
-
-INSTANTIATE_TEST_SUITE_P(BundledJobs, Erode2Estimate,
                          ::testing::Values("single_slot", "helix_pocket", "leave_reenter", "slots",
                                            "through_slots", "design_gouge_excess", "mesh_stock"));
 
 class ErodeRefusal : public morphmill_test::ScratchDirTest {};
 
 TEST_F(ErodeRefusal, Generator2RefusesATinyToleranceBeforeBuildingAnything) {
-  const auto r = run_measured("erode '" + kData + "/jobs/slots.json' --generator 2 --tolerance 1e-6 -o '" +
-                                  path("out.ply") + "' --memory-cap 8",
-                              dir_);
+  const auto r = run_measured(
+      "erode '" + kData + "/jobs/slots.json' --tolerance 1e-6 -o '" + path("out.ply") + "' --memory-cap 8",
+      dir_);
   EXPECT_EQ(r.exit_code, 2) << r.err;
   EXPECT_NE(r.err.find("slots.json: erode: at tolerance 1e-06"), std::string::npos) << r.err;
   EXPECT_NE(r.err.find("sweep facets"), std::string::npos) << r.err;

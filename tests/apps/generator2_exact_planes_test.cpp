@@ -6,7 +6,6 @@
 // 3e-14 mm apart (tool_tapered 6 pairs, tool_bullnose 13, slots 42).
 #include <gtest/gtest.h>
 #include <morph/erode.h>
-#include <morph/erode2.h>
 #include <morph/topology.h>
 #include <morphmill/job_io.h>
 #include <morphmill/self_intersections.h>
@@ -17,7 +16,7 @@ namespace {
 
 void expect_exact_solid(const std::string& name) {
   const morph::Job job = morphmill::load_job(std::string(MORPHMILL_TEST_DATA) + "/jobs/" + name + ".json");
-  const morph::ErodeResult result = morph::erode2(job);
+  const morph::ErodeResult result = morph::erode(job);
   const morph::TopologyReport t = morph::topology_report(result.mesh);
   EXPECT_TRUE(t.closed_manifold()) << name;
   EXPECT_EQ(t.components, 1u) << name;

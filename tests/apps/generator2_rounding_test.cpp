@@ -5,7 +5,7 @@
 // (a ball's pole inside the stock, retraces, a 179.99° turn) give no intersecting triangle pair,
 // and the surface is a closed, oriented 2-manifold.
 #include <gtest/gtest.h>
-#include <morph/erode2.h>
+#include <morph/erode.h>
 #include <morph/tool.h>
 #include <morph/topology.h>
 #include <morphmill/job_io.h>
@@ -26,7 +26,7 @@ morph::Job job_of(const Eigen::AlignedBox3d& box, const morph::Tool& tool,
 }
 
 void expect_valid_solid(const morph::Job& job, const std::string& what) {
-  const morph::TriangleMesh mesh = morph::erode2(job).mesh;
+  const morph::TriangleMesh mesh = morph::erode(job).mesh;
   EXPECT_TRUE(morph::topology_report(mesh).closed_manifold()) << what;
   EXPECT_EQ(morphmill::find_self_intersections(mesh).pairs, 0u) << what;
 }

@@ -5,7 +5,7 @@
 // next to a groove) are closed, oriented 2-manifolds with no intersecting triangle pair, and
 // their volumes are the closed forms within the tolerance.
 #include <gtest/gtest.h>
-#include <morph/erode2.h>
+#include <morph/erode.h>
 #include <morph/tool.h>
 #include <morph/topology.h>
 #include <morphmill/job_io.h>
@@ -23,7 +23,7 @@ using Eigen::Vector3d;
 // `flat`: the zero-area triangles allowed (the rounding stage's needles at a joint of two moves).
 morph::TopologyReport expect_valid_solid(const morph::Job& job, const std::string& what,
                                          std::size_t flat = 0) {
-  const morph::TriangleMesh mesh = morph::erode2(job).mesh;
+  const morph::TriangleMesh mesh = morph::erode(job).mesh;
   const morph::TopologyReport t = morph::topology_report(mesh);
   EXPECT_TRUE(t.closed_manifold()) << what;
   EXPECT_EQ(t.degenerate_triangles, flat) << what;
@@ -91,10 +91,10 @@ TEST(Generator2Stock, MeshStockJobsAreValidSolids) {
   // The block as a mesh gives the block's surface: the same volume, and no more flat triangles
   // than the box stock's (4 needles where the groove turns, from the rounding of the sweeps).
   morph::Job block = morphmill::load_job(std::string(MORPHMILL_TEST_DATA) + "/jobs/mesh_stock.json");
-  const morph::TriangleMesh as_mesh = morph::erode2(block).mesh;
+  const morph::TriangleMesh as_mesh = morph::erode(block).mesh;
   block.stock = morph::Stock{};
   block.stock.box = Eigen::AlignedBox3d(Vector3d(0, 0, 0), Vector3d(100, 60, 20));
-  const morph::TopologyReport box = morph::topology_report(morph::erode2(block).mesh);
+  const morph::TopologyReport box = morph::topology_report(morph::erode(block).mesh);
   const morph::TopologyReport t = morph::topology_report(as_mesh);
   EXPECT_TRUE(t.closed_manifold());
   EXPECT_EQ(morphmill::find_self_intersections(as_mesh).pairs, 0u);

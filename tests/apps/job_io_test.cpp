@@ -118,7 +118,6 @@ TEST_F(JobIo, DescribeSlotsJob) {
   EXPECT_EQ(d["stock"]["volume"].get<double>(), 100.0 * 60.0 * 20.0);
   ASSERT_EQ(d["tools"].size(), 1u);
   EXPECT_EQ(d["tools"][0]["type"], "ballend");
-  EXPECT_EQ(d["tools"][0]["generator"], true);
   EXPECT_EQ(d["moves"]["total"], 8);
   EXPECT_EQ(d["moves"]["by_kind"]["rapid"], 1);
   EXPECT_EQ(d["moves"]["by_kind"]["linear"], 5);
@@ -220,18 +219,13 @@ TEST_F(JobIo, EveryToolType) {
   EXPECT_EQ(job.tools.at(5).angle, 90.0);
   EXPECT_EQ(job.tools.at(5).tip_radius, 0.1);
   EXPECT_EQ(job.tools.at(6).tip_radius, 0.0);
-  // Every shape parses into a profile; the generator builds spheres and ball ends only.
-  EXPECT_TRUE(job.tools.at(1).generator_builds());
-  EXPECT_TRUE(job.tools.at(2).generator_builds());
-  EXPECT_FALSE(job.tools.at(3).generator_builds());
-  EXPECT_FALSE(job.tools.at(4).generator_builds());
-  EXPECT_FALSE(job.tools.at(5).generator_builds());
+  // Every shape parses into a profile (what the generator sweeps).
   for (const auto& [number, tool] : job.tools) EXPECT_FALSE(tool.profile.empty()) << number;
   EXPECT_EQ(job.tools.at(1).description, "the paper's B");
   for (const auto& [number, tool] : job.tools) EXPECT_EQ(tool.number, number);
   const json d = morphmill::describe_job(job);
   EXPECT_EQ(d["tools"][3]["corner_radius"], 1.0);
-  EXPECT_EQ(d["tools"][4]["generator"], false);
+  EXPECT_FALSE(d["tools"][4].contains("generator"));
   EXPECT_EQ(d["tools"][3]["shape"], "bullnose diameter 8, corner radius 1, length 30");
 }
 

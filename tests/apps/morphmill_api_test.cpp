@@ -83,15 +83,6 @@ TEST(MorphmillApi, VerifyHoldsOnTheSingleSlot) {
   EXPECT_GT(report.generator_mesh.triangle_count(), 0u);
   EXPECT_GT(report.reference_mesh.triangle_count(), 0u);
   EXPECT_TRUE(report.summary.is_object());
-  // Generator 2 by default, chosen by no rule; auto keeps generator 1's surface, sound on a single
-  // slot, and says so.
-  EXPECT_EQ(report.generator, 2);
-  EXPECT_TRUE(report.generator_choice.empty());
-  settings.generator = 0;
-  const morphmill::VerifyReport automatic = morphmill::verify(job, settings);
-  EXPECT_EQ(automatic.generator, 1);
-  EXPECT_EQ(automatic.generator_choice, "its surface is sound");
-  EXPECT_TRUE(automatic.verdict);
 }
 
 TEST(MorphmillApi, ErrorsAreExceptionsNamingTheProblem) {
@@ -101,39 +92,33 @@ TEST(MorphmillApi, ErrorsAreExceptionsNamingTheProblem) {
   } catch (const std::exception& e) {
     EXPECT_NE(std::string(e.what()).find("no_such_job.json"), std::string::npos) << e.what();
   }
-  // Generator 1 builds sphere and ball-end tools only; a generator that does not exist is bad input.
+  // A negative tolerance is bad input, named.
   const morph::Job flat = morphmill::load_job(kData + "/jobs/tool_flat.json");
-  morphmill::ErodeSettings first;
-  first.generator = 1;
-  EXPECT_THROW(morphmill::erode(flat, first), morph::InputError);
-  morphmill::ErodeSettings third;
-  third.generator = 3;
-  EXPECT_THROW(morphmill::erode(flat, third), morph::InputError);
+  morphmill::ErodeSettings negative;
+  negative.tolerance = -0.01;
+  try {
+    morphmill::erode(flat, negative);
+    FAIL() << "no exception";
+  } catch (const morph::InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("tolerance"), std::string::npos) << e.what();
+  }
 }
 
 // A flat end mill of radius 3 cutting level 2 deep straight through a 40 x 20 x 10 block removes a
-// 40 x 6 x 2 box: auto hands the tool to generator 2, whose surface is valid and holds that volume.
-TEST(MorphmillApi, ErodeUnderAutoBuildsAFlatEndMillsSlot) {
+// 40 x 6 x 2 box: the surface is valid and holds that volume.
+TEST(MorphmillApi, ErodeBuildsAFlatEndMillsSlot) {
   const morph::Job job = morphmill_test::box_polyline_job(
       Eigen::AlignedBox3d(Eigen::Vector3d(0, 0, 0), Eigen::Vector3d(40, 20, 10)), morph::flat_tool(3.0, 20.0),
       {Eigen::Vector3d(-5, 10, 8), Eigen::Vector3d(45, 10, 8)}, 0.01);
-  morphmill::ErodeSettings automatic;
-  automatic.generator = 0;
-  const morphmill::ErodeReport part = morphmill::erode(job, automatic);
-  EXPECT_EQ(part.generator, 2);
-  EXPECT_NE(part.generator_choice.find("generator 1 builds spheres and ball ends only"), std::string::npos)
-      << part.generator_choice;
+  const morphmill::ErodeReport part = morphmill::erode(job);
   EXPECT_TRUE(part.valid());
   EXPECT_EQ(part.topology.components, 1);
   // The slot's walls are the tool's polygonal side, within the tolerance of the cylinder: the
   // volume is off by at most 0.01 times the cut area (walls 2 x 40 x 2, floor 40 x 6).
   EXPECT_NEAR(part.topology.volume, 40.0 * 20.0 * 10.0 - 40.0 * 6.0 * 2.0, 0.01 * (160.0 + 240.0));
-  // Asked for generator 2 by name, the same surface.
-  morphmill::ErodeSettings second;
-  second.generator = 2;
-  const morphmill::ErodeReport again = morphmill::erode(job, second);
-  EXPECT_EQ(again.generator, 2);
-  EXPECT_TRUE(again.generator_choice.empty());
+  // Deterministic: the same surface again.
+  const morphmill::ErodeReport again = morphmill::erode(job);
+  EXPECT_EQ(again.mesh.vertices, part.mesh.vertices);
   EXPECT_DOUBLE_EQ(again.topology.volume, part.topology.volume);
 }
 

@@ -2,7 +2,7 @@
 // The motion families of `morphmill stress --families motion`: their closed forms against the
 // tools' exact integrals and textbook formulas, their known pieces, genus and volumes against the
 // OpenVDB reference (independent of every generator), arcs that go where they are meant, tools
-// drawn from what the campaign's generator builds, and the options on the command line.
+// of every shape, and the options on the command line.
 #include <gtest/gtest.h>
 
 #include <morph/exceptions.h>
@@ -39,8 +39,8 @@ std::string slurp(const fs::path& path) {
   return std::string(std::istreambuf_iterator<char>(in), {});
 }
 
-CaseSpace motion_space(int generator) {
-  return CaseSpace{motion_families(), generator};
+CaseSpace motion_space() {
+  return CaseSpace{motion_families()};
 }
 
 }  // namespace
@@ -75,13 +75,13 @@ TEST(MotionClosedForms, AgreeWithTheProfilesExactIntegralsAndTheBallsFormulas) {
 }
 
 // Pieces, genus and the closed-form volumes against the OpenVDB level set: every motion family,
-// three cases each, tools of every shape (generator 2's space).
+// three cases each, tools of every shape.
 TEST(MotionCases, KnownPiecesGenusAndVolumesMatchTheReference) {
   const fs::path dir = scratch("reference");
   const std::size_t families = motion_families().size();
   std::set<std::string> with_volume;
   for (std::size_t index = 0; index < 3 * families; ++index) {
-    const StressCase c = make_case(22, index, motion_space(2));  // a volume for each family below
+    const StressCase c = make_case(22, index, motion_space());  // a volume for each family below
     ASSERT_GE(c.expected_pieces, 1) << c.family;
     ASSERT_GE(c.expected_genus, 0) << c.family;
     const std::string path = write_case(c, dir.string(), case_name(index) + ".json");
@@ -105,7 +105,8 @@ TEST(MotionCases, KnownPiecesGenusAndVolumesMatchTheReference) {
       EXPECT_LT(*c.expected_volume, 0.99 * morph::volume(job.stock)) << what;
     }
   }
-  for (const char* family : {"retrace", "plunge_retract", "submicron", "mixed_tools", "mesh_stock", "fine_steps"})
+  for (const char* family :
+       {"retrace", "plunge_retract", "submicron", "mixed_tools", "mesh_stock", "fine_steps"})
     EXPECT_EQ(with_volume.count(family), 1u) << family << " never had a closed-form volume";
 }
 
@@ -114,7 +115,7 @@ TEST(MotionCases, MeshStockIsAClosedBoxOfSlivers) {
   const std::size_t families = motion_families().size();
   int seen = 0;
   for (std::size_t index = 0; index < 4 * families; ++index) {
-    const StressCase c = make_case(5, index, motion_space(2));
+    const StressCase c = make_case(5, index, motion_space());
     if (c.family != "mesh_stock") continue;
     ++seen;
     ASSERT_TRUE(c.stock_mesh.has_value());
@@ -144,7 +145,7 @@ TEST(MotionCases, ArcsInEveryPlaneGoWhereTheyAreMeant) {
   const fs::path dir = scratch("arcs");
   std::set<int> planes;  // axis of each arc seen: 0 x (G19), 1 y (G18), 2 z (G17)
   for (std::size_t index = 0, seen = 0; index < 400 && seen < 12; ++index) {
-    const StressCase c = make_case(5, index, CaseSpace{{"arcs"}, 2});
+    const StressCase c = make_case(5, index, CaseSpace{{"arcs"}});
     ++seen;
     ASSERT_FALSE(c.gcode_file.empty());
     const morph::Job job = morphmill::load_job(write_case(c, dir.string(), case_name(index) + ".json"));
@@ -172,18 +173,17 @@ TEST(MotionCases, ArcsInEveryPlaneGoWhereTheyAreMeant) {
   EXPECT_EQ(planes.size(), 3u) << "arcs in G17, G18 and G19";
 }
 
-// Generator 1's campaign draws sphere and ball-end tools only; generator 2's every shape.
-TEST(MotionCases, ToolsAreDrawnFromWhatTheGeneratorBuilds) {
-  std::map<int, std::set<std::string>> types;
-  for (int generator : {1, 2})
-    for (std::size_t index = 0; index < 120; ++index) {
-      const StressCase c = make_case(9, index, motion_space(generator));
-      for (const auto& [number, tool] : c.job.at("tools").items()) types[generator].insert(tool.at("type"));
-    }
-  EXPECT_EQ(types[1], (std::set<std::string>{"sphere", "ballend"}));
-  EXPECT_GE(types[2].size(), 6u);
+// The motion families draw every tool shape.
+TEST(MotionCases, ToolsAreDrawnOfEveryShape) {
+  std::set<std::string> types;
+  for (std::size_t index = 0; index < 120; ++index) {
+    const StressCase c = make_case(9, index, motion_space());
+    for (const auto& [number, tool] : c.job.at("tools").items()) types.insert(tool.at("type"));
+  }
+  EXPECT_GE(types.size(), 6u);
+  EXPECT_EQ(types.count("flat"), 1u);
   // The same seed and index give the same bytes, the G-code program included.
-  const StressCase a = make_case(9, 4, motion_space(2)), b = make_case(9, 4, motion_space(2));
+  const StressCase a = make_case(9, 4, motion_space()), b = make_case(9, 4, motion_space());
   EXPECT_EQ(a.job.dump(), b.job.dump());
   EXPECT_EQ(a.gcode_text, b.gcode_text);
 }
@@ -201,15 +201,23 @@ TEST(MotionCases, FamiliesAreParsedAndUnknownOnesNamed) {
   }
 }
 
-// campaign.json names the generator; campaigns written before names (numbers, or none: generator 1)
-// still resume.
-TEST(MotionCampaign, TheRecordedGeneratorIsReadByNameOrNumber) {
-  EXPECT_EQ(recorded_generator({{"--generator", "auto"}}), morphmill::kAutoGenerator);
-  EXPECT_EQ(recorded_generator({{"--generator", "2"}}), 2);
-  EXPECT_EQ(recorded_generator({{"--generator", 2}}), 2);
-  EXPECT_EQ(recorded_generator({{"--generator", 0}}), morphmill::kAutoGenerator);
-  EXPECT_EQ(recorded_generator(nlohmann::json::object()), 1);
-  EXPECT_THROW(recorded_generator({{"--generator", "fast"}}), morph::InputError);
+// campaign.json records generator 2 (by name, or by number before names); a campaign of a removed
+// generator (1, auto as 0, or none recorded: 1) cannot be continued, and the message says so.
+TEST(MotionCampaign, ACampaignOfARemovedGeneratorIsRefused) {
+  EXPECT_NO_THROW(check_recorded_generator({{"--generator", "2"}}, "c.json"));
+  EXPECT_NO_THROW(check_recorded_generator({{"--generator", 2}}, "c.json"));
+  for (const nlohmann::json& old :
+       {nlohmann::json{{"--generator", "auto"}}, nlohmann::json{{"--generator", 0}},
+        nlohmann::json{{"--generator", "1"}}, nlohmann::json::object()}) {
+    try {
+      check_recorded_generator(old, "c.json");
+      FAIL() << old.dump();
+    } catch (const morph::InputError& e) {
+      EXPECT_NE(std::string(e.what()).find("c.json: the campaign ran --generator"), std::string::npos)
+          << e.what();
+      EXPECT_NE(std::string(e.what()).find("start a new campaign"), std::string::npos) << e.what();
+    }
+  }
 }
 
 // Through the binary: a motion campaign records its generator and families, and a bad family or
@@ -223,13 +231,18 @@ TEST(MotionCampaign, RecordsItsGeneratorAndFamiliesAndRefusesBadOnes) {
   const auto bad_generator = morphmill_test::run_command(
       std::string(MORPHMILL_BINARY) + " stress --generator 3 --cases 1 -o " + (out / "bad3").string());
   EXPECT_EQ(bad_generator.exit_code, 2) << bad_generator.output;
+  const auto retired = morphmill_test::run_command(
+      std::string(MORPHMILL_BINARY) + " stress --generator 1 --cases 1 -o " + (out / "bad1").string());
+  EXPECT_EQ(retired.exit_code, 2) << retired.output;
+  EXPECT_NE(retired.output.find("generator 1 was removed"), std::string::npos) << retired.output;
+  EXPECT_FALSE(fs::exists(out / "bad1" / "campaign.json"));
   // One submicron case (a pass with a micron move inside): generator 2, the default, builds it.
   const auto ok = morphmill_test::run_command(std::string(MORPHMILL_BINARY) +
                                               " stress --families submicron --cases 1 --samples 200 -q -o " +
                                               (out / "one").string());
   const nlohmann::json campaign = nlohmann::json::parse(slurp(out / "one" / "campaign.json"));
   EXPECT_EQ(campaign.at("--families"), "submicron");
-  EXPECT_EQ(campaign.at("--generator"), "2");  // the default, as erode's
+  EXPECT_EQ(campaign.at("--generator"), "2");  // the only one
   const nlohmann::json summary = nlohmann::json::parse(slurp(out / "one" / "summary.json"));
   EXPECT_EQ(summary.at("results").size(), 1u) << ok.output;
   EXPECT_EQ(summary["results"][0].at("family"), "submicron");

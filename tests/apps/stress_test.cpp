@@ -167,7 +167,6 @@ TEST(StressCases, OverlappingPassesKeepTheirToolOffTheStocksSides) {
 // verify's piece rule finds exact material do not count against the family's count.
 TEST(StressCases, AnExactChipBelowTheVoxelsIsNotAMiscount) {
   StressOptions options;
-  options.generator = 2;
   options.face_samples = 500;
   const CaseResult r = run_case(103, 3171, options);
   EXPECT_EQ(r.family, "overlap");

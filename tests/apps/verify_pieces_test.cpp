@@ -53,7 +53,6 @@ morphmill::VerifyOutcome generator2_outcome(const morph::Job& job, double voxel,
                                             std::size_t face_samples = 0) {
   morphmill::EvaluateOptions options;
   options.voxel_size = voxel;
-  options.generator = 2;
   if (face_samples > 0) options.face_samples = face_samples;
   return morphmill::evaluate_job(job, options).outcome;
 }

@@ -1,6 +1,6 @@
 // SPDX-License-Identifier: Apache-2.0
 // Generator 2 on the CAMotics example projects (data/camotics/, flat, conical, snub-nose and
-// ball-nose tools) at 0.01 mm, as `morphmill erode PROJECT --tolerance 0.01 --generator 2`
+// ball-nose tools) at 0.01 mm, as `morphmill erode PROJECT --tolerance 0.01`
 // loads them, on 2 TBB threads; issue 18 asks each to beat CAMotics at its "high" resolution.
 //
 //   build/tests/bench/bench_apps --benchmark_filter='BM_Generator2Camotics'
@@ -8,7 +8,7 @@
 // CPU seconds summed over the threads (ErodeStats::stage_cpu_seconds); camotics_s is what
 // CAMotics 1.3.0 needed here, from ../shared/camotics/README.md; wall_over_camotics their ratio.
 #include <benchmark/benchmark.h>
-#include <morph/erode2.h>
+#include <morph/erode.h>
 #include <morphmill/job_io.h>
 #include <tbb/task_arena.h>
 
@@ -43,7 +43,7 @@ void BM_Generator2Camotics(benchmark::State& state) {
   for (auto _ : state) {
     const auto start = std::chrono::steady_clock::now();
     morph::ErodeResult result;
-    arena.execute([&] { result = morph::erode2(job, options); });
+    arena.execute([&] { result = morph::erode(job, options); });
     const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     state.counters["wall_s"] = wall;
     state.counters["camotics_s"] = project.camotics_seconds;

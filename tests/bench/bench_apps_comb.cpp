@@ -7,7 +7,7 @@
 //   build/tests/bench/bench_apps --benchmark_filter='BM_CombGenerator2AgainstReference'
 // generator_s and reference_s are wall seconds, reference_over_generator their ratio.
 #include <benchmark/benchmark.h>
-#include <morph/erode2.h>
+#include <morph/erode.h>
 #include <morphmill/job_io.h>
 #include <tbb/task_arena.h>
 #include <vdb_ref/reference.h>
@@ -30,7 +30,7 @@ void BM_CombGenerator2AgainstReference(benchmark::State& state) {
     morph::ErodeResult generated;
     vdb_ref::ReferenceResult voxels;
     auto start = std::chrono::steady_clock::now();
-    arena.execute([&] { generated = morph::erode2(job, morph::ErodeOptions{}); });
+    arena.execute([&] { generated = morph::erode(job, morph::ErodeOptions{}); });
     const double generator = seconds_since(start);
     start = std::chrono::steady_clock::now();
     arena.execute([&] { voxels = vdb_ref::compute_reference(job, reference); });

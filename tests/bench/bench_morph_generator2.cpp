@@ -1,7 +1,7 @@
 // SPDX-License-Identifier: Apache-2.0
 // Generator 2 end to end on bear.nc at 0.01 mm (issue 18's speed target: all of bear under 5 s on
 // this machine): the culled exact carving (carve_culled.h) stage by stage, then conform and emit,
-// on 2 TBB threads; today's erode on the same moves in the same run.
+// on 2 TBB threads.
 //
 //   build/tests/bench/bench_morph --benchmark_filter='BM_Generator2/1000'
 //   build/tests/bench/bench_morph --benchmark_filter='BM_Generator2/0'   # all 15,155 moves
@@ -12,7 +12,7 @@
 #include <morph/conform.h>
 #include <morph/degenerate_collapse.h>
 #include <morph/emit.h>
-#include <morph/erode2.h>
+#include <morph/erode.h>
 #include <morph/error_budget.h>
 #include <morph/quantize.h>
 #include <morph/sweep_segments.h>
@@ -61,7 +61,7 @@ void BM_Generator2(benchmark::State& state) {
     const morph::SweepPolytopeBuilder builder(
         morph::tool_polytope(job.tools.at(1).profile, budget.tool).polytope);
     std::vector<morph::CarveSweep> sweeps;
-    // The segments erode2 sweeps (ends on the tool's grid, straight runs joined): the exact path
+    // The segments erode sweeps (ends on the tool's grid, straight runs joined): the exact path
     // users run.
     for (const morph::SweepSegment& s : morph::sweep_segments(job, budget.chords, budget.grid_exponent))
       sweeps.push_back({&builder, s.from, s.to});
@@ -84,10 +84,6 @@ void BM_Generator2(benchmark::State& state) {
     const double total_wall = wall_seconds() - wall;
 
     const morph::TopologyReport topology = morph::topology_report(mesh);
-    morph::Job cut = job;
-    const double today_start = wall_seconds();
-    const morph::ErodeResult today = morph::erode(cut);
-    const double today_wall = wall_seconds() - today_start;
 
     auto& c = state.counters;
     c["moves"] = static_cast<double>(moves.size());
@@ -118,8 +114,6 @@ void BM_Generator2(benchmark::State& state) {
     c["s_collapse_emit"] = emit_cpu;
     c["wall_carve_2threads"] = carve_wall;
     c["wall_total_2threads"] = total_wall;
-    c["wall_erode_today"] = today_wall;
-    c["triangles_today"] = static_cast<double>(today.mesh.triangle_count());
   }
 }
 // Arg: the first N moves of bear (0: all 15,155).

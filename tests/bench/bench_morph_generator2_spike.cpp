@@ -2,7 +2,7 @@
 // Generator 2's spike (docs: ../shared/design/generator2.md §4, issue 18): on bear.nc at 0.01 mm,
 // build every move's sweep polytope, cull the facets proven outside the stock or inside another
 // sweep, count the survivors and the planes that can cut them, and time a naive floating-point
-// clipping of each survivor by the union of its cutters, all on one core; then today's erode on
+// clipping of each survivor by the union of its cutters, all on one core; then morph::erode on
 // the same job (its own threads) for comparison, in the same run.
 //
 // Culling uses the exact sweep distance (morph/sweep_distance.h) with proofs: the polytope P_j is
@@ -260,7 +260,7 @@ void BM_Generator2SpikeBear(benchmark::State& state) {
 
     morph::Job cut = job;
     cut.paths.front().moves = moves;
-    const morph::ErodeResult today = morph::erode(cut);
+    const morph::ErodeResult generated = morph::erode(cut);
     auto& c = state.counters;
     c["moves"] = static_cast<double>(moves.size());
     c["tool_facets"] = static_cast<double>(tool_polytope.polytope.facets.size());
@@ -277,12 +277,12 @@ void BM_Generator2SpikeBear(benchmark::State& state) {
     c["float_ties"] = counts.ties;
     c["pieces_out"] = counts.pieces;
     c["kept_area_mm2"] = counts.kept_area;
-    c["erode_sweep_area_mm2"] = sweep_area(today);
+    c["erode_sweep_area_mm2"] = sweep_area(generated);
     c["s_build_1core"] = build;
     c["s_cull_1core"] = cull;
     c["s_clip_1core"] = clipping;
     c["s_projected_2core"] = 0.5 * (build + cull + clipping);
-    c["s_erode_today"] = today.stats.seconds_total;
+    c["s_erode"] = generated.stats.seconds_total;
   }
 }
 // Arg: the first N moves of bear (0: all 15k).

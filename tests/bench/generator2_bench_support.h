@@ -111,15 +111,15 @@ inline morph::Job bear_job(const std::string& path) {
   return job;
 }
 
-// Area of today's erode's sweep patches (side and front sweeps), for comparison with the kept area.
-inline double sweep_area(const morph::ErodeResult& today) {
+// Area of the generator's sweep faces (side and front sweeps), for comparison with the kept area.
+inline double sweep_area(const morph::ErodeResult& generated) {
   double total = 0.0;
-  for (std::size_t t = 0; t < today.mesh.triangles.size(); ++t) {
-    const morph::PatchKind kind = today.mesh.tags[t].kind;
+  for (std::size_t t = 0; t < generated.mesh.triangles.size(); ++t) {
+    const morph::PatchKind kind = generated.mesh.tags[t].kind;
     if (kind != morph::PatchKind::SideSweep && kind != morph::PatchKind::FrontSweep) continue;
-    const auto& tri = today.mesh.triangles[t];
-    const Vector3d &a = today.mesh.vertices[tri[0]], &b = today.mesh.vertices[tri[1]],
-                   &c = today.mesh.vertices[tri[2]];
+    const auto& tri = generated.mesh.triangles[t];
+    const Vector3d &a = generated.mesh.vertices[tri[0]], &b = generated.mesh.vertices[tri[1]],
+                   &c = generated.mesh.vertices[tri[2]];
     total += 0.5 * (b - a).cross(c - a).norm();
   }
   return total;

@@ -210,7 +210,7 @@ TEST(CarveCulled, SameAsAllPairsOnTheErode2Jobs) {
     Case c;
     c.box = job.box;
     add_tool(c, job.tool, tol);
-    // The ends on the tool's grid, as erode2 puts them (every sweep then exact, quantize.h).
+    // The ends on the tool's grid, as erode puts them (every sweep then exact, quantize.h).
     std::vector<Vector3d> path;
     for (const Vector3d& p : job.path)
       path.push_back(morph::snap_to_grid(p, morph::grid_exponent_for(0.4 * tol)));
@@ -334,7 +334,7 @@ TEST(CarveCulled, ReportsProgressPerMoveAndStopsWhenAsked) {
   CountingProgress progress;
   const auto pieces = morph::expanded(
       morph::carve_culled(c.box, c.sweeps, morph::ExecutionPolicy::Parallel, nullptr, &progress));
-  EXPECT_EQ(progress.stage_, "erode2: carve");
+  EXPECT_EQ(progress.stage_, "erode: carve");
   EXPECT_EQ(progress.total_, 6 + c.sweeps.size());
   EXPECT_EQ(progress.done_.load(), progress.total_);
   EXPECT_EQ(progress.begun_, 1);

@@ -59,12 +59,12 @@ Stages run(const Eigen::AlignedBox3d& box, const std::vector<std::vector<morph::
   return s;
 }
 
-// The sweeps of a polyline with one tool, as erode2 builds them.
+// The sweeps of a polyline with one tool, as erode builds them.
 std::vector<std::vector<morph::Halfspace>> sweeps_of(const morph::Tool& tool,
                                                      const std::vector<Vector3d>& path,
                                                      double tolerance = 0.05) {
   const morph::SweepPolytopeBuilder builder(morph::tool_polytope(tool.profile, 0.4 * tolerance).polytope);
-  // The ends on the tool's grid, as erode2 puts them (quantize.h).
+  // The ends on the tool's grid, as erode puts them (quantize.h).
   const int grid = morph::grid_exponent_for(0.4 * tolerance);
   std::vector<std::vector<morph::Halfspace>> out;
   for (std::size_t k = 0; k + 1 < path.size(); ++k)

@@ -3,7 +3,7 @@
 // generator 2's surface stays within it of the exact one for every tool shape, with arcs and
 // without (the exact erosion field at every vertex, edge midpoint and centroid), and a pillar
 // thinner than the tolerance between V-bit grooves stands.
-#include <morph/erode2.h>
+#include <morph/erode.h>
 #include <morph/error_budget.h>
 #include <morph/mesh_distance.h>
 #include <morph/quantize.h>
@@ -72,7 +72,7 @@ TEST(ErrorBudget, SharesAddUpToAtMostTheTolerance) {
     EXPECT_NEAR(arcs.tool, 0.4 * tolerance, 1e-15);
     EXPECT_NEAR(arcs.chords + arcs.tool + arcs.stock + arcs.ends, tolerance, 1e-15);
     EXPECT_EQ(arcs.grid_exponent, morph::grid_exponent_for(arcs.tool));
-    // The count erode2's estimate uses: the arc's chords are more segments than its one move.
+    // The count erode's estimate uses: the arc's chords are more segments than its one move.
     EXPECT_GT(morph::count_sweeps(job, arcs).segments,
               morph::count_sweeps(slot_job(tool, tolerance), lines).segments);
   }
@@ -98,7 +98,7 @@ TEST(ErrorBudget, AThinPillarBetweenGroovesStands) {
   const morph::Job job =
       morphmill_test::box_polyline_job(Eigen::AlignedBox3d(Vector3d(-11, -11, 0), Vector3d(11, 11, 4.201)),
                                        morph::conical_tool(1.534, 120.0, 4.055), path, tolerance);
-  const morph::ErodeResult result = morph::erode2(job);
+  const morph::ErodeResult result = morph::erode(job);
   // Points of the pillar's exact surface: its top's centre and its foot.
   for (const Vector3d& p : {Vector3d(0, 0, 4.201), Vector3d(0, 0.0147, 3.2)}) {
     double nearest = std::numeric_limits<double>::infinity();
@@ -124,7 +124,7 @@ TEST(ErrorBudget, ASharpTurnOfATaperedBallStaysWithinTheTolerance) {
                                         Vector3d(22.174398848271498, -9.924438105896762, 4.116999999999999),
                                         Vector3d(-18.480142566253093, 15.769678713625098, 4.116999999999999)},
                                        tolerance);
-  const morph::ErodeResult result = morph::erode2(job);
+  const morph::ErodeResult result = morph::erode(job);
   EXPECT_TRUE(morph::topology_report(result.mesh).closed_manifold());
   EXPECT_LE(largest_field_error(result.mesh, morph::ErosionField(job)), tolerance);
 }
@@ -140,7 +140,7 @@ TEST(ErrorBudget, EveryToolShapeStaysWithinTheToleranceWithEitherSplit) {
   for (const auto& [name, tool] : tools)
     for (bool with_arc : {false, true}) {
       const morph::Job job = with_arc ? slot_job_with_arc(tool, tolerance) : slot_job(tool, tolerance);
-      const morph::ErodeResult result = morph::erode2(job);
+      const morph::ErodeResult result = morph::erode(job);
       const morph::TopologyReport topology = morph::topology_report(result.mesh);
       EXPECT_TRUE(topology.closed_manifold()) << name << (with_arc ? " with an arc" : "");
       const double error = largest_field_error(result.mesh, morph::ErosionField(job));

@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: Apache-2.0
-#include "generator2/exact_determinant.h"
+#include "generator/exact_determinant.h"
 
 #include <gtest/gtest.h>
 #include <Eigen/Geometry>

@@ -3,7 +3,7 @@
 // represented by the smallest vertex, whatever the order and the threads.
 #include <gtest/gtest.h>
 
-#include "generator2/limit_classes.h"
+#include "generator/limit_classes.h"
 
 namespace {
 

@@ -1,9 +1,9 @@
 // SPDX-License-Identifier: Apache-2.0
-// A sweep facet within its own polytope (generator2/own_facet.h): with every plane of the sweep
+// A sweep facet within its own polytope (generator/own_facet.h): with every plane of the sweep
 // exact, the planes through the facet's vertices bound it alone; the piece is the one that every
 // plane of the sweep leaves, for every tool shape and every kind of motion.
-#include "generator2/own_facet.h"
-#include "generator2/tool_facet_groups.h"
+#include "generator/own_facet.h"
+#include "generator/tool_facet_groups.h"
 
 #include <morph/quantize.h>
 #include <morph/stock_polytope.h>

@@ -4,7 +4,7 @@
 // included, exactly through their vertices; the integer predicates against cpp_int on random and
 // degenerate planes. (The tool's accuracy with the grid is tool_polytope_test's: every shape
 // within its budget both ways.)
-#include "generator2/exact_determinant.h"
+#include "generator/exact_determinant.h"
 
 #include <morph/plane_predicates.h>
 #include <morph/quantize.h>

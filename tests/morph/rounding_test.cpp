@@ -1,7 +1,7 @@
 // SPDX-License-Identifier: Apache-2.0
 // Generator 2's output rounding (rounding.h): a surface that needs none of its steps comes back
 // as it went in, and one whose corners rounded onto a line is settled by a flip.
-#include "generator2/rounding.h"
+#include "generator/rounding.h"
 
 #include <gtest/gtest.h>
 

@@ -2,7 +2,7 @@
 // Generator 2's mesh stock: exact planes through the rounded vertices; a box given as a mesh is
 // carved as the box stock is (same volume, pieces and topology); a non-convex mesh (an L) cut
 // by slots has the closed-form volume; the outcome is closed, oriented and manifold.
-#include <morph/erode2.h>
+#include <morph/erode.h>
 #include <morph/exceptions.h>
 #include <morph/stock_mesh.h>
 #include <morph/tool.h>
@@ -87,7 +87,7 @@ struct Outcome {
 
 Outcome closed(const morph::Job& job, const char* what) {
   Outcome o;
-  o.result = morph::erode2(job);
+  o.result = morph::erode(job);
   o.topology = morph::topology_report(o.result.mesh);
   const morph::TopologyReport& t = o.topology;
   EXPECT_TRUE(t.closed_manifold()) << what << ": " << t.boundary_edges << " boundary, "

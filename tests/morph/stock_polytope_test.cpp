@@ -2,7 +2,7 @@
 // Generator 2's convex stock: the cylinder's prism straddles the exact cylinder within its budget,
 // and a cylinder stock is carved by the same code as the box, closed, with the volume of the
 // closed forms (uncut; a cavity, against the prism's exact volume; a level slot across the top).
-#include <morph/erode2.h>
+#include <morph/erode.h>
 #include <morph/error_budget.h>
 #include <morph/exceptions.h>
 #include <morph/stock_polytope.h>
@@ -38,7 +38,7 @@ morph::Job job_of(const morph::Stock& stock, const morph::Tool& tool, const std:
 }
 
 morph::TopologyReport closed_surface(const morph::Job& job, const char* what) {
-  const morph::ErodeResult result = morph::erode2(job);
+  const morph::ErodeResult result = morph::erode(job);
   const morph::TopologyReport t = morph::topology_report(result.mesh);
   EXPECT_TRUE(t.closed_manifold()) << what << ": " << t.boundary_edges << " boundary, "
                                    << t.non_manifold_edges << " non-manifold, " << t.inconsistent_edges
@@ -140,7 +140,7 @@ TEST(StockPolytope, CylinderSidesAreExactlySymmetricAboutTheAxes) {
                                 {Vector3d(-11.3, 0, 2.863), Vector3d(3.77, 0, 2.863),
                                  Vector3d(11.3, 0, 3.846), Vector3d(-11.3, 0, 3.846)},
                                 0.05);
-  const morph::ErodeResult r = morph::erode2(job);
+  const morph::ErodeResult r = morph::erode(job);
   EXPECT_TRUE(morph::topology_report(r.mesh).closed_manifold());
   EXPECT_EQ(morph::fallbacks_fired(r.stats), 0u);
 }

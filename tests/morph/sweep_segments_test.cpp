@@ -2,7 +2,6 @@
 // Generator 2's segments: straight runs joined and zero-length moves dropped only where the swept
 // solid is the same, decided exactly on the grid; the count made without listing them agrees.
 #include <morph/erode.h>
-#include <morph/erode2.h>
 #include <morph/error_budget.h>
 #include <morph/quantize.h>
 #include <morph/sweep_polytope.h>
@@ -140,8 +139,8 @@ TEST(SweepSegments, ARasterOfShortMovesErodesAsItsRowsDo) {
       if (k == 0 || k == 40) rows.emplace_back(x, y, 4.9);
     }
   }
-  const morph::ErodeResult from_fine = morph::erode2(job_through(fine));
-  const morph::ErodeResult from_rows = morph::erode2(job_through(rows));
+  const morph::ErodeResult from_fine = morph::erode(job_through(fine));
+  const morph::ErodeResult from_rows = morph::erode(job_through(rows));
   EXPECT_EQ(from_fine.stats.moves, fine.size() - 1);
   EXPECT_EQ(from_fine.stats.segments, rows.size() - 1);
   EXPECT_EQ(from_fine.mesh.vertices, from_rows.mesh.vertices);
@@ -152,13 +151,8 @@ TEST(SweepSegments, ARasterOfShortMovesErodesAsItsRowsDo) {
   EXPECT_LT(topology.volume, 20 * 10 * 5 - 0.3);  // it cut the rows (about 0.5 mm³)
 }
 
-TEST(SweepSegments, GeneratorOneJoinsTheSameRuns) {
-  // Generator 1 sweeps [a, c] unsnapped where the snapped points go on straight.
-  const Vector3d a(2, 5, 4.5), c(7, 5, 4.5);
-  EXPECT_TRUE(morph::goes_on_straight(a, Vector3d(3, 5, 4.5), c, kGrid));
-  EXPECT_FALSE(morph::goes_on_straight(a, Vector3d(3, 5, 4.5), a, kGrid));  // back
-  EXPECT_FALSE(morph::goes_on_straight(a, a, c, kGrid));                    // from a point
-  EXPECT_FALSE(morph::goes_on_straight(a, Vector3d(3, 5, 4.5), Vector3d(7, 5.001, 4.5), kGrid));
+TEST(SweepSegments, ErodeJoinsAStraightRunIntoOneSweep) {
+  // A run of moves that go on straight is swept as its one segment [a, c]: the same surface.
   std::vector<Vector3d> fine;
   for (int k = 0; k <= 50; ++k) fine.emplace_back(2 + 0.1 * k, 5, 4.5);
   const morph::ErodeResult from_fine = morph::erode(job_through(fine));

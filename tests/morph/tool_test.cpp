@@ -379,6 +379,7 @@ TEST(ToolShapes, ExtentsAndNames) {
   EXPECT_THROW(morph::tool_type_from_string("drill", "x"), morph::InputError);
   EXPECT_EQ(morph::describe(morph::bullnose_tool(5, 1, 20)),
             "bullnose diameter 10, corner radius 1, length 20");
-  EXPECT_TRUE(morph::ball_tool(1, 2).generator_builds());
-  EXPECT_FALSE(morph::flat_tool(1, 2).generator_builds());
+  EXPECT_TRUE(morph::ball_tool(1, 2).sphere_or_ball_end());
+  EXPECT_TRUE(morph::sphere_tool(1).sphere_or_ball_end());
+  EXPECT_FALSE(morph::flat_tool(1, 2).sphere_or_ball_end());
 }

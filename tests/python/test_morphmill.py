@@ -54,18 +54,11 @@ class MorphmillModule(unittest.TestCase):
         # Side sweep faces (kind 3) come from the only move (index 0).
         self.assertTrue(np.all(tags[tags[:, 0] == 3][:, 1] == 0))
 
-    def test_erode_chooses_the_generator_as_the_command_line_does(self):
-        self.assertEqual(self.part.generator, 2)  # the default, as the command line's
-        self.assertEqual(self.part.generator_choice, "")
-        automatic = morphmill.erode(self.job, generator="auto")
-        self.assertEqual(automatic.generator, 1)  # auto keeps generator 1's sound surface
-        self.assertEqual(automatic.generator_choice, "its surface is sound")
-        second = morphmill.erode(self.job, generator=2)
-        self.assertEqual(second.generator, 2)
-        self.assertTrue(second.valid)
-        self.assertAlmostEqual(second.topology.volume, SLOT_VOLUME, delta=0.01 * math.pi * 2 * 40)
-        self.assertEqual(morphmill.erode(self.job, generator="2").topology.volume, second.topology.volume)
-        self.assertEqual(self.part.topology.volume, second.topology.volume)
+    def test_erode_is_deterministic_and_sound(self):
+        self.assertTrue(self.part.valid)
+        again = morphmill.erode(self.job)
+        self.assertEqual(again.topology.volume, self.part.topology.volume)
+        np.testing.assert_array_equal(again.mesh.vertices, self.part.mesh.vertices)
 
     def test_reference_volume(self):
         reference = morphmill.reference(self.job, voxel_size=0.5)
@@ -101,10 +94,10 @@ class MorphmillModule(unittest.TestCase):
             morphmill.load_job(os.path.join(DATA, "jobs", "no_such_job.json"))
         self.assertIn("no_such_job.json", str(missing.exception))
         flat = morphmill.load_job(os.path.join(DATA, "jobs", "tool_flat.json"))
-        with self.assertRaises(morphmill.InputError):  # generator 1 builds ball ends only
-            morphmill.erode(flat, generator=1)
-        with self.assertRaises(ValueError):
-            morphmill.erode(flat, generator="fast")
+        with self.assertRaises(morphmill.InputError):
+            morphmill.erode(flat, tolerance=-1.0)
+        with self.assertRaises(TypeError):  # generator= was retired with generator 1
+            morphmill.erode(flat, generator=2)
         with self.assertRaises(ValueError):  # InputError is a ValueError
             morphmill.Mesh(np.zeros((3, 3)), np.array([[0, 1, 5]], dtype=np.uint32))
         with self.assertRaises(ValueError):

@@ -122,7 +122,7 @@ void validate_job(const morph::Job& job) {
   }
   for (const morph::Move* move : job.moves()) {
     const morph::Tool& tool = job.tool_of(*move);
-    if (!tool.generator_builds() && tool.profile.empty())
+    if (!tool.sphere_or_ball_end() && tool.profile.empty())
       throw morph::InputError("reference: tool " + std::to_string(move->tool) + " ('" +
                               morph::to_string(tool.type) +
                               "') has no profile; build it with the constructors of morph/tool.h");
@@ -200,7 +200,7 @@ double swept_area_estimate(const morph::Tool& tool, const morph::Move& move,
   if (!morph::swept_bounds(tool, move).intersects(clip)) return 0.0;
   const morph::ToolExtent extent = morph::tool_extent(tool);
   const double reach =
-      tool.generator_builds() ? tool.radius + tool.length : extent.radius + extent.below + extent.above;
+      tool.sphere_or_ball_end() ? tool.radius + tool.length : extent.radius + extent.below + extent.above;
   const Eigen::AlignedBox3d grown(clip.min() - Eigen::Vector3d::Constant(reach),
                                   clip.max() + Eigen::Vector3d::Constant(reach));
   double length = 0.0;

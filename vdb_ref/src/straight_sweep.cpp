@@ -22,7 +22,7 @@ StraightSweep::StraightSweep(const morph::Tool& tool, const Eigen::Vector3d& a, 
       lowest_centre_z_(std::min(centre_.z(), centre_.z() + d_.z())),
       body_top_z_(std::max(centre_.z(), centre_.z() + d_.z()) + length_),
       hh_(d_.x() * d_.x() + d_.y() * d_.y()) {
-  if (tool.generator_builds()) return;
+  if (tool.sphere_or_ball_end()) return;
   general_ = &tool;
   const morph::ToolExtent e = morph::tool_extent(tool);
   const double half = 0.5 * (e.below + e.above);

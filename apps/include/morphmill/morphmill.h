@@ -53,10 +53,6 @@ struct ErodeSettings {
   /// this, bytes; 0: no cap.
   std::size_t memory_cap_bytes = 0;
   morph::Progress* progress = nullptr;  ///< optional progress and interruption
-  /// Which generator builds the surface, as `--generator`: 2 (the default: every tool of
-  /// revolution, closed by construction), 1 (sphere and ball-end tools only) or 0 auto (generator
-  /// 1's surface when it is sound, generator 2's otherwise and for tools generator 1 cannot build).
-  int generator = 2;
 };
 
 /// The generator's surface and what `morphmill erode` checks about it.
@@ -65,16 +61,12 @@ struct ErodeReport {
   morph::ErodeStats stats;             ///< sizes and timings (seconds)
   morph::TopologyReport topology;      ///< closed? manifold? pieces, area, volume
   std::size_t self_intersections = 0;  ///< triangle pairs that intersect (exact predicates)
-  int generator = 1;                   ///< the generator that built `mesh`: 1 or 2
-  std::string generator_choice;        ///< how auto chose it, a sentence ("" when one was asked)
   /// What erode promises: a closed, oriented 2-manifold free of self-intersections.
   bool valid() const { return topology.closed_manifold() && self_intersections == 0; }
 };
 
-/// The boundary of what the tool leaves of the stock, built by the generator `settings` chooses
-/// (morph::erode or morph::erode2) and checked as `morphmill erode` checks it. Every tool of
-/// revolution under auto and generator 2; generator 1 builds sphere and ball-end tools only
-/// (morph::InputError for others).
+/// The boundary of what the tool leaves of the stock (morph::erode: every tool of revolution,
+/// every stock), checked as `morphmill erode` checks it.
 ErodeReport erode(const morph::Job& job, const ErodeSettings& settings = {});
 
 /// The reference voxel size `verify` and `study` pick when none is given: a sixth of the smallest
@@ -116,7 +108,6 @@ struct VerifySettings {
   bool reference_only = false;
   std::size_t reference_memory_cap_bytes = std::size_t(8) << 30;
   morph::Progress* progress = nullptr;
-  int generator = 2;  ///< as ErodeSettings::generator: 2 (default), 1 or 0 auto
 };
 
 /// The outcome of verify: the verdict, its parts, and the surfaces and samples it was decided on.
@@ -126,10 +117,8 @@ struct VerifyReport {
   bool generator_within_tolerance = false;  ///< generator <-> exact surface within the tolerance
   bool sides_agree = false;                 ///< generator <-> reference within agreement_bound
   bool pieces_match = false;                ///< same solid pieces, volumes within the bound
-  /// Why the generator was not run ("" when it was): reference_only, or a tool it cannot build.
+  /// Why the generator was not run ("" when it was): reference_only.
   std::string generator_skipped;
-  int generator = 0;             ///< the generator whose surface was judged: 1 or 2 (0: none ran)
-  std::string generator_choice;  ///< how auto chose it ("" when one was asked or none ran)
   double tolerance = 0.0;        ///< job units
   double voxel_size = 0.0;       ///< job units
   double agreement_bound = 0.0;  ///< tolerance + sqrt(3) * voxel, job units

@@ -181,8 +181,7 @@ const std::vector<std::string>& invariant_names() {
 }
 
 CaseSpace case_space(const StressOptions& options) {
-  check_generator(options.generator);
-  return CaseSpace{parse_families(options.families), options.generator};
+  return CaseSpace{parse_families(options.families)};
 }
 
 CaseResult run_case(std::uint64_t seed, std::size_t index, const StressOptions& options) {
@@ -215,7 +214,6 @@ CaseResult run_case(std::uint64_t seed, std::size_t index, const StressOptions& 
     evaluate.reference_memory_cap_bytes =
         static_cast<std::size_t>(options.reference_memory_cap_mib * 1048576.0);
     evaluate.generator_memory_cap_bytes = memory_cap_bytes(default_memory_cap_gib());
-    evaluate.generator = options.generator;
     const Evaluation evaluation = evaluate_job(job, evaluate);
     const VerifyOutcome& o = evaluation.outcome;
     result.agreement_bound = o.agreement_bound;
@@ -245,13 +243,8 @@ CaseResult run_case(std::uint64_t seed, std::size_t index, const StressOptions& 
     if (!o.morph_topology.closed_manifold()) fail(result, "closed_manifold");
     if (o.generator_skipped.empty()) {
       // Cases run in parallel already: the check runs on this thread.
-      result.self_intersecting_pairs = o.morph_intersecting_pairs
-                                           ? *o.morph_intersecting_pairs
-                                           : find_self_intersections(evaluation.morph_mesh, 1, false).pairs;
-      // Generator 1 is measured, not held to it: its patches are trimmed apart and are known to
-      // cross where passes cross (issue 18); generator 2 (asked, or chosen by auto) promises it by
-      // construction.
-      if (result.self_intersecting_pairs > 0 && o.generator_used == 2) fail(result, "no_self_intersections");
+      result.self_intersecting_pairs = find_self_intersections(evaluation.morph_mesh, 1, false).pairs;
+      if (result.self_intersecting_pairs > 0) fail(result, "no_self_intersections");
     }
     if (c.expected_pieces >= 0) {
       // A family's count is what its passes leave at the scale of the tool. The exact solid may
@@ -404,14 +397,13 @@ std::string families_text(const std::string& given) {
 
 }  // namespace
 
-int recorded_generator(const nlohmann::json& campaign) {
+void check_recorded_generator(const nlohmann::json& campaign, const std::string& file) {
+  // Campaigns before generators had names recorded 0 (auto), 1 or 2, and none recorded nothing (1).
   const auto it = campaign.find("--generator");
-  if (it == campaign.end()) return 1;
-  if (it->is_number_integer()) return it->get<int>();
-  const std::string name = it->is_string() ? it->get<std::string>() : it->dump();
-  for (int generator : {kAutoGenerator, 1, 2})
-    if (name == generator_name(generator)) return generator;
-  throw morph::InputError("campaign.json: --generator must be auto, 1 or 2, not " + it->dump());
+  if (it != campaign.end() && (*it == "2" || *it == 2)) return;
+  throw morph::InputError(file + ": the campaign ran --generator " +
+                          (it == campaign.end() ? std::string("1") : it->dump()) +
+                          ", which was removed (the one generator left is 2): start a new campaign");
 }
 
 nlohmann::json campaign_identity(const StressOptions& options) {
@@ -421,7 +413,7 @@ nlohmann::json campaign_identity(const StressOptions& options) {
           {"case_generator", kCaseGeneratorVersion},
           {"--cases", options.cases},
           {"--seed", options.seed},
-          {"--generator", generator_name(options.generator)},
+          {"--generator", "2"},  // the only generator since 1 and auto were removed
           {"--families", families_text(options.families)},
           {"--samples", options.face_samples},
           {"--reference-memory-cap", options.reference_memory_cap_mib},
@@ -551,12 +543,7 @@ std::string summary_markdown(const Summary& s) {
     crossing_pairs += r.self_intersecting_pairs;
   }
   md << "| generator's self-intersecting triangle pairs | " << crossing_pairs << " in " << crossing_cases
-     << " case(s)"
-     << (recorded_generator(s.campaign) == 2 ? ""
-         : recorded_generator(s.campaign) == kAutoGenerator
-             ? " (auto: held where generator 2 built the surface)"
-             : " (generator 1: measured, not an invariant)")
-     << " |\n";
+     << " case(s) |\n";
   std::map<std::string, std::size_t> fallbacks;
   std::size_t fallback_cases = 0, fallbacks_fired = 0;
   for (const auto& r : s.results) {
@@ -726,7 +713,7 @@ Summary run_stress(const StressOptions& options) {
     throw morph::InputError(
         fmt::format("--shard: need 0 <= i < n, got {}/{}", options.shard_index, options.shard_count));
   if (options.threads < 0) throw morph::InputError("--threads must not be negative");
-  case_space(options);  // --generator and --families are checked before anything is written
+  case_space(options);  // --families is checked before anything is written
   nlohmann::json identity = campaign_identity(options);
   identity["shard"] = fmt::format("{}/{}", options.shard_index, options.shard_count);
   std::vector<CaseResult> kept = prepare_shard_dir(options, identity);

@@ -15,7 +15,6 @@
 #include <vector>
 
 #include "campaigns/stress_cases.h"
-#include "verify/generator_choice.h"
 
 namespace morphmill::stress {
 
@@ -26,7 +25,6 @@ struct StressOptions {
   std::size_t shard_index = 0;  ///< this run does the cases k with k % shard_count == shard_index
   std::size_t shard_count = 1;
   int threads = 0;                         ///< worker threads; 0 = all cores
-  int generator = kDefaultGenerator;       ///< the generator checked (--generator: 2, as erode's)
   std::string families = "classic";        ///< --families: classic, motion, all or names (parse_families)
   std::size_t face_samples = 2000;         ///< area-uniform deviation samples per surface (plus every vertex)
   double reference_memory_cap_mib = 1024;  ///< per case: the reference refuses to need more
@@ -47,14 +45,15 @@ struct IncompleteCampaign : std::runtime_error {
 };
 
 /// The identity of a campaign: everything that changes its results (the options --cases, --seed,
-/// --generator, --families, --samples, --reference-memory-cap, --max-rss; the program's version and
+/// --families, --samples, --reference-memory-cap, --max-rss; the program's version and
 /// source commit; the case
 /// generator's version) and the shard count. Keys are named as the user knows them ("--samples").
 /// Shards of one campaign have equal identities; `campaign.json` of a shard adds its "--shard".
 nlohmann::json campaign_identity(const StressOptions& options);
 
-/// The generator a campaign.json records ("auto", "1", "2"; campaigns before names: 0, 1, 2; none: 1).
-int recorded_generator(const nlohmann::json& campaign);
+/// Throws morph::InputError when a campaign.json records a generator other than 2 (generator 1
+/// and auto were removed; such a campaign cannot be continued or merged).
+void check_recorded_generator(const nlohmann::json& campaign, const std::string& file);
 
 /// The first key whose values differ, described as "--samples is 2000 in A but 500 in B"; "" if
 /// the identities are equal.
@@ -96,7 +95,7 @@ CaseResult case_from_json(const nlohmann::json& json, const std::string& where);
 /// Runs one case (no files). Never throws for a failure of the case itself: it is recorded.
 CaseResult run_case(std::uint64_t seed, std::size_t index, const StressOptions& options);
 
-/// The cases' space of a campaign: its families and generator (checked: InputError when unknown).
+/// The cases' space of a campaign: its families (checked: InputError when unknown).
 CaseSpace case_space(const StressOptions& options);
 
 /// Summary of a campaign (or of merged shards): counts, failures by invariant and by family, the

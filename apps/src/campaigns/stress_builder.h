@@ -70,9 +70,6 @@ class Builder {
   }
 
   void tolerance(double t) { c_.job["tolerance"] = t; }
-  /// The generator the case is for (CaseSpace::generator).
-  void generator(int g) { generator_ = g; }
-  int generator() const { return generator_; }
 
   // Stocks. `swap` exchanges x and y of everything added afterwards (stock and paths), so one
   // family can cut along either axis.
@@ -157,7 +154,6 @@ class Builder {
 
   StressCase& c_;
   bool swap_ = false;
-  int generator_ = 1;
   bool sphere_ = false;
   double radius_ = 1.0;
   double stock_volume_ = 0.0;

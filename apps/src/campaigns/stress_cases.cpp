@@ -11,7 +11,6 @@
 #include "campaigns/stress_cases.h"
 
 #include "campaigns/stress_builder.h"
-#include "verify/generator_choice.h"
 
 #include <fmt/format.h>
 #include <morph/exceptions.h>
@@ -911,19 +910,17 @@ StressCase make_case(std::uint64_t seed, std::size_t index, const CaseSpace& spa
   const Family family = family_named(c.family);
   CaseRandom rng(case_stream(seed, index));
   Builder builder(c);
-  builder.generator(space.generator);
   builder.tolerance(draw_tolerance(rng));
   family(rng, builder);
   c.job["name"] = fmt::format("stress_{}_{}", seed, case_name(index));
   c.job["description"] = fmt::format(
       "morphmill stress case {} of seed {} (family {}: {}); expected pieces {}{}{}. Reproduce with: "
       "morphmill "
-      "verify {}.json --output OUT --voxel {}{}",
+      "verify {}.json --output OUT --voxel {}",
       index, seed, c.family, c.variant, c.expected_pieces,
       c.expected_volume ? fmt::format(", expected volume {:.9g}", *c.expected_volume) : std::string(),
       c.expected_genus >= 0 ? fmt::format(", expected genus {}", c.expected_genus) : std::string(),
-      case_name(index), c.voxel_size,
-      space.generator != kDefaultGenerator ? " --generator " + generator_name(space.generator) : "");
+      case_name(index), c.voxel_size);
   return c;
 }
 

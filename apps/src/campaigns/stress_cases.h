@@ -69,9 +69,6 @@ const std::vector<std::string>& motion_families();
 /// What a campaign draws its cases from.
 struct CaseSpace {
   std::vector<std::string> families = case_families();  ///< cycled through by the case index
-  /// The generator the cases are for: motion families draw their tools from the shapes it builds
-  /// (1: sphere and ball-end; 2: every tool of revolution).
-  int generator = 1;
 };
 
 /// Families from --families: "classic" (default), "motion", "all", or names separated by commas.

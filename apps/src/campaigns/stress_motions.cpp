@@ -3,8 +3,7 @@
 // on which a generator that trims each patch on its own breaks (issue 18): a pass retraced, a
 // plunge and its retract, a reversal at any angle up to 179.99 degrees, a sub-micron move, arcs in
 // every plane and helices, a sheet with parts and slugs cut out, a path crossing itself dozens of
-// times, several tools in one job. Box stock. The tool is drawn from the shapes the generator the
-// campaign is for can build (generator 1: sphere and ball-end; 2: every tool of revolution).
+// times, several tools in one job. Box stock. The tool is drawn from every tool of revolution.
 //
 // What is known by construction: blind cuts leave one piece of genus 0; each contour cut through
 // a sheet frees what it encloses and opens one tunnel. Volumes come from closed forms where the
@@ -47,12 +46,11 @@ DrawnTool drawn(nlohmann::json json, morph::Tool tool, const std::string& word) 
   return t;
 }
 
-/// Generator 1: sphere or ball-end; generator 2: every tool of revolution MorphMill knows.
-DrawnTool draw_tool(CaseRandom& rng, int generator) {
+/// Every tool of revolution MorphMill knows.
+DrawnTool draw_tool(CaseRandom& rng) {
   const double r = round3(rng.uniform(1.5, 3.0));
   const double length = round3(rng.uniform(8.0, 14.0));
-  const int shapes = generator == 2 ? 7 : 2;
-  switch (rng.integer(0, shapes - 1)) {
+  switch (rng.integer(0, 6)) {
     case 0:
       return drawn({{"type", "sphere"}, {"radius", r}}, morph::sphere_tool(r), fmt::format("sphere r {}", r));
     case 1:
@@ -189,7 +187,7 @@ struct BlindPass {
 
 BlindPass draw_blind_pass(CaseRandom& rng, Builder& b) {
   BlindPass pass;
-  pass.tool = draw_tool(rng, b.generator());
+  pass.tool = draw_tool(rng);
   b.tool(1, pass.tool.json, pass.tool.tool.radius);
   pass.height = round3(rng.uniform(4.0, 10.0));
   pass.depth = blind_depth(rng, pass.tool, pass.height);
@@ -289,7 +287,7 @@ void retrace(CaseRandom& rng, Builder& b) {
 // Vertical plunges to a depth and straight back up, travelling above the stock between them; a
 // peck (half depth, out, full depth) removes what the deepest plunge removes.
 void plunge_retract(CaseRandom& rng, Builder& b) {
-  const DrawnTool t = draw_tool(rng, b.generator());
+  const DrawnTool t = draw_tool(rng);
   b.tool(1, t.json, t.tool.radius);
   const double height = round3(rng.uniform(4.0, 10.0)), d = blind_depth(rng, t, height);
   const int count = rng.integer(1, 3);
@@ -320,7 +318,7 @@ void plunge_retract(CaseRandom& rng, Builder& b) {
 
 // A level pass that turns by an angle up to a full reversal (0: straight on).
 void reversal(CaseRandom& rng, Builder& b) {
-  const DrawnTool t = draw_tool(rng, b.generator());
+  const DrawnTool t = draw_tool(rng);
   b.tool(1, t.json, t.tool.radius);
   static const double turns[] = {0.0, 30.0, 90.0, 135.0, 170.0, 179.0, 179.9, 179.99, 180.0};
   const double turn = turns[rng.integer(0, 8)];
@@ -343,7 +341,7 @@ void reversal(CaseRandom& rng, Builder& b) {
 
 // A move of a micron or less inside a pass, at a corner, or as a step down.
 void submicron(CaseRandom& rng, Builder& b) {
-  const DrawnTool t = draw_tool(rng, b.generator());
+  const DrawnTool t = draw_tool(rng);
   b.tool(1, t.json, t.tool.radius);
   static const double tiny[] = {1e-6, 1e-5, 1e-4, 1e-3};
   const double delta = tiny[rng.integer(0, 3)];
@@ -383,7 +381,7 @@ std::string number(double v) {
 // Arcs as G-code: a level full circle (G17, Pappus), a dip under the top in G18, a 300-degree arc
 // in G19 whose tangent turns vertical twice, and a helix down and the same arc reversed.
 void arcs(CaseRandom& rng, Builder& b) {
-  const DrawnTool t = draw_tool(rng, b.generator());
+  const DrawnTool t = draw_tool(rng);
   b.tool(1, t.json, t.tool.radius);
   const double height = round3(rng.uniform(6.0, 12.0)), d = blind_depth(rng, t, height);
   const double r = t.tool.radius, rho = round3(r + rng.uniform(1.0, 6.0));
@@ -450,10 +448,10 @@ struct ThroughCut {
   bool vertical_walls = true;
 };
 
-ThroughCut draw_through_cut(CaseRandom& rng, int generator) {
+ThroughCut draw_through_cut(CaseRandom& rng) {
   ThroughCut cut;
   const double r = round3(rng.uniform(1.5, 3.0)), length = round3(rng.uniform(10.0, 14.0));
-  const int shape = rng.integer(0, generator == 2 ? 3 : 1);
+  const int shape = rng.integer(0, 3);
   if (shape == 0) {
     cut.tool =
         drawn({{"type", "sphere"}, {"radius", r}}, morph::sphere_tool(r), fmt::format("sphere r {}", r));
@@ -499,7 +497,7 @@ double rectangle_kerf_area(double ax, double ay, double h) {
 // A sheet with parts cut out through its thickness, some with a hole whose slug falls free:
 // 1 + parts + slugs pieces; the sheet keeps a tunnel per part and a part with a hole has one.
 void cutout(CaseRandom& rng, Builder& b) {
-  const ThroughCut cut = draw_through_cut(rng, b.generator());
+  const ThroughCut cut = draw_through_cut(rng);
   const DrawnTool& t = cut.tool;
   b.tool(1, t.json, t.tool.radius);
   const double r = t.tool.radius, h = cut.half_kerf, gap = kGapInRadii * r;
@@ -538,7 +536,7 @@ void cutout(CaseRandom& rng, Builder& b) {
 
 // A star polygon {n/k} cut blind, once or twice round: n (k - 1) self-crossings.
 void self_crossing(CaseRandom& rng, Builder& b) {
-  const DrawnTool t = draw_tool(rng, b.generator());
+  const DrawnTool t = draw_tool(rng);
   b.tool(1, t.json, t.tool.radius);
   static const int points[] = {5, 7, 9, 11, 13};
   const int n = points[rng.integer(0, 4)], k = rng.integer(2, (n - 1) / 2);
@@ -569,7 +567,7 @@ void self_crossing(CaseRandom& rng, Builder& b) {
 
 // Two tools in one job: parallel passes apart (the volumes add) or the second crossing the first.
 void mixed_tools(CaseRandom& rng, Builder& b) {
-  const DrawnTool t1 = draw_tool(rng, b.generator()), t2 = draw_tool(rng, b.generator());
+  const DrawnTool t1 = draw_tool(rng), t2 = draw_tool(rng);
   b.tool(1, t1.json, t1.tool.radius);
   b.tool(2, t2.json, t2.tool.radius);
   const double height = round3(rng.uniform(4.0, 10.0));

@@ -171,11 +171,6 @@ void evaluate_setting(const morph::Job& job, const SettingKey& key, const StudyS
   options.per_stage_peak_memory = true;
   // A setting whose tolerance is far too fine is refused with its estimate, not killed by the kernel.
   options.generator_memory_cap_bytes = memory_cap_bytes(default_memory_cap_gib());
-  // A study measures generator 1 (a surface of fixed construction across its settings); a tool it
-  // cannot build: the setting measures the reference alone.
-  options.generator = 1;
-  row.generator_skipped = why_generator_cannot_build(job, options.generator);
-  options.reference_only = !row.generator_skipped.empty();
   const Evaluation evaluation = evaluate_job(job, options);
   const VerifyOutcome& o = evaluation.outcome;
   row.tolerance = o.tolerance;

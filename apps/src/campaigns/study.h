@@ -80,9 +80,9 @@ struct StudyRow {
   bool verdict = false;
   /// The job's tools with their shapes and sizes ("T1 flat diameter 6, length 20; ...").
   std::string tools;
-  /// Why the generator was not run ("" when it was): the first move whose tool it cannot build
-  /// yet. Such a setting checks the reference alone (verify --reference-only): its generator
-  /// fields are not measurements, and `verdict` is the reference's check against the exact surface.
+  /// Why the generator was not run ("" when it was). Studies run before generator 1 was removed
+  /// checked the reference alone for tools it could not build, and their results read back so:
+  /// the generator fields are then not measurements, and `verdict` is the reference's check.
   std::string generator_skipped;
   std::vector<std::string> pictures;  ///< heatmap PNGs written, relative to the output directory
   std::string error;                  ///< why the setting could not be evaluated ("" if it was)

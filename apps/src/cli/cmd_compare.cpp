@@ -20,7 +20,7 @@
 #include "io/deviation_files.h"
 #include "io/provenance.h"
 #include "verify/compare.h"
-#include "verify/generator_choice.h"
+#include "verify/soundness.h"
 
 namespace morphmill {
 
@@ -36,7 +36,6 @@ struct CompareArgs {
   std::string json_path;
   CLI::Option* json_option = nullptr;
   double memory_cap_gib = 8.0;
-  int generator = kDefaultGenerator;
 };
 
 void print_comparison(const DesignComparison& c, const morph::Job& job, const std::string& design) {
@@ -66,7 +65,6 @@ void print_comparison(const DesignComparison& c, const morph::Job& job, const st
 }
 
 void run_compare(const CompareArgs& args) {
-  check_generator(args.generator);
   const morph::Job job = load_job(args.job_path);
   const DesignSpec spec = load_design(args.job_path);
   const std::string design_path = args.design_path.empty() ? spec.path : args.design_path;
@@ -92,7 +90,7 @@ void run_compare(const CompareArgs& args) {
   erode_options.memory_cap_bytes = memory_cap_bytes(args.memory_cap_gib);
   const morph::ErodeResult machined = [&] {
     try {
-      return run_generator(job, erode_options, args.generator).result;
+      return morph::erode(job, erode_options);
     } catch (const morph::LimitError& e) {
       throw morph::LimitError(args.job_path + ": " + e.what() + " (--memory-cap " +
                               describe_bytes(double(erode_options.memory_cap_bytes)) + ")");
@@ -179,7 +177,7 @@ void register_compare_command(CLI::App& app) {
                       "Directory for compare.json and machined_vs_design.ply/.vtp");
   args->json_option =
       add_json_option(*compare, args->json_path, "the summary (compare.json's content; also when exit 1)");
-  add_generator_option(*compare, args->generator);
+  add_retired_generator_option(*compare);
   add_memory_cap_option(compare, args->memory_cap_gib);
   compare->callback([args] { run_compare(*args); });
 }

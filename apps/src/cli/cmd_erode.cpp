@@ -29,7 +29,7 @@
 #include "cli/memory_cap.h"
 #include "cli/terminal_progress.h"
 #include "io/provenance.h"
-#include "verify/generator_choice.h"
+#include "verify/soundness.h"
 
 namespace morphmill {
 
@@ -40,7 +40,6 @@ struct ErodeCommandOptions {
   std::string mesh_path;
   double tolerance = 0.0;
   int threads = 0;
-  int generator = kDefaultGenerator;
   bool ascii = false;
   bool allow_open = false;
   double memory_cap_gib = 0.0;
@@ -55,7 +54,7 @@ nlohmann::json steps_json(const morph::ErodeStats& stats, bool fallbacks) {
   return out;
 }
 
-// Stage -> CPU seconds (generator 2; empty for generator 1).
+// Stage -> CPU seconds summed over the threads.
 nlohmann::json stage_cpu_json(const morph::ErodeStats& stats) {
   nlohmann::json out = nlohmann::json::object();
   for (const auto& [stage, seconds] : stats.stage_cpu_seconds) out[stage] = seconds;
@@ -75,9 +74,8 @@ std::string describe_steps(const morph::ErodeStats& stats, bool fallbacks) {
 }
 
 nlohmann::json summary_json(const ErodeCommandOptions& options, const morph::Job& job, double tolerance,
-                            const GeneratedSurface& generated, const morph::TopologyReport& topology,
+                            const morph::ErodeResult& result, const morph::TopologyReport& topology,
                             const SelfIntersections& crossings, bool written) {
-  const morph::ErodeResult& result = generated.result;
   const morph::ErodeStats& s = result.stats;
   nlohmann::json pairs = nlohmann::json::array();
   for (const auto& [a, b] : crossings.first_pairs) pairs.push_back({a, b});
@@ -99,9 +97,6 @@ nlohmann::json summary_json(const ErodeCommandOptions& options, const morph::Job
           {"self_intersecting_pairs", crossings.pairs},
           {"first_self_intersecting_pairs", pairs},
           {"volume", topology.volume},
-          {"generator", generated.generator},
-          {"generator_asked", generator_name(options.generator)},
-          {"generator_choice", generated.choice},
           {"fallbacks_fired", morph::fallbacks_fired(s)},
           {"fallbacks", steps_json(s, true)},
           {"exact_steps", steps_json(s, false)},
@@ -142,7 +137,6 @@ void run_erode(const ErodeCommandOptions& options) {
   if (options.tolerance < 0.0)
     throw morph::InputError("--tolerance: must be > 0 (or 0 for the job's tolerance)");
   if (options.threads < 0) throw morph::InputError("--threads: must be >= 1 (or 0 for all cores)");
-  check_generator(options.generator);
   std::optional<tbb::global_control> threads;
   if (options.threads > 0) threads.emplace(tbb::global_control::max_allowed_parallelism, options.threads);
   const morph::Job job = load_job(options.job_path);
@@ -153,9 +147,9 @@ void run_erode(const ErodeCommandOptions& options) {
   erode_options.tolerance = options.tolerance;
   erode_options.progress = &progress;
   erode_options.memory_cap_bytes = memory_cap_bytes(options.memory_cap_gib);
-  const GeneratedSurface generated = [&] {
+  const morph::ErodeResult result = [&] {
     try {
-      return run_generator(job, erode_options, options.generator);
+      return morph::erode(job, erode_options);
     } catch (const morph::LimitError& e) {
       throw morph::LimitError(options.job_path + ": " + e.what() + " (--memory-cap " +
                               std::to_string(options.memory_cap_gib) + " GiB)");
@@ -163,9 +157,7 @@ void run_erode(const ErodeCommandOptions& options) {
   }();
   // What the surface is decides whether it is written: a surface that is not a closed, oriented
   // 2-manifold free of self-intersections is not the solid that was promised.
-  const morph::ErodeResult& result = generated.result;
-  const SurfaceSoundness soundness =
-      generated.soundness ? *generated.soundness : check_soundness(result.mesh);
+  const SurfaceSoundness soundness = check_soundness(result.mesh);
   const morph::TopologyReport& topology = soundness.topology;
   const SelfIntersections& crossings = soundness.crossings;
   const bool valid = soundness.sound();
@@ -200,11 +192,8 @@ void run_erode(const ErodeCommandOptions& options) {
               << std::fixed << std::setprecision(2) << "  " << s.seconds_total << " s (setup "
               << s.seconds_setup << ", trim " << s.seconds_trim << ", assemble " << s.seconds_assemble
               << ") -> " << (valid || options.allow_open ? options.mesh_path : "not written") << '\n'
-              << "  generator " << generated.generator
-              << (generated.choice.empty() ? std::string() : " (auto: " + generated.choice + ")") << '\n'
               << "  memory: estimated " << describe_bytes(s.estimated_bytes) << " up front (" << s.segments
               << " segments, " << s.patches << " patches";
-    if (generated.generator == 1) std::cout << ", " << std::setprecision(0) << s.grid_cells << " grid cells";
     std::cout << ")\n";
     if (!s.stage_cpu_seconds.empty()) {
       std::cout << "  CPU s by stage:";
@@ -218,8 +207,8 @@ void run_erode(const ErodeCommandOptions& options) {
     std::cout << '\n';
   }
   if (options.json_option->count() > 0)
-    write_json(summary_json(options, job, options.tolerance > 0.0 ? options.tolerance : job.tolerance,
-                            generated, topology, crossings, valid || options.allow_open),
+    write_json(summary_json(options, job, options.tolerance > 0.0 ? options.tolerance : job.tolerance, result,
+                            topology, crossings, valid || options.allow_open),
                options.json_path);
   if (!valid) {
     std::cerr << "erode: the surface is not a closed, oriented 2-manifold free of self-intersections; "
@@ -237,9 +226,12 @@ void register_erode_command(CLI::App& app) {
   CLI::App* command = app.add_subcommand(
       "erode",
       "Compute the surface of what the tool leaves of the stock (the paper's secondary 3D model):\n"
-      "side sweeps along every move, front sweeps at path ends and turns, and the stock's faces, each\n"
-      "trimmed against the exact swept volumes. The PLY output keeps each face's provenance\n"
-      "(patch_kind, source = move or stock face, line = G-code line).\n"
+      "the stock's faces and the faces of every move's sweep (the tool's profile swept along it:\n"
+      "side sweeps, and the tool's own surface at path ends and turns), each cut where the other\n"
+      "sweeps and the stock decide, by exact predicates, so that the seams match by construction.\n"
+      "Every tool of revolution; arcs and the tool's curved surfaces within the tolerance.\n"
+      "The PLY output keeps each face's provenance (patch_kind, source = move or stock face,\n"
+      "line = G-code line).\n"
       "Exit code 0 when the surface is a closed, oriented 2-manifold free of self-intersections\n"
       "(exact predicates); 1 when it is not (nothing is written unless --allow-open); 2 bad input.\n"
       "Example: morphmill erode data/jobs/through_slots.json -o out/part.ply --tolerance 0.01");
@@ -249,7 +241,7 @@ void register_erode_command(CLI::App& app) {
   command->add_option("--tolerance", options->tolerance,
                       "Largest distance from the exact surface, job units (default: the job's tolerance)");
   command->add_option("--threads", options->threads, "Worker threads (default: all cores)");
-  add_generator_option(*command, options->generator);
+  add_retired_generator_option(*command);
   command->add_flag("--ascii", options->ascii, "Write ASCII instead of binary PLY/STL");
   command->add_flag("--allow-open", options->allow_open,
                     "Write the surface even when it is not a closed, oriented 2-manifold free of\n"

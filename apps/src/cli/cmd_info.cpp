@@ -60,8 +60,6 @@ void print_job(const json& d, std::ostream& out) {
   for (const json& t : d["tools"]) {
     out << fmt::format("  T{:<4} {}", t["number"].get<int>(), t["shape"].get<std::string>());
     if (t.contains("length_offset")) out << "  length offset " << number(t["length_offset"].get<double>());
-    // "generator": whether generator 1 builds the shape; generator 2, the default, builds every one.
-    if (!t["generator"].get<bool>()) out << "  (--generator 1 cannot build this shape; the default can)";
     out << "\n";
   }
 

@@ -10,7 +10,7 @@
 #include "cli/commands.h"
 #include "cli/stop_signals.h"
 #include "cli/terminal_progress.h"
-#include "verify/generator_choice.h"
+#include "verify/soundness.h"
 
 namespace morphmill {
 
@@ -69,7 +69,7 @@ void take_recorded_options(const CLI::App& command, const std::string& dir, stre
     if (command.count("--cases") == 0) run.cases = recorded.at("--cases").get<std::size_t>();
     if (command.count("--seed") == 0) run.seed = recorded.at("--seed").get<std::uint64_t>();
     if (command.count("--samples") == 0) run.face_samples = recorded.at("--samples").get<std::size_t>();
-    if (command.count("--generator") == 0) run.generator = stress::recorded_generator(recorded);
+    stress::check_recorded_generator(recorded, file.string());
     if (command.count("--families") == 0) run.families = recorded.value("--families", std::string("classic"));
     if (command.count("--reference-memory-cap") == 0)
       run.reference_memory_cap_mib = recorded.at("--reference-memory-cap").get<double>();
@@ -117,7 +117,7 @@ void register_stress_command(CLI::App& app) {
       ->expected(0, 1);
   command->add_option("--threads,-j", options->threads, "Worker threads (0: all cores)")
       ->capture_default_str();
-  add_generator_option(*command, options->generator);
+  add_retired_generator_option(*command);
   command
       ->add_option(
           "--families", options->families,

@@ -24,9 +24,6 @@ void register_verify_command(CLI::App& app) {
       "reported but left out), with the same pieces and volumes; when the job names a design, also that\n"
       "the machined result is within the design's band (see morphmill compare).\n"
       "Signed deviations: + excess (A outside B's solid), - gouge (A inside).\n"
-      "Under --generator 1, a job whose tools generator 1 cannot build (anything but sphere and\n"
-      "ballend) gets the reference checked against the exact surface; its verdict holds only with\n"
-      "--reference-only (generator 2, the default, builds every tool of revolution).\n"
       "Jobs may be JSON job files or CAMotics projects (.camotics).\n"
       "Exit code 0 when the verdict holds, 1 when it does not, 2 for bad input.\n"
       "Example: morphmill verify data/jobs/through_slots.json --output out/slots");
@@ -55,9 +52,8 @@ void register_verify_command(CLI::App& app) {
   verify->add_flag(
       "--reference-only", options->reference_only,
       "Check only the reference against the exact surface (within sqrt(3) * voxel where resolvable);\n"
-      "the generator is not run. Under --generator 1, jobs with tools it cannot build (flat,\n"
-      "bullnose, conical, tapered, ...) run this way anyway, but exit 1 unless this flag is given");
-  add_generator_option(*verify, options->generator);
+      "the generator is not run");
+  add_retired_generator_option(*verify);
   CLI::Option* json_option =
       add_json_option(*verify, *json_path, "the summary (deviation.json's content; also when exit 1)");
   add_memory_cap_option(verify, *memory_cap_gib);
@@ -88,10 +84,6 @@ void register_verify_command(CLI::App& app) {
                 << " (max " << outcome.reference_resolvable_max << " over "
                 << outcome.reference_resolvable_samples
                 << " resolvable samples, bound sqrt(3) * voxel = " << outcome.reference_bound << ")";
-      if (!outcome.reference_only_requested)
-        std::cout << "\n  the generator's part is not checked: exit 1 (give --reference-only to check the "
-                     "reference "
-                     "alone)";
       std::cout << "\n  report: " << run.out_dir << "/report.html\n";
       if (!outcome.verdict()) throw VerdictFailed();
       return;

@@ -691,7 +691,6 @@ json tool_json(const morph::Tool& t) {
   if (t.length_offset != 0.0) tool["length_offset"] = t.length_offset;
   if (!t.description.empty()) tool["description"] = t.description;
   if (!t.profile.empty()) tool["profile"] = t.profile.describe();
-  tool["generator"] = t.generator_builds();
   return tool;
 }
 

@@ -2,7 +2,10 @@
 // The public API (morphmill/morphmill.h): the CLI's steps, called the way its commands call them.
 #include <morphmill/morphmill.h>
 
+#include <morph/erode.h>
+
 #include "io/build_info.h"
+#include "verify/soundness.h"
 #include "verify/verify.h"
 
 namespace morphmill {
@@ -17,13 +20,10 @@ ErodeReport erode(const morph::Job& job, const ErodeSettings& settings) {
   options.memory_cap_bytes = settings.memory_cap_bytes;
   options.progress = settings.progress;
   ErodeReport report;
-  GeneratedSurface generated = run_generator(job, options, settings.generator);
-  report.generator = generated.generator;
-  report.generator_choice = generated.choice;
-  report.mesh = std::move(generated.result.mesh);
-  report.stats = generated.result.stats;
-  const SurfaceSoundness soundness =
-      generated.soundness ? *generated.soundness : check_soundness(report.mesh);
+  morph::ErodeResult result = morph::erode(job, options);
+  report.mesh = std::move(result.mesh);
+  report.stats = std::move(result.stats);
+  const SurfaceSoundness soundness = check_soundness(report.mesh);
   report.topology = soundness.topology;
   report.self_intersections = soundness.crossings.pairs;
   return report;
@@ -62,7 +62,6 @@ VerifyReport verify(const morph::Job& job, const VerifySettings& settings) {
   options.reference_only = settings.reference_only;
   options.reference_memory_cap_bytes = settings.reference_memory_cap_bytes;
   options.progress = settings.progress;
-  options.generator = settings.generator;
   Evaluation evaluation = evaluate_job(job, options);
   const VerifyOutcome& outcome = evaluation.outcome;
   VerifyReport report;
@@ -71,8 +70,6 @@ VerifyReport verify(const morph::Job& job, const VerifySettings& settings) {
   report.sides_agree = outcome.sides_agree;
   report.pieces_match = outcome.pieces_match;
   report.generator_skipped = outcome.generator_skipped;
-  report.generator = outcome.generator_used;
-  report.generator_choice = outcome.generator_choice;
   report.tolerance = outcome.tolerance;
   report.voxel_size = outcome.voxel_size;
   report.agreement_bound = outcome.agreement_bound;

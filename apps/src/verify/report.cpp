@@ -133,25 +133,20 @@ std::vector<Table> tables(const VerifyOutcome& o) {
   std::size_t fallbacks_fired = 0;
   for (const morph::StepCount& step : o.generator_steps)
     if (step.fallback) fallbacks_fired += step.count;
-  result.push_back(
-      {"Surfaces",
-       {"", "generator (morph)", "reference (OpenVDB)"},
-       {{"generator",
-         generator_cell(std::to_string(o.generator_used) +
-                        (o.generator_choice.empty() ? "" : " (auto: " + o.generator_choice + ")")),
-         "-"},
-        {"triangles", generator_cell(std::to_string(o.morph_triangles)),
-         std::to_string(o.reference_triangles)},
-        {"active voxels", "-", std::to_string(o.reference_active_voxels)},
-        {"closed manifold", generator_cell(yes_no(o.morph_topology.closed_manifold())),
-         yes_no(o.reference_topology.closed_manifold())},
-        {"boundary edges", generator_cell(std::to_string(o.morph_topology.boundary_edges)),
-         std::to_string(o.reference_topology.boundary_edges)},
-        {"fallbacks fired (target 0)", generator_cell(std::to_string(fallbacks_fired)), "-"},
-        {"volume (" + u + "^3)", generator_cell(number(o.morph_topology.volume)),
-         number(o.reference_topology.volume)},
-        {"area (" + u + "^2)", generator_cell(number(o.morph_topology.area)),
-         number(o.reference_topology.area)}}});
+  result.push_back({"Surfaces",
+                    {"", "generator (morph)", "reference (OpenVDB)"},
+                    {{"triangles", generator_cell(std::to_string(o.morph_triangles)),
+                      std::to_string(o.reference_triangles)},
+                     {"active voxels", "-", std::to_string(o.reference_active_voxels)},
+                     {"closed manifold", generator_cell(yes_no(o.morph_topology.closed_manifold())),
+                      yes_no(o.reference_topology.closed_manifold())},
+                     {"boundary edges", generator_cell(std::to_string(o.morph_topology.boundary_edges)),
+                      std::to_string(o.reference_topology.boundary_edges)},
+                     {"fallbacks fired (target 0)", generator_cell(std::to_string(fallbacks_fired)), "-"},
+                     {"volume (" + u + "^3)", generator_cell(number(o.morph_topology.volume)),
+                      number(o.reference_topology.volume)},
+                     {"area (" + u + "^2)", generator_cell(number(o.morph_topology.area)),
+                      number(o.reference_topology.area)}}});
   Table pieces{"Pieces (largest first)", {"piece", "generator volume", "reference volume", "difference"}, {}};
   const std::size_t n = std::max(o.morph_pieces.size(), o.reference_pieces.size());
   for (std::size_t i = 0; i < n; ++i) {
@@ -251,8 +246,7 @@ std::vector<Table> tables(const VerifyOutcome& o) {
     result.push_back(
         {"Verdict",
          {"check", "holds", "measured", "bound"},
-         {{"generator: not run (" + o.generator_skipped + ")",
-           o.reference_only_requested ? "-" : "NOT CHECKED", "-", "-"},
+         {{"generator: not run (" + o.generator_skipped + ")", "-", "-", "-"},
           {fmt::format(
                "reference within sqrt(3) * voxel of the exact surface over the {} samples where the surface "
                "is resolvable at this voxel size ({} left out; over all samples: {})",
@@ -347,13 +341,11 @@ nlohmann::json outcome_to_json(const VerifyOutcome& o) {
                     {"reference_to_exact", stats_to_json(o.reference_to_exact.stats)},
                     {"generator_to_reference", stats_to_json(o.morph_to_reference.stats)},
                     {"reference_to_generator", stats_to_json(o.reference_to_morph.stats)}};
-  j["generator"] = {{"used", o.generator_used}, {"choice", o.generator_choice}};
   j["generator_steps"] = {{"fallbacks", nlohmann::json::object()}, {"exact", nlohmann::json::object()}};
   for (const morph::StepCount& step : o.generator_steps)
     j["generator_steps"][step.fallback ? "fallbacks" : "exact"][step.name] = step.count;
   if (!o.generator_skipped.empty()) {
     j["generator_steps"] = nullptr;
-    j["generator"] = nullptr;
     // Not run is null, never a zero that reads as a measurement.
     j["triangles"]["generator"] = nullptr;
     j["closed_manifold"]["generator"] = nullptr;
@@ -403,8 +395,7 @@ nlohmann::json outcome_to_json(const VerifyOutcome& o) {
                           {"type", morph::to_string(tool.type)},
                           {"shape", morph::describe(tool)},
                           {"diameter", 2.0 * tool.radius},
-                          {"length_offset", tool.length_offset},
-                          {"generator_builds", generator_builds(tool, o.generator_asked)}});
+                          {"length_offset", tool.length_offset}});
   if (!o.generator_skipped.empty())
     j["reference_check"] = {{"generator_skipped", o.generator_skipped},
                             {"reference_only_requested", o.reference_only_requested},

@@ -360,21 +360,17 @@ Evaluation evaluate_job(const morph::Job& job, const EvaluateOptions& options) {
   vdb_ref::estimate_reference_memory(job, reference_options);  // bad input fails before long work
 
   out.reference_only_requested = options.reference_only;
-  out.generator_asked = options.generator;
-  out.generator_skipped = options.reference_only ? std::string("--reference-only was given")
-                                                 : why_generator_cannot_build(job, options.generator);
-  if (!out.generator_skipped.empty())
+  if (options.reference_only) {
+    out.generator_skipped = "--reference-only was given";
     return evaluate_reference_only(job, reference_options, options, clock, evaluation);
+  }
 
   morph::ErodeOptions erode_options;
   erode_options.tolerance = out.tolerance;
   erode_options.progress = options.progress;
   erode_options.memory_cap_bytes = options.generator_memory_cap_bytes;
-  GeneratedSurface generated =
-      clock.run("generator (morph)", [&] { return run_generator(job, erode_options, options.generator); });
-  morph::ErodeResult& eroded = generated.result;
-  out.generator_used = generated.generator;
-  out.generator_choice = generated.choice;
+  morph::ErodeResult eroded =
+      clock.run("generator (morph)", [&] { return morph::erode(job, erode_options); });
   vdb_ref::ReferenceResult reference =
       clock.run("reference (OpenVDB)", [&] { return vdb_ref::compute_reference(job, reference_options); });
 
@@ -382,10 +378,7 @@ Evaluation evaluate_job(const morph::Job& job, const EvaluateOptions& options) {
   out.generator_steps = eroded.stats.steps;
   out.reference_triangles = reference.mesh.triangle_count();
   out.reference_active_voxels = reference.stats.active_voxels;
-  // Auto has checked the surface it keeps: its topology and crossings are not computed again.
-  out.morph_topology =
-      generated.soundness ? generated.soundness->topology : morph::topology_report(eroded.mesh);
-  if (generated.soundness) out.morph_intersecting_pairs = generated.soundness->crossings.pairs;
+  out.morph_topology = morph::topology_report(eroded.mesh);
   out.reference_topology = morph::topology_report(reference.mesh);
   out.morph_pieces = mesh_pieces(eroded.mesh);
   for (const auto& piece : reference.pieces)
@@ -496,7 +489,6 @@ VerifyOutcome run_verify(const VerifyOptions& options) {
   // Bad input fails before the output directory is made (evaluate_job checks this again).
   const double tolerance = options.tolerance > 0 ? options.tolerance : job.tolerance;
   if (!(tolerance > 0)) throw morph::InputError("--tolerance must be positive");
-  check_generator(options.generator);
   std::error_code error;
   fs::create_directories(options.out_dir, error);
   if (error)
@@ -512,8 +504,7 @@ VerifyOutcome run_verify(const VerifyOptions& options) {
                                                  {"samples", options.face_samples},
                                                  {"seed", options.seed},
                                                  {"image_size", {options.image_width, options.image_height}},
-                                                 {"reference_only", options.reference_only},
-                                                 {"generator", generator_name(options.generator)}},
+                                                 {"reference_only", options.reference_only}},
                                                 unit);
   const std::vector<std::string> provenance_comments = provenance_lines(provenance);
 
@@ -525,7 +516,6 @@ VerifyOutcome run_verify(const VerifyOptions& options) {
   evaluate.progress = options.progress;
   evaluate.vdb_output_path = (dir / "reference.vdb").string();
   evaluate.reference_only = options.reference_only;
-  evaluate.generator = options.generator;
   if (options.memory_cap_bytes > 0) {
     evaluate.generator_memory_cap_bytes = options.memory_cap_bytes;
     evaluate.reference_memory_cap_bytes = options.memory_cap_bytes;

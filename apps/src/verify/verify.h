@@ -2,6 +2,7 @@
 #pragma once
 // `morphmill verify`: the generator, the reference and the deviation measurement on one job,
 // with a verdict and a report a person reads.
+#include <morph/erode.h>
 #include <morph/job.h>
 #include <morph/progress.h>
 #include <morph/sweep_distance.h>
@@ -17,7 +18,6 @@
 #include <vector>
 #include "io/provenance.h"
 #include "verify/compare.h"
-#include "verify/generator_choice.h"
 #include "verify/pieces.h"
 
 namespace morphmill {
@@ -30,14 +30,11 @@ struct VerifyOptions {
   std::size_t face_samples = 100000;  ///< area-uniform samples per surface, on top of every vertex
   std::uint64_t seed = 1;
   int image_width = 1200, image_height = 900;  ///< pixels of each picture
-  /// Check only the reference against the exact surface (the generator is not run). Without it,
-  /// a job with a tool the generator asked for cannot build (generator 1: anything but spheres
-  /// and ball ends) runs the same way but its verdict fails.
+  /// Check only the reference against the exact surface (the generator is not run).
   bool reference_only = false;
   /// The generator and the reference each refuse (LimitError, before computing) work estimated
   /// to need more than this many bytes; 0 keeps their defaults (no generator cap, 8 GiB).
   std::size_t memory_cap_bytes = 0;
-  int generator = kDefaultGenerator;  ///< which generator runs (generator_choice.h)
   morph::Progress* progress = nullptr;
 };
 
@@ -102,17 +99,8 @@ struct VerifyOutcome {
   std::string design_path;
   DesignComparison design;
   bool design_within_band() const { return design_path.empty() || design.within_band(); }
-  /// Why the generator was not run ("" when it was): --reference-only, or the first move whose
-  /// tool it cannot build yet, named with the tool.
+  /// Why the generator was not run ("" when it was): --reference-only was given.
   std::string generator_skipped;
-  /// The generator whose surface was checked (1 or 2; 0 when none ran), and how `auto` chose it
-  /// ("" when the generator was given).
-  int generator_used = 0;
-  int generator_asked = 0;  ///< the --generator the run was given (kAutoGenerator, 1 or 2)
-  std::string generator_choice;
-  /// The generator's intersecting triangle pairs (exact predicates), when auto already counted them
-  /// in choosing; unset otherwise (the caller counts them if it needs them).
-  std::optional<std::size_t> morph_intersecting_pairs;
   /// What the generator counted (morph::ErodeStats::steps): its fallbacks and exact steps.
   std::vector<morph::StepCount> generator_steps;
   bool reference_only_requested = false;
@@ -122,11 +110,10 @@ struct VerifyOutcome {
   double reference_resolvable_max = 0.0, reference_bound = 0.0;
   std::size_t reference_resolvable_samples = 0;
   bool reference_converges = false;
-  /// The whole verdict: the generator's checks and the design's band; with the generator skipped,
-  /// the reference's check if only that was asked for (--reference-only), otherwise false (not
-  /// what verify promises).
+  /// The whole verdict: the generator's checks and the design's band; with the generator not run
+  /// (--reference-only), the reference's check.
   bool verdict() const {
-    if (!generator_skipped.empty()) return reference_only_requested && reference_converges;
+    if (!generator_skipped.empty()) return reference_converges;
     return generator_within_tolerance && sides_agree && pieces_match && design_within_band();
   }
   std::vector<std::string> files;  ///< written into out_dir, relative names
@@ -147,7 +134,6 @@ struct EvaluateOptions {
   std::size_t reference_memory_cap_bytes = std::size_t(8)
                                            << 30;  ///< vdb_ref::ReferenceOptions::memory_cap_bytes
   std::size_t generator_memory_cap_bytes = 0;      ///< morph::ErodeOptions::memory_cap_bytes (0: none)
-  int generator = kDefaultGenerator;               ///< which generator runs (generator_choice.h)
   /// When true, each stage's peak_rss_mib is the peak resident memory during that stage alone
   /// (Linux: the high-water mark is reset through /proc/self/clear_refs before the stage);
   /// otherwise it is the process's peak so far. Only meaningful when nothing else runs in the process.

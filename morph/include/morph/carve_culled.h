@@ -63,7 +63,7 @@ CarvedPieces carve_culled(const Eigen::AlignedBox3d& box, const std::vector<Carv
 
 /// The same for a convex stock (stock_polytope.h): its faces take the place of the box's, in the
 /// order of its planes; for box_stock_polytope(box) the pieces are those of the box overload.
-/// `progress`, when given, sees the stage "erode2: carve" with one unit per stock face and per
+/// `progress`, when given, sees the stage "erode: carve" with one unit per stock face and per
 /// move, and may stop it: carve_culled() then throws Interrupted.
 CarvedPieces carve_culled(const StockPolytope& stock, const std::vector<CarveSweep>& sweeps,
                           ExecutionPolicy policy = ExecutionPolicy::Parallel, CarveStages* stages = nullptr,

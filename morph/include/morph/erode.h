@@ -2,16 +2,15 @@
 #pragma once
 /// \file erode.h
 /// The paper's secondary three-dimensional model: the boundary of the regularized partial erosion
-/// X \ (T (+) B) built directly from the ordered tool positions, as a sum of surfaces (no solid
-/// booleans, no voxels):
-///   - side sweeps: the tool's contour generator perpendicular to each straight (sub-)move,
-///     swept along it (the paper's arches);
-///   - front sweeps: the tool's own surface at path ends and where the direction turns;
-///   - cut surfaces: the stock's faces.
-/// Every patch has an exact parametrisation. A point of a patch survives iff it is inside the stock
-/// and outside every other move's swept volume (found through a bounding-volume hierarchy); each
-/// patch is trimmed by marching squares in its parameter domain, with every trimming vertex placed
-/// on the exact trimming curve by root finding on the exact swept-volume distances.
+/// X \ (T (+) B) built directly from the ordered tool positions (no solid booleans, no voxels), as
+/// the boundary of the stock minus the union of the moves' convex sweep polytopes, closed, oriented
+/// and manifold by construction (exact plane predicates and one tie order: carve.h, conform.h,
+/// emit.h). Arcs become chords and the tool a polytope, each within its share of the tolerance
+/// (error_budget.h, tool_polytope.h). The culling stage (sweep_culling.h) decides which facets and
+/// cutters the exact carving sees (carve_culled.h), in parallel under options.policy. A box stock
+/// is its six planes; a cylinder a prism within the stock's share of it (stock_polytope.h), carved
+/// by the same code; a mesh stock its triangles, their vertices on a grid within that share
+/// (stock_mesh.h), the sweeps' pieces kept where inside it.
 #include <morph/job.h>
 #include <morph/mesh.h>
 #include <morph/parallel.h>
@@ -31,22 +30,17 @@ struct ErodeOptions {
   double tolerance = 0.0;
   /// Patches are independent and processed in parallel; the output bytes do not depend on it.
   ExecutionPolicy policy = ExecutionPolicy::Parallel;
-  /// Optional progress / interruption (stages "erode: patches", "erode: assemble").
+  /// Optional progress / interruption.
   Progress* progress = nullptr;
   /// Refuse (LimitError, before the long stages) work estimated to need more memory than this,
-  /// bytes; 0: no cap. The estimate comes from the job alone: segments after splitting arcs,
-  /// then the patches' tessellation grids (ErodeStats::estimated_bytes).
+  /// bytes; 0: no cap. The estimate comes from the job alone (estimate_erode(),
+  /// ErodeStats::estimated_bytes).
   std::size_t memory_cap_bytes = 0;
-  /// Generator 1 only: the most golden-section searches of the exact sweep distance its trimming
-  /// may run (the bulk of its time where a tool's body nears many sweeps: deep pockets of a ball
-  /// end); past it, erode throws SearchLimitError. 0: no limit. The count depends on the job and
-  /// the tolerance alone, not on threads or timing, so whether a job passes it does too.
-  std::uint64_t search_limit = 0;
 };
 
 /// How often one step of the surface's assembly fired. A fallback repairs what the construction
 /// left wrong (its target is 0, and code that never fires goes); an exact step is part of the
-/// construction itself (generator 2's limit of the perturbation), counted for insight.
+/// construction itself (the limit of the perturbation), counted for insight.
 struct StepCount {
   std::string name;  ///< snake_case, e.g. "rounding_flipped_edges"
   std::size_t count = 0;
@@ -56,29 +50,19 @@ struct StepCount {
 struct ErodeStats {
   std::size_t moves = 0;                 ///< moves of the job
   std::size_t moves_touching_stock = 0;  ///< moves whose swept bounds meet the stock bounds
-  std::size_t segments =
-      0;  ///< straight pieces after splitting arcs by chord tolerance (generator 2: straight runs joined)
-  std::size_t patches = 0;                  ///< parametric patches considered
-  std::size_t patches_kept = 0;             ///< patches that left at least one triangle
-  std::size_t triangles = 0;                ///< output triangles
-  std::size_t vertices = 0;                 ///< output vertices
-  std::size_t seam_splits = 0;              ///< boundary edges split at the other side's vertices
-  std::size_t corner_holes = 0;             ///< holes closed where three patches meet
-  std::size_t defects_repaired = 0;         ///< small open / non-manifold spots replaced by a fan
-  std::size_t flat_components_removed = 0;  ///< closed zero-volume slivers left by tangent contacts
-  std::size_t open_edges = 0;               ///< boundary edges left (0 for a closed surface)
-  std::uint64_t searches = 0;     ///< generator 1: golden-section searches of the trimming's sweep distances
-  double seconds_setup = 0.0;     ///< segments, patches, spatial index
-  double seconds_trim = 0.0;      ///< evaluating and contouring the patches
-  double seconds_assemble = 0.0;  ///< concatenation and welding
+  std::size_t segments = 0;      ///< straight pieces: arcs as chords, straight runs joined (sweep_segments.h)
+  std::size_t patches = 0;       ///< faces considered: every sweep facet and the stock's faces
+  std::size_t patches_kept = 0;  ///< carved pieces kept
+  std::size_t triangles = 0;     ///< output triangles
+  std::size_t vertices = 0;      ///< output vertices
+  double seconds_setup = 0.0;    ///< segments, tool polytopes, stock
+  double seconds_trim = 0.0;     ///< culling and exact carving
+  double seconds_assemble = 0.0;  ///< conforming, the limit and the triangles
   double seconds_total = 0.0;
-  double grid_cells = 0.0;       ///< cells of the patches' tessellation grids before trimming
   double estimated_bytes = 0.0;  ///< the up-front estimate of the peak memory
-  /// Generator 2: CPU seconds of each stage summed over the threads, in stage order (what a long
-  /// job spends where; empty for generator 1).
+  /// CPU seconds of each stage summed over the threads, in stage order (what a long job spends where).
   std::vector<std::pair<std::string, double>> stage_cpu_seconds;
-  /// Every counted step, fallbacks and exact steps, in a fixed order per generator (all listed,
-  /// also when 0).
+  /// Every counted step, fallbacks and exact steps, in a fixed order (all listed, also when 0).
   std::vector<StepCount> steps;
 };
 
@@ -104,10 +88,25 @@ void check_memory_cap(const ErodeOptions& options, double tolerance, double byte
 /// job's largest coordinate (the stock's and the moves'), with the tolerance that would do.
 void check_tolerance_resolves(const Job& job, double tolerance);
 
-/// Computes the boundary of the regularized partial erosion of `job`. Supports sphere and ballend
-/// tools, straight moves, arcs and helices (split into chords within half the tolerance), and box
-/// and cylinder stock. Throws InputError for an unsupported tool or stock type or a non-positive
-/// tolerance, Interrupted if options.progress asks to stop.
+/// Computes the boundary of the regularized partial erosion of `job`: any stock, any tool of
+/// revolution with a profile. Throws InputError for a non-positive tolerance, a tool without a
+/// profile or a mesh stock it cannot make exact (not a closed 2-manifold, degenerate on its grid,
+/// coordinates too large; stock_mesh.h), LimitError over options.memory_cap_bytes, Interrupted if
+/// options.progress asks to stop.
 ErodeResult erode(const Job& job, const ErodeOptions& options = {});
+
+/// The up-front estimate, from the job alone, made before anything large is built: the sweeps'
+/// facets dominate (each kept facet is carved, conformed and emitted; every facet is culled).
+struct ErodeEstimate {
+  double segments = 0.0;         ///< straight pieces: arcs as chords, straight runs joined (sweep_segments.h)
+  double sweep_facets = 0.0;     ///< facets of all the sweep polytopes
+  double stock_triangles = 0.0;  ///< of a mesh stock
+  double bytes = 0.0;            ///< estimated peak resident memory of the process
+};
+
+/// The estimate at `tolerance` (job units; the tool polytopes and arc chords within their shares
+/// of it, error_budget.h, as erode builds them). Throws LimitError when a tool polytope alone would
+/// be too large.
+ErodeEstimate estimate_erode(const Job& job, double tolerance);
 
 }  // namespace morph

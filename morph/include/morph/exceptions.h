@@ -33,13 +33,6 @@ class LimitError : public std::length_error {
   using std::length_error::length_error;
 };
 
-/// Generator 1 ran more distance searches than the caller allowed (ErodeOptions::search_limit):
-/// the job costs it far more than its size suggests, and the caller may take another generator.
-class SearchLimitError : public LimitError {
- public:
-  using LimitError::LimitError;
-};
-
 /// The caller's interrupter asked the computation to stop.
 class Interrupted : public std::runtime_error {
  public:

@@ -35,13 +35,6 @@ struct SweepSegment {
 /// sweep_segments(), not here.
 bool continues_straight(const SweepSegment& previous, const SweepSegment& next, int grid_exponent);
 
-/// Whether the move [b, c] goes on along [a, b] (collinear, the same way), decided exactly on the
-/// three points snapped to the grid of exponent `grid_exponent`: the decision continues_straight()
-/// makes, for generator 1, which sweeps [a, c] (unsnapped) instead, the middle point within two
-/// grid steps of that line.
-bool goes_on_straight(const Eigen::Vector3d& a, const Eigen::Vector3d& b, const Eigen::Vector3d& c,
-                      int grid_exponent);
-
 /// The job's segments as generator 2 sweeps them: chords within `chord_tolerance` (job units),
 /// ends snapped to the grid of exponent `grid_exponent`, straight runs joined and zero-length
 /// segments dropped where a neighbour of their tool covers them (see the file comment).

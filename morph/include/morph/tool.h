@@ -52,13 +52,18 @@ struct Tool {
   /// older code), which the closed forms handle from `radius` and `length`.
   ToolProfile profile;
 
-  /// True for the tools the surface generator (erode) builds today: Sphere and BallEnd.
-  bool generator_builds() const { return type == ToolType::Sphere || type == ToolType::BallEnd; }
+  /// A sphere or a ball end: the shapes whose sweep distances have the capsule's closed forms
+  /// (sweep_distance.h), also without a profile.
+  bool sphere_or_ball_end() const { return type == ToolType::Sphere || type == ToolType::BallEnd; }
 };
 
 /// Named shapes, sizes in job units, angles in degrees. Every size must be finite; each throws
 /// ToolError("radius: must be greater than 0, got -1") naming its parameter.
 Tool sphere_tool(double radius);
+
+/// The tool's profile; for a sphere or ball end assembled field by field (no profile, Tool::profile),
+/// the one its radius and length make. Throws InputError for any other tool without a profile.
+ToolProfile profile_of(const Tool& tool);
 /// `length`: the cylinder above the hemisphere's centre (>= 0); the tool is radius + length tall.
 Tool ball_tool(double radius, double length);
 Tool flat_tool(double radius, double length);

@@ -5,7 +5,7 @@
 
 #include <morph/convex_minimum.h>
 
-#include "generator2/exact_determinant.h"
+#include "generator/exact_determinant.h"
 
 #include <algorithm>
 #include <cmath>

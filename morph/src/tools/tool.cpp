@@ -122,6 +122,14 @@ Tool ball_tool(double radius, double length) {
   return tool;
 }
 
+ToolProfile profile_of(const Tool& tool) {
+  if (!tool.profile.empty()) return tool.profile;
+  if (tool.type == ToolType::Sphere) return sphere_tool(tool.radius).profile;
+  if (tool.type == ToolType::BallEnd) return ball_tool(tool.radius, tool.length).profile;
+  throw InputError("tool " + std::to_string(tool.number) + " (" + to_string(tool.type) +
+                   ") has no profile; build it with the constructors of morph/tool.h");
+}
+
 Tool flat_tool(double radius, double length) {
   positive("radius", radius);
   positive("length", length);

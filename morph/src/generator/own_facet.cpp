@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: Apache-2.0
-#include "generator2/own_facet.h"
+#include "generator/own_facet.h"
 
 #include <morph/joint_culling.h>
 

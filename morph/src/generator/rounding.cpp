@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: Apache-2.0
-#include "generator2/rounding.h"
+#include "generator/rounding.h"
 
 #include <morph/parallel.h>
 

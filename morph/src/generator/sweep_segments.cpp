@@ -86,15 +86,6 @@ bool continues_straight(const SweepSegment& previous, const SweepSegment& next, 
   return dot > 0;
 }
 
-bool goes_on_straight(const Eigen::Vector3d& a, const Eigen::Vector3d& b, const Eigen::Vector3d& c,
-                      int grid_exponent) {
-  SweepSegment first, second;
-  first.from = snap_to_grid(a, grid_exponent);
-  first.to = second.from = snap_to_grid(b, grid_exponent);
-  second.to = snap_to_grid(c, grid_exponent);
-  return first.from != first.to && continues_straight(first, second, grid_exponent);
-}
-
 std::vector<SweepSegment> sweep_segments(const Job& job, double chord_tolerance, int grid_exponent) {
   std::vector<SweepSegment> out;
   SegmentJoiner joiner(grid_exponent);

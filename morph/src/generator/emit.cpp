@@ -2,7 +2,7 @@
 #include <morph/emit.h>
 #include <morph/parallel.h>
 
-#include "generator2/rounding.h"
+#include "generator/rounding.h"
 
 #include <algorithm>
 #include <limits>

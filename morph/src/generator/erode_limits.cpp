@@ -1,5 +1,10 @@
 // SPDX-License-Identifier: Apache-2.0
-#include "generator2/erode_limits.h"
+// What a job may ask of the generator (erode.h): a tolerance the coordinates resolve, the memory
+// cap, and the up-front memory estimate, from the job alone, made before anything large is built:
+// the sweeps' facets dominate (each kept facet is carved, conformed and emitted; every facet is
+// culled). Fitted to the peak resident memory of the bundled and reproducer jobs
+// (tests/apps/erode_estimate_test.cpp holds it within a factor of 2).
+#include <morph/erode.h>
 
 #include <morph/error_budget.h>
 #include <morph/exceptions.h>
@@ -30,7 +35,7 @@ constexpr double kBytesFixed = 45.0 * (1 << 20);
 // cull most facets: 38 on 3D_Chips, 58 on bear.nc, 108 on cameo.nc.
 constexpr double kBytesPerSweepFacet = 300.0;
 // A mesh stock's triangle is a facet carved like a sweep's, with the mesh and its index beside it
-// (generator 1 measured 1400 bytes for the same on a 1M-triangle sphere stock).
+// (the removed generator 1 measured 1400 bytes for the same on a 1M-triangle sphere stock).
 constexpr double kBytesPerStockTriangle = 1000.0;
 
 // Each thread carving holds the exact planes of the sweeps it met last (sweep_plane_cache.h: up to
@@ -85,8 +90,8 @@ void check_memory_cap(const ErodeOptions& options, double tolerance, double byte
   throw LimitError(message.str());
 }
 
-Erode2Estimate estimate_erode2(const Job& job, double tolerance) {
-  Erode2Estimate estimate;
+ErodeEstimate estimate_erode(const Job& job, double tolerance) {
+  ErodeEstimate estimate;
   // Segments as sweep_segments() makes them (straight runs joined), counted without listing them.
   const SweepCount sweeps = count_sweeps(job, error_budget(job, tolerance));
   estimate.segments = sweeps.segments;

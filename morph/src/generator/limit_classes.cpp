@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: Apache-2.0
-#include "generator2/limit_classes.h"
+#include "generator/limit_classes.h"
 
 #include <morph/union_find.h>
 

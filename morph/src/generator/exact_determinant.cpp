@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: Apache-2.0
-#include "generator2/exact_determinant.h"
+#include "generator/exact_determinant.h"
 
 // GCC 12 sees a maybe-uninitialized limb inside cpp_int's own zero constant; not ours to fix.
 #pragma GCC diagnostic push

@@ -22,7 +22,7 @@
 /// itself in doubles (relative (1+u)^12 - 1). Underflow breaks the relative model: each operation
 /// may then lose up to 2^-1074 absolutely, so an absolute 2^-1000 is added and a permanent below
 /// 2^-900 is left to the integers; overflow gives a non-finite value, also left to them.
-#include "generator2/exact_determinant.h"
+#include "generator/exact_determinant.h"
 
 namespace morph::exact {
 

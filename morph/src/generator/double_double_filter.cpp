@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: Apache-2.0
-#include "generator2/double_double_filter.h"
+#include "generator/double_double_filter.h"
 
 #include <cfloat>
 #include <cmath>

@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: Apache-2.0
-#include "generator2/tool_facet_groups.h"
+#include "generator/tool_facet_groups.h"
 
 #include <algorithm>
 #include <cmath>

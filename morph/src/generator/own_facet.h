@@ -15,7 +15,7 @@
 #include <morph/stock_polytope.h>
 #include <morph/sweep_polytope.h>
 
-#include "generator2/tool_facet_groups.h"
+#include "generator/tool_facet_groups.h"
 
 #include <Eigen/Core>
 #include <optional>

@@ -14,7 +14,7 @@ SweepCount count_sweeps(const Job& job, const ErrorBudget& budget) {
   // A sweep has the tool's facets (each at the start or at the end) and one parallelogram per
   // silhouette edge: about two per sector and two per meridian point.
   for (const auto& [tool, segments] : sweep_segment_counts(job, budget.chords, budget.grid_exponent)) {
-    const ToolPolytopeSize size = tool_polytope_size(job.tools.find(tool)->second.profile, budget.tool);
+    const ToolPolytopeSize size = tool_polytope_size(profile_of(job.tools.find(tool)->second), budget.tool);
     count.segments += segments;
     count.facets += segments * (double(size.facets) + 2.0 * (size.sectors + double(size.meridian_points)));
   }

@@ -3,8 +3,8 @@
 
 #include <Eigen/Geometry>
 
-#include "generator2/double_double_filter.h"
-#include "generator2/exact_determinant.h"
+#include "generator/double_double_filter.h"
+#include "generator/exact_determinant.h"
 
 #include <algorithm>
 #include <array>

@@ -2,7 +2,7 @@
 // Generator 2 end to end on small jobs: closed, oriented and manifold by construction, and the
 // volume against closed forms where there is one. The jobs of ../shared/repro/generator/ are
 // rebuilt here (same stock, tool and path), at a coarser tolerance to keep the test short.
-#include <morph/erode2.h>
+#include <morph/erode.h>
 #include <morph/error_budget.h>
 #include <morph/exceptions.h>
 #include <morph/gcode.h>
@@ -37,7 +37,7 @@ struct Outcome {
 
 Outcome run(const morph::Job& job) {
   Outcome o;
-  o.result = morph::erode2(job);
+  o.result = morph::erode(job);
   o.topology = morph::topology_report(o.result.mesh);
   return o;
 }
@@ -50,7 +50,7 @@ void expect_closed(const Outcome& o, const char* what) {
   EXPECT_EQ(o.result.mesh.tags.size(), o.result.mesh.triangle_count());
 }
 
-// The tool polytope erode2 uses for `job` (its share of the tolerance, error_budget.h).
+// The tool polytope erode uses for `job` (its share of the tolerance, error_budget.h).
 morph::ConvexPolytope polytope_of(const morph::Job& job) {
   return morph::tool_polytope(job.tools.begin()->second.profile, morph::error_budget(job, job.tolerance).tool)
       .polytope;
@@ -297,9 +297,9 @@ TEST(Erode2, RefusesWhatItDoesNotSupport) {
   morph::Job job = job_of(Eigen::AlignedBox3d(Vector3d(0, 0, 0), Vector3d(1, 1, 1)), morph::ball_tool(0.5, 2),
                           {Vector3d(0, 0, 2), Vector3d(1, 1, 2)});
   job.stock.type = morph::StockType::Cylinder;  // of radius 0
-  EXPECT_THROW(morph::erode2(job), morph::InputError);
+  EXPECT_THROW(morph::erode(job), morph::InputError);
   job.stock.type = morph::StockType::Mesh;  // with no triangles
-  EXPECT_THROW(morph::erode2(job), morph::InputError);
+  EXPECT_THROW(morph::erode(job), morph::InputError);
 }
 
 }  // namespace
@@ -313,7 +313,7 @@ TEST(Erode2, RefusesAToleranceTheCoordinatesCannotResolve) {
                           {far + Vector3d(-5, 5, 4), far + Vector3d(25, 5, 4)}, 0.01);
   job.file = "far.json";
   try {
-    morph::erode2(job);
+    morph::erode(job);
     ADD_FAILURE() << "generator 2 ran at 1e15 with a tolerance of 0.01";
   } catch (const morph::InputError& e) {
     EXPECT_NE(
@@ -327,10 +327,10 @@ TEST(Erode2, RefusesAToleranceTheCoordinatesCannotResolve) {
 
 namespace {
 
-morph::Erode2Estimate estimate_on_threads(const morph::Job& job, int threads) {
-  morph::Erode2Estimate estimate;
+morph::ErodeEstimate estimate_on_threads(const morph::Job& job, int threads) {
+  morph::ErodeEstimate estimate;
   tbb::task_arena arena(threads);
-  arena.execute([&] { estimate = morph::estimate_erode2(job, job.tolerance); });
+  arena.execute([&] { estimate = morph::estimate_erode(job, job.tolerance); });
   return estimate;
 }
 
@@ -347,8 +347,8 @@ TEST(Erode2, TheMemoryEstimateCountsEveryThreadsCaches) {
     raster.emplace_back(row % 2 ? -5 : 45, 0.7 * row, 3);
   }
   const morph::Job job = job_of(box, tool, raster, 0.01);
-  const morph::Erode2Estimate one = estimate_on_threads(job, 1), two = estimate_on_threads(job, 2),
-                              eight = estimate_on_threads(job, 8);
+  const morph::ErodeEstimate one = estimate_on_threads(job, 1), two = estimate_on_threads(job, 2),
+                             eight = estimate_on_threads(job, 8);
   EXPECT_EQ(one.bytes, two.bytes);
   EXPECT_EQ(eight.sweep_facets, two.sweep_facets);
   const double per_thread = (eight.bytes - two.bytes) / 6.0;

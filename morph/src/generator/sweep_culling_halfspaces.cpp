@@ -4,9 +4,9 @@
 #include <morph/aabb_tree.h>
 #include <morph/sweep_culling.h>
 
-#include "generator2/sweep_culling_facets.h"
-#include "generator2/tool_facet_groups.h"
-#include "generator2/tool_facet_sectors.h"
+#include "generator/sweep_culling_facets.h"
+#include "generator/tool_facet_groups.h"
+#include "generator/tool_facet_sectors.h"
 
 #include <algorithm>
 #include <array>

@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: Apache-2.0
-#include "generator2/tool_facet_sectors.h"
+#include "generator/tool_facet_sectors.h"
 
 #include <algorithm>
 #include <array>

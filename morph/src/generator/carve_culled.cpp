@@ -6,9 +6,9 @@
 #include <morph/stock_face_cells.h>
 #include <morph/tool_bounds.h>
 
-#include "generator2/own_facet.h"
-#include "generator2/sweep_plane_cache.h"
-#include "generator2/tool_facet_groups.h"
+#include "generator/own_facet.h"
+#include "generator/sweep_plane_cache.h"
+#include "generator/tool_facet_groups.h"
 
 #include <tbb/enumerable_thread_specific.h>
 
@@ -497,7 +497,7 @@ CarvedPieces carve_culled(const StockPolytope& stock, const std::vector<CarveSwe
   std::vector<CarvedPieces> slots(faces + sweeps.size());
   std::vector<std::vector<std::pair<int, std::vector<std::uint32_t>>>> order_slots(orders ? sweeps.size()
                                                                                           : 0);
-  report.begin("erode2: carve", slots.size());
+  report.begin("erode: carve", slots.size());
   for_each_index(policy, 0, slots.size(), [&](std::size_t item) {
     if (report.interrupted()) return;
     Worker& w = workers.local();
@@ -515,7 +515,7 @@ CarvedPieces carve_culled(const StockPolytope& stock, const std::vector<CarveSwe
     report.advance(1);
   });
   report.end();
-  if (report.interrupted()) throw Interrupted("erode2: carve interrupted");
+  if (report.interrupted()) throw Interrupted("erode: carve interrupted");
   if (orders)
     for (std::size_t g = 0; g < order_slots.size(); ++g)
       for (auto& [facet, order] : order_slots[g])

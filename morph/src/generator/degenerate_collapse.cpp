@@ -2,7 +2,7 @@
 #include <morph/degenerate_collapse.h>
 #include <morph/parallel.h>
 
-#include "generator2/limit_classes.h"
+#include "generator/limit_classes.h"
 
 #include <tbb/enumerable_thread_specific.h>
 
