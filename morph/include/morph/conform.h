@@ -1,7 +1,7 @@
 // SPDX-License-Identifier: Apache-2.0
 #pragma once
 /// \file conform.h
-/// Generator 2's conforming step: the carved pieces (carve.h) become polygons over shared
+/// The generator's conforming step: the carved pieces (carve.h) become polygons over shared
 /// vertices. A vertex is its plane triple (the perturbed arrangement is in general position, so
 /// the triple names one point), hence both sides of every crease name it alike; and every vertex
 /// lying on a piece's edge line strictly inside the edge is inserted into it (decided by the

@@ -1,7 +1,7 @@
 // SPDX-License-Identifier: Apache-2.0
 #pragma once
 /// \file convex_polytope.h
-/// A convex polytope as generator 2 holds it: shared vertices and planar convex facets, each a
+/// A convex polytope as the generator holds it: shared vertices and planar convex facets, each a
 /// loop of vertex indices turning counter-clockwise seen from outside, with its outward unit
 /// normal and offset (the facet's plane is normal·x = offset; the polytope is where every
 /// normal·x <= offset). Tool polytopes and sweep polytopes (tool ⊕ segment) are both of this

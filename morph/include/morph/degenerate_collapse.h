@@ -1,7 +1,7 @@
 // SPDX-License-Identifier: Apache-2.0
 #pragma once
 /// \file degenerate_collapse.h
-/// Generator 2's limit step, between conform (conform.h) and emit (emit.h). The perturbed
+/// The generator's limit step, between conform (conform.h) and emit (emit.h). The perturbed
 /// arrangement is in general position, so where four or more planes meet in one exact point (a
 /// tool polytope's pole inside the stock, coinciding planes of retraces and near-reversals) the
 /// perturbation splits that point into several plane-triple vertices joined by ε-edges and

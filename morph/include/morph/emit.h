@@ -1,7 +1,7 @@
 // SPDX-License-Identifier: Apache-2.0
 #pragma once
 /// \file emit.h
-/// Generator 2's output: the limit polygons (degenerate_collapse.h) as a triangle mesh. Vertices
+/// The generator's output: the limit polygons (degenerate_collapse.h) as a triangle mesh. Vertices
 /// are rounded to doubles; each polygon is fanned from its first corner that has no straight
 /// neighbour (so no triangle is flat in exact arithmetic) and makes no triangle flat in doubles
 /// either; a polygon without one from its centroid (a vertex of its own), or from its first

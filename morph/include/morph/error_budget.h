@@ -1,7 +1,7 @@
 // SPDX-License-Identifier: Apache-2.0
 #pragma once
 /// \file error_budget.h
-/// How generator 2 spends the tolerance. Its surface departs from the exact one in three ways:
+/// How the generator spends the tolerance. Its surface departs from the exact one in three ways:
 /// an arc swept as chords, the tool as a polytope, the stock (a cylinder's prism, a mesh's
 /// vertices on a grid). A point of the surface is off by at most the chords' and the tool's
 /// deviations where a sweep bounds it, by the stock's where a stock face does, and by all of them
@@ -35,7 +35,7 @@ struct ErrorBudget {
 /// ends (a chord's end moved adds to its chord's deviation).
 ErrorBudget error_budget(const Job& job, double tolerance);
 
-/// The segments (sweep_segments.h) and sweep polytope facets generator 2 makes for `job` with
+/// The segments (sweep_segments.h) and sweep polytope facets the generator makes for `job` with
 /// `budget`, counted without listing or building them: its work, and most of its memory.
 struct SweepCount {
   double segments = 0.0;

@@ -1,7 +1,7 @@
 // SPDX-License-Identifier: Apache-2.0
 #pragma once
 /// \file facet_clipping.h
-/// Generator 2's facet BSP: convex pieces of planes cut by planes, every decision by the exact
+/// The generator's facet BSP: convex pieces of planes cut by planes, every decision by the exact
 /// perturbed predicates of plane_predicates.h. A piece is its support plane and the cyclic list of
 /// planes bounding it; its corners are plane triples (support, edge k-1, edge k), so two pieces
 /// meeting along a line name the same corners by the same planes. Used for a sweep facet within

@@ -1,7 +1,7 @@
 // SPDX-License-Identifier: Apache-2.0
 #pragma once
 /// \file joint_culling.h
-/// Generator 2's first culling step: at a joint between consecutive moves i, i+1 of one path
+/// The generator's first culling step: at a joint between consecutive moves i, i+1 of one path
 /// (the end of i is, bit for bit, the start of i+1; same tool; neither move degenerate), both
 /// sweep polytopes contain the tool at the joint J, and the caps they place there are decided
 /// from the facets' normals alone, with no distance and no plane test.
@@ -12,7 +12,7 @@
 ///   n·v_i = 0, and is P_i's own end cap facet F + J when n·v_i > 0 (a tie);
 /// - an end cap facet F + J of P_i (n·v_i > 0) lies inside P_{i+1} when n·v_{i+1} > 0, and is
 ///   shared with P_{i+1} (its start cap or its swept face) otherwise.
-/// Ties follow generator 2's one order (the design's symbolic perturbation: sweeps expand by
+/// Ties follow the generator's one order (the design's symbolic perturbation: sweeps expand by
 /// ε_0 ≫ ε_1 ≫ … in move order): the earlier move owns a shared facet. So every start cap facet
 /// of a joined P_{i+1} is culled, and P_i keeps exactly the lune n·v_i > 0 >= n·v_{i+1} of its
 /// end cap. "Side" is motion_side() (sweep_polytope.h), the one the sweep builder places facets by,

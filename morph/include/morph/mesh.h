@@ -76,7 +76,7 @@ double enclosed_volume(const TriangleMesh& mesh);
 Eigen::Vector3d face_normal(const TriangleMesh& mesh, std::size_t t);
 /// Zero area relative to the triangle's size: |(b - a) x (c - a)| <= 1e-14 * longest edge^2, so
 /// that a sliver whose third corner lies on the opposite edge up to rounding counts as degenerate
-/// (topology_report()'s degenerate triangles; generator 2's fans and rounding avoid them).
+/// (topology_report()'s degenerate triangles; the generator's fans and rounding avoid them).
 bool zero_area(const Eigen::Vector3d& a, const Eigen::Vector3d& b, const Eigen::Vector3d& c);
 
 }  // namespace morph

@@ -1,7 +1,7 @@
 // SPDX-License-Identifier: Apache-2.0
 #pragma once
 /// \file plane_predicates.h
-/// Generator 2's exact predicates on planes, with its one tie order. A vertex is three planes; a
+/// The generator's exact predicates on planes, with its one tie order. A vertex is three planes; a
 /// plane's side at it is the sign of a 4×4 determinant (the planes' normals and offsets) over the
 /// 3×3 determinant of the vertex's normals. The doubles of the coefficients are taken as exact
 /// rationals: a floating-point filter with an error bound decides almost always, else the same

@@ -1,7 +1,7 @@
 // SPDX-License-Identifier: Apache-2.0
 #pragma once
 /// \file quantize.h
-/// Generator 2's grid: move ends and tool vertices on a power-of-two grid, and planes held
+/// The generator's grid: move ends and tool vertices on a power-of-two grid, and planes held
 /// exactly on it, so that planes that must meet (a tool facet and its neighbours at a ring
 /// vertex, a silhouette plane through both ends of its tool edge) meet exactly, not up to rounding.
 ///

@@ -4,7 +4,7 @@
 /// A stock face cut into cells before it is carved. Carving a face by every sweep that reaches it
 /// splits it along each sweep's planes into wedges as wide as the face, and each wedge goes on to
 /// meet every later sweep: bear.nc's top face, which the sweeps remove whole, made 105,000 pieces
-/// and took a quarter of generator 2's time. A cell meets only the sweeps near it, and most cells
+/// and took a quarter of the generator's time. A cell meets only the sweeps near it, and most cells
 /// of a machined face lie wholly inside one sweep (the carving drops them at once).
 ///
 /// The cells are those of a quadtree on one lattice for the whole job, so a cell plane is the same

@@ -1,7 +1,7 @@
 // SPDX-License-Identifier: Apache-2.0
 #pragma once
 /// \file stock_mesh.h
-/// Generator 2's mesh stock as exact planes. The mesh's vertices are rounded to a grid of a power
+/// The generator's mesh stock as exact planes. The mesh's vertices are rounded to a grid of a power
 /// of two (the finest from 2^-20 mm up to the stock's deviation budget on which this works), so
 /// that each triangle's plane through its three vertices is exact in doubles (integer normal reduced by its gcd, integer offset times the
 /// grid); the planes of all triangles at a vertex pass exactly through it. A triangle is a convex

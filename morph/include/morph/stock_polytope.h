@@ -1,7 +1,7 @@
 // SPDX-License-Identifier: Apache-2.0
 #pragma once
 /// \file stock_polytope.h
-/// Generator 2's stock as exact planes: the box is its six planes, a cylinder a prism of
+/// The generator's stock as exact planes: the box is its six planes, a cylinder a prism of
 /// N side planes and its two end planes that straddles the exact cylinder within a deviation
 /// budget (as the tool polytope straddles the tool: the planes are the exact object, their
 /// doubles taken as exact rationals; the corners are derived). Every stock plane is outward,
@@ -18,7 +18,7 @@
 
 namespace morph {
 
-/// Generator 2's stock: a convex one is the intersection of the halfspaces of `planes`; a mesh
+/// The generator's stock: a convex one is the intersection of the halfspaces of `planes`; a mesh
 /// stock has no `planes` and its triangles in `mesh`.
 struct StockPolytope {
   std::vector<ExactPlane> planes;  ///< outward, contracting, ranked stock_rank(0..n-1)
@@ -47,7 +47,7 @@ StockPolytope cylinder_stock_polytope(const Stock& stock, double deviation);
 /// Throws InputError for a mesh stock.
 StockPolytope convex_stock_polytope(const Stock& stock, double deviation);
 
-/// Generator 2's stock of any type within `deviation` (mm): convex_stock_polytope(), or the
+/// The generator's stock of any type within `deviation` (mm): convex_stock_polytope(), or the
 /// mesh_stock() of a mesh (its vertices rounded to a grid within the deviation).
 StockPolytope generator2_stock(const Stock& stock, double deviation);
 

@@ -1,7 +1,7 @@
 // SPDX-License-Identifier: Apache-2.0
 #pragma once
 /// \file sweep_culling.h
-/// Generator 2's culling stage: of every move's sweep polytope P_i (sweep_polytope.h), the facets
+/// The generator's culling stage: of every move's sweep polytope P_i (sweep_polytope.h), the facets
 /// that can bound the union of the sweeps inside the stock, and for each the moves whose
 /// polytopes may cut it, with the planes of theirs that cross it. The facets' loops are never
 /// built here: a facet is a tool facet or edge placed at the move's ends, so its box, ball and
@@ -24,7 +24,7 @@
 ///    is inside the candidate, only the planes of its faces whose boxes meet the facet's (so too
 ///    when the point is on its boundary by construction: a corner at an end both moves share).
 /// Signs within a rounding bound of zero are not decided here: the candidate stays a cutter, for
-/// the clipping's exact predicates. Ties are settled by generator 2's one order: sweeps expand
+/// the clipping's exact predicates. Ties are settled by the generator's one order: sweeps expand
 /// by ε_0 ≫ ε_1 ≫ … in move order, so the earlier move owns a shared facet (a facet in a plane of
 /// an earlier polytope, bit for bit, counts as below it; of a later one, as above it).
 #include <morph/joint_culling.h>

@@ -1,7 +1,7 @@
 // SPDX-License-Identifier: Apache-2.0
 #pragma once
 /// \file sweep_segments.h
-/// Generator 2's first stage: the job's moves as the straight segments it sweeps, in job order.
+/// The generator's first stage: the job's moves as the straight segments it sweeps, in job order.
 /// Arcs become chords within a tolerance, every end goes to the tools' grid (quantize.h), and
 /// runs that sweep one solid become one segment: a segment that continues its predecessor (same
 /// tool, exactly collinear on the grid, same direction) joins it, and a segment of zero length on
@@ -35,7 +35,7 @@ struct SweepSegment {
 /// sweep_segments(), not here.
 bool continues_straight(const SweepSegment& previous, const SweepSegment& next, int grid_exponent);
 
-/// The job's segments as generator 2 sweeps them: chords within `chord_tolerance` (job units),
+/// The job's segments as the generator sweeps them: chords within `chord_tolerance` (job units),
 /// ends snapped to the grid of exponent `grid_exponent`, straight runs joined and zero-length
 /// segments dropped where a neighbour of their tool covers them (see the file comment).
 std::vector<SweepSegment> sweep_segments(const Job& job, double chord_tolerance, int grid_exponent);

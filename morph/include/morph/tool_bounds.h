@@ -1,7 +1,7 @@
 // SPDX-License-Identifier: Apache-2.0
 #pragma once
 /// \file tool_bounds.h
-/// Closed-form bounds of a tool polytope and of its sweeps, for generator 2's culling: a ball and
+/// Closed-form bounds of a tool polytope and of its sweeps, for the generator's culling: a ball and
 /// a cylinder about the axis inside the tool, and a ball and a cylinder holding it. Swept along
 /// a segment they give capsules and swept cylinders, whose tests against a query ball are a
 /// point-segment distance and one linear interval: tens of flops, no search, no plane test.

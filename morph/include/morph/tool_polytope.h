@@ -1,7 +1,7 @@
 // SPDX-License-Identifier: Apache-2.0
 #pragma once
 /// \file tool_polytope.h
-/// Generator 2's tool: a convex polytope within a given Hausdorff distance of the exact tool of
+/// The generator's tool: a convex polytope within a given Hausdorff distance of the exact tool of
 /// revolution (tool_profile.h), built once per tool and translated along the path.
 ///
 /// The meridian profile is replaced by a polygon whose chords keep within the budget (arcs and

@@ -167,7 +167,7 @@ std::vector<ConvexPiece> keep_inside(const MeshStock& stock, std::vector<ConvexP
       const double w = winding_number(stock, centre);
       if (std::fabs(w - 0.5) < 0.25)
         throw GeometryError(
-            "generator 2: a sweep facet's part apart from the mesh stock has winding number " +
+            "erode: a sweep facet's part apart from the mesh stock has winding number " +
             std::to_string(w));
       status = w > 0.5 ? Status::Inside : Status::Outside;
     }

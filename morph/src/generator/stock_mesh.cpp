@@ -103,7 +103,7 @@ bool build_on_grid(const TriangleMesh& mesh, const std::string& what, MeshStock&
                                     u[0] * w[1] - u[1] * w[0]};
     if (normal[0] == 0 && normal[1] == 0 && normal[2] == 0)
       throw InputError("mesh stock " + what + ": triangle " + std::to_string(t) +
-                       " is degenerate on generator 2's grid of " + std::to_string(out.grid) + " mm");
+                       " is degenerate on the generator's grid of " + std::to_string(out.grid) + " mm");
     support[t] = plane_through(normal, a);
     if (!fits(support[t].offset) || !fits(support[t].n[0]) || !fits(support[t].n[1]) ||
         !fits(support[t].n[2]))

@@ -123,7 +123,7 @@ StockPolytope convex_stock_polytope(const Stock& stock, double deviation) {
     case StockType::Mesh:
       break;
   }
-  throw InputError("generator 2: a mesh stock is not a convex polytope");
+  throw InputError("erode: a mesh stock is not a convex polytope");
 }
 
 StockPolytope generator2_stock(const Stock& stock, double deviation) {
