@@ -166,7 +166,7 @@ TEST(ErodeSphere, ProvenanceOfEveryFace) {
   const Tool& tool = job.tools.at(1);
   const morph::TriangleMesh& mesh = result.mesh;
   ASSERT_EQ(mesh.tags.size(), mesh.triangles.size());
-  std::size_t sweep = 0, stock = 0;
+  std::size_t side = 0, front = 0, stock = 0;
   for (std::size_t t = 0; t < mesh.triangles.size(); ++t) {
     const morph::FaceTag& tag = mesh.tags[t];
     const Vector3d c = (mesh.vertices[mesh.triangles[t][0]] + mesh.vertices[mesh.triangles[t][1]] +
@@ -183,21 +183,27 @@ TEST(ErodeSphere, ProvenanceOfEveryFace) {
         EXPECT_NEAR(c[axis], plane, 1e-9);
         break;
       }
-      case PatchKind::SideSweep: {  // a facet of the move's sweep polytope, its caps included
-        ++sweep;
+      case PatchKind::SideSweep:
+      case PatchKind::FrontSweep: {
+        (tag.kind == PatchKind::SideSweep ? side : front)++;
         ASSERT_GE(tag.source, 0);
         ASSERT_LT(tag.source, static_cast<int>(moves.size()));
         const morph::Move& m = *moves[tag.source];
         EXPECT_EQ(tag.line, m.line);
-        // The face lies on the surface of that move's own sweep.
+        // The face lies on the surface of that move's own sweep; a cap on the tool's own sphere
+        // about an end of the move.
         EXPECT_LE(std::abs(morph::swept_signed_distance(tool, m, c)), job.tolerance);
+        if (tag.kind == PatchKind::FrontSweep) {
+          EXPECT_NEAR(std::min((c - m.start).norm(), (c - m.end).norm()), tool.radius, job.tolerance);
+        }
         break;
       }
       default:
         ADD_FAILURE() << "face " << t << " has kind " << morph::to_string(tag.kind);
     }
   }
-  EXPECT_GT(sweep, 0u);
+  EXPECT_GT(side, 0u);
+  EXPECT_GT(front, 0u);
   EXPECT_GT(stock, 0u);
 }
 
@@ -590,7 +596,8 @@ TEST(ErodeSphere, GrazingAnEdgeKeepsTheStripAndIsClosed) {
   EXPECT_LE(largest_field_error(result.mesh, morph::ErosionField(job)), job.tolerance);
   // The strip is there: some faces lie on the sweep.
   std::size_t swept = 0;
-  for (const morph::FaceTag& tag : result.mesh.tags) swept += tag.kind == PatchKind::SideSweep;
+  for (const morph::FaceTag& tag : result.mesh.tags)
+    swept += tag.kind == PatchKind::SideSweep || tag.kind == PatchKind::FrontSweep;
   EXPECT_GT(swept, 0u);
 }
 

@@ -40,8 +40,17 @@ std::uint32_t fan_apex(const LimitPolygon& polygon, const std::vector<std::uint3
 
 }  // namespace
 
+bool is_cap(const SweepPolytopeBuilder& tool, const Eigen::Vector3d& from, const Eigen::Vector3d& to,
+            std::int32_t facet) {
+  const std::vector<PolytopeFacet>& facets = tool.tool().facets;
+  if (facet < 0 || static_cast<std::size_t>(facet) >= facets.size()) return false;
+  return tool.degenerate(from, to) ||
+         motion_side(facets[static_cast<std::size_t>(facet)].normal, to - from) != 0;
+}
+
 TriangleMesh emit(const LimitSurface& surface, const std::vector<std::int32_t>& move_index,
-                  const std::vector<std::int32_t>& move_line, EmitCounts* counts, ExecutionPolicy policy) {
+                  const std::vector<std::int32_t>& move_line, EmitCounts* counts, ExecutionPolicy policy,
+                  const CapTest& caps) {
   TriangleMesh mesh;
   // Only the referenced vertices, in the order of their plane triples' indices, then a centroid
   // for each polygon fanned from one, in polygon order; the points, fans and triangles are made
@@ -83,9 +92,12 @@ TriangleMesh emit(const LimitSurface& surface, const std::vector<std::int32_t>& 
   resize_faulted_in(facing, first_triangle.back(), policy);
   for_each_index(policy, 0, polygons, [&](std::size_t i) {
     const LimitPolygon& polygon = surface.polygons[i];
-    const FaceTag tag = polygon.move < 0 ? FaceTag{PatchKind::StockFace, polygon.face, 0}
-                                         : FaceTag{PatchKind::SideSweep, move_index.at(polygon.move),
-                                                   move_line.at(polygon.move)};
+    const PatchKind sweep_kind = polygon.move >= 0 && caps && caps(polygon.move, polygon.face)
+                                     ? PatchKind::FrontSweep
+                                     : PatchKind::SideSweep;
+    const FaceTag tag = polygon.move < 0
+                            ? FaceTag{PatchKind::StockFace, polygon.face, 0}
+                            : FaceTag{sweep_kind, move_index.at(polygon.move), move_line.at(polygon.move)};
     const Eigen::Vector3d out = surface.outward_normal(polygon);
     std::size_t next = first_triangle[i];
     const auto add = [&](std::uint32_t a, std::uint32_t b, std::uint32_t c) {

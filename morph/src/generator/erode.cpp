@@ -130,7 +130,11 @@ ErodeResult erode(const Job& job, const ErodeOptions& options) {
   cpu = process_cpu_seconds();
   const LimitSurface limit = collapse_degenerates(std::move(surface));
   EmitCounts rounding;
-  result.mesh = emit(limit, move_index, move_line, &rounding, options.policy);
+  result.mesh = emit(limit, move_index, move_line, &rounding, options.policy,
+                     [&](std::int32_t sweep, std::int32_t facet) {
+                       const CarveSweep& s = sweeps[static_cast<std::size_t>(sweep)];
+                       return is_cap(*s.tool, s.from, s.to, facet);
+                     });
   stats.stage_cpu_seconds = {{"cull", stages.seconds_cull},
                              {"kept_facets", stages.seconds_facets},
                              {"stock_faces", stages.seconds_stock},
