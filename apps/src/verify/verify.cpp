@@ -359,7 +359,6 @@ Evaluation evaluate_job(const morph::Job& job, const EvaluateOptions& options) {
   reference_options.memory_cap_bytes = options.reference_memory_cap_bytes;
   vdb_ref::estimate_reference_memory(job, reference_options);  // bad input fails before long work
 
-  out.reference_only_requested = options.reference_only;
   if (options.reference_only) {
     out.generator_skipped = "--reference-only was given";
     return evaluate_reference_only(job, reference_options, options, clock, evaluation);

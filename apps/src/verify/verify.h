@@ -103,7 +103,6 @@ struct VerifyOutcome {
   std::string generator_skipped;
   /// What the generator counted (morph::ErodeStats::steps): its fallbacks and exact steps.
   std::vector<morph::StepCount> generator_steps;
-  bool reference_only_requested = false;
   /// Reference against the exact surface (judged when the generator is not run): the largest
   /// deviation over the samples where the surface is resolvable at the voxel size, its bound
   /// sqrt(3) * voxel, and whether it holds.
