@@ -1,5 +1,6 @@
 // SPDX-License-Identifier: Apache-2.0
-// Generator 2 end to end on small jobs: closed, oriented and manifold by construction, and the
+// The generator end to end on the motions real programs make (plunge and retract, retraces, turns
+// back, tiny moves, helices): closed, oriented and manifold by construction, and the
 // volume against closed forms where there is one. The jobs of ../shared/repro/generator/ are
 // rebuilt here (same stock, tool and path), at a coarser tolerance to keep the test short.
 #include <morph/erode.h>
@@ -56,7 +57,7 @@ morph::ConvexPolytope polytope_of(const morph::Job& job) {
       .polytope;
 }
 
-TEST(Erode2, MoveInsideTheStockIsACavityOfTheSweepsVolume) {
+TEST(ErodeMotions, MoveInsideTheStockIsACavityOfTheSweepsVolume) {
   const Eigen::AlignedBox3d box(Vector3d(0, 0, 0), Vector3d(20, 10, 10));
   const morph::Tool tool = morph::ball_tool(1.5, 4.0);
   const Vector3d a(5, 5, 3), b(15, 6, 4);
@@ -68,7 +69,7 @@ TEST(Erode2, MoveInsideTheStockIsACavityOfTheSweepsVolume) {
   EXPECT_NEAR(o.topology.volume, box.volume() - sweep.volume(), 1e-9 * box.volume());
 }
 
-TEST(Erode2, SlotThroughThePlateAndBack) {
+TEST(ErodeMotions, SlotThroughThePlateAndBack) {
   // r1/r2 shapes: a ball-end slot in from outside the stock and straight back, through and part depth.
   const morph::Tool tool = morph::ball_tool(1.5, 20.0);
   for (double z : {-2.0, 1.5}) {
@@ -95,7 +96,7 @@ TEST(Erode2, SlotThroughThePlateAndBack) {
   }
 }
 
-TEST(Erode2, ARasterOfManyPassesRemovesItsExactSlab) {
+TEST(ErodeMotions, ARasterOfManyPassesRemovesItsExactSlab) {
   // Forty-one level passes of a flat tool along x right across a plate, linked outside it: more
   // sweeps meet the top face and the sides at x = 0, 20 than a cell holds, so those faces are
   // carved in cells (stock_face_cells.h), and cell edges cross the strips of the top face that
@@ -125,7 +126,7 @@ TEST(Erode2, ARasterOfManyPassesRemovesItsExactSlab) {
   EXPECT_EQ(morph::fallbacks_fired(o.result.stats), 0u);
 }
 
-TEST(Erode2, CountsItsExactStepsAndFallbacks) {
+TEST(ErodeMotions, CountsItsExactStepsAndFallbacks) {
   // r9: a square loop, the second lap reversed. The retraced planes coincide, and where four or
   // more planes meet in one point the perturbation splits it; the exact limit step merges it again.
   const morph::Tool tool = morph::ball_tool(1.5, 20.0);
@@ -157,7 +158,7 @@ TEST(Erode2, CountsItsExactStepsAndFallbacks) {
   EXPECT_EQ(morph::fallbacks_fired(o.result.stats), fallbacks);
 }
 
-TEST(Erode2, PlungeAndRetractIsThePlunge) {
+TEST(ErodeMotions, PlungeAndRetractIsThePlunge) {
   // r3 / r6: a ball-end plunge through (and into) a plate and straight back up.
   const morph::Tool tool = morph::ball_tool(3.0, 40.0);
   const Eigen::AlignedBox3d box(Vector3d(0, 0, 0), Vector3d(40, 30, 10));
@@ -183,7 +184,7 @@ TEST(Erode2, PlungeAndRetractIsThePlunge) {
   }
 }
 
-TEST(Erode2, TurnsBackAtAndNear180Degrees) {
+TEST(ErodeMotions, TurnsBackAtAndNear180Degrees) {
   // r8 / r11: a slot that turns back inside the stock, exactly and 3 µm sideways.
   const morph::Tool tool = morph::ball_tool(1.5, 20.0);
   const Eigen::AlignedBox3d box(Vector3d(0, 0, 0), Vector3d(40, 30, 5));
@@ -200,7 +201,7 @@ TEST(Erode2, TurnsBackAtAndNear180Degrees) {
   EXPECT_GT(near.topology.volume, single.topology.volume - 25 * 3 * 0.003);
 }
 
-TEST(Erode2, TinyMoveAtACornerAndARetracedLoop) {
+TEST(ErodeMotions, TinyMoveAtACornerAndARetracedLoop) {
   // r10b / dg: a 1e-6 mm move at a 90-degree corner; r9: a square loop, the second lap reversed.
   const morph::Tool tool = morph::ball_tool(1.5, 20.0);
   const Eigen::AlignedBox3d box(Vector3d(0, 0, 0), Vector3d(30, 30, 5));
@@ -224,7 +225,7 @@ TEST(Erode2, TinyMoveAtACornerAndARetracedLoop) {
 // triangle of radius 12.65) had silhouette planes rounded to doubles, whose corners missed the
 // tool vertices they hold by ~1e-15 and left needles for the rounding to collapse. Their ends
 // now lie on a coarser grid, every plane is exact, and no fallback fires.
-TEST(Erode2, LongMovesInGeneralDirectionsNeedNoFallback) {
+TEST(ErodeMotions, LongMovesInGeneralDirectionsNeedNoFallback) {
   const Outcome o = run(morphmill_test::tapered_triangle_six_times_round());
   expect_closed(o, "tapered triangle six times round");
   std::map<std::string, std::size_t> count;
@@ -237,7 +238,7 @@ TEST(Erode2, LongMovesInGeneralDirectionsNeedNoFallback) {
 // square spiral crossing itself). With an apex at the tip, one pass's fan of nearly level facets
 // grazed another's and cut a cloud of distinct exact points within 1e-6 mm, which the output
 // rounding met as a needle. A level cap at the pole puts both passes' bottoms in one exact plane.
-TEST(Erode2, BallPassesAtOneDepthCrossingNeedNoFallback) {
+TEST(ErodeMotions, BallPassesAtOneDepthCrossingNeedNoFallback) {
   const morph::Tool tool = morph::ball_tool(2.503, 17.086);
   const Eigen::AlignedBox3d box(Vector3d(0, 0, 0), Vector3d(17.094, 22.46, 7.086));
   const double z = 5.122;
@@ -265,7 +266,7 @@ TEST(Erode2, BallPassesAtOneDepthCrossingNeedNoFallback) {
 // 4e-9 mm apart, and that facet's polygon is 1.5e-7 mm wide: fanned from its centroid it gave a
 // needle flat in doubles, which the rounding had to flip. Emit fans such a polygon from a
 // corner whose triangles are not flat, so the fallback has nothing to do.
-TEST(Erode2, AFlatHelixAndItsReversedHalfCircleNeedNoFallback) {
+TEST(ErodeMotions, AFlatHelixAndItsReversedHalfCircleNeedNoFallback) {
   std::istringstream program(
       "G21 G90 G17\n"
       "G0 X22.179 Y13.923 Z10.25\n"
@@ -293,7 +294,7 @@ TEST(Erode2, AFlatHelixAndItsReversedHalfCircleNeedNoFallback) {
   EXPECT_LT(removed, ring * (9.25 - 5.949));
 }
 
-TEST(Erode2, RefusesWhatItDoesNotSupport) {
+TEST(ErodeMotions, RefusesWhatItDoesNotSupport) {
   morph::Job job = job_of(Eigen::AlignedBox3d(Vector3d(0, 0, 0), Vector3d(1, 1, 1)), morph::ball_tool(0.5, 2),
                           {Vector3d(0, 0, 2), Vector3d(1, 1, 2)});
   job.stock.type = morph::StockType::Cylinder;  // of radius 0
@@ -306,7 +307,7 @@ TEST(Erode2, RefusesWhatItDoesNotSupport) {
 
 namespace {
 
-TEST(Erode2, RefusesAToleranceTheCoordinatesCannotResolve) {
+TEST(ErodeMotions, RefusesAToleranceTheCoordinatesCannotResolve) {
   // coord_offset_1e15 of the hostile reproducers: doubles are 0.125 apart at 1e15.
   const Vector3d far(1e15, 0, 0);
   morph::Job job = job_of(Eigen::AlignedBox3d(far, far + Vector3d(20, 10, 5)), morph::ball_tool(1.5, 20.0),
@@ -336,7 +337,7 @@ morph::ErodeEstimate estimate_on_threads(const morph::Job& job, int threads) {
 
 }  // namespace
 
-TEST(Erode2, TheMemoryEstimateCountsEveryThreadsCaches) {
+TEST(ErodeMotions, TheMemoryEstimateCountsEveryThreadsCaches) {
   // Fitted on 2 threads; each further one holds its own plane cache (up to 64 MiB) and culling
   // scratch, which on a many-core machine outweigh the rest.
   const morph::Tool tool = morph::ball_tool(1.5, 20.0);
