@@ -52,7 +52,7 @@ struct IncompleteCampaign : std::runtime_error {
 nlohmann::json campaign_identity(const StressOptions& options);
 
 /// Throws morph::InputError when a campaign.json records a generator other than 2 (generator 1
-/// and auto were removed; such a campaign cannot be continued or merged).
+/// and auto were removed; such a campaign cannot be continued with --resume).
 void check_recorded_generator(const nlohmann::json& campaign, const std::string& file);
 
 /// The first key whose values differ, described as "--samples is 2000 in A but 500 in B"; "" if

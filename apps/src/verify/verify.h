@@ -13,7 +13,6 @@
 
 #include <nlohmann/json.hpp>
 
-#include <optional>
 #include <string>
 #include <vector>
 #include "io/provenance.h"
